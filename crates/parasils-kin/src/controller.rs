@@ -1,0 +1,135 @@
+//! The controller's one call per cycle.
+//!
+//! [`Controller::step`] takes the platform's state (pose, Euler rates and
+//! accelerations) and the two tip targets held still in the fixed frame, and
+//! returns both instrument modules' joints, rates, accelerations and margins:
+//! motion type 4, the endoscope reorientation with the tips kept where they
+//! are. The platform's motion may be any (the general formula of SPEC section
+//! 4 is used); motion type 4 is `P` still and `phi` constant. The trigonometry
+//! of the platform is evaluated once and shared by the modules.
+//!
+//! ```
+//! use parasils_kin::controller::{Controller, TipTargets};
+//! use parasils_kin::frame::{PlatformState, Pose};
+//!
+//! let controller = Controller::<f64>::paper();
+//! let tips = TipTargets::paper();
+//! // At P0, psi turning at 5 deg/s and theta accelerating at 5 deg/s^2.
+//! let state = PlatformState::reorientation(
+//!     Pose::paper_start(),
+//!     [5f64.to_radians(), 0.0],
+//!     [0.0, 5f64.to_radians()],
+//! );
+//! let out = controller.step(&state, &tips)?;
+//! assert!((out.left.q.qs1.to_degrees() - 3.0889).abs() < 1e-4);
+//! assert!(out.left.margins.cos_qs2 > 0.7);
+//! # Ok::<(), parasils_kin::Error>(())
+//! ```
+
+use nalgebra::Vector3;
+
+use crate::error::Error;
+use crate::frame::{PlatformFrame, PlatformState, Pose};
+use crate::instrument::{
+    AssemblyMode, Instrument, InstrumentSolution, Side, TipMotion, check_vector,
+};
+use crate::real::Real;
+
+/// The two instrument tips the controller holds still, mm, fixed frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct TipTargets<T: Real> {
+    /// The left instrument's tip, mm, fixed frame.
+    pub left: Vector3<T>,
+    /// The right instrument's tip, mm, fixed frame.
+    pub right: Vector3<T>,
+}
+
+impl<T: Real> TipTargets<T> {
+    /// The paper's tips: left `(50, -50, -620)` mm, and the right one its
+    /// mirror image across the platform's `Y'Z'` plane at `P0`
+    /// (SPEC section 7, about `(-9.6103, 53.9889, -636.9821)` mm).
+    pub fn paper() -> Self {
+        let left = Vector3::new(T::lit(50.0), T::lit(-50.0), T::lit(-620.0));
+        Self {
+            left,
+            right: mirror_across_platform(&Pose::paper_start(), &left),
+        }
+    }
+}
+
+/// The mirror image of a fixed-frame point (mm) across the platform's `Y'Z'`
+/// plane at `pose`: `P + R S R^T (p - P)` with `S = diag(-1, 1, 1)`.
+pub fn mirror_across_platform<T: Real>(pose: &Pose<T>, p: &Vector3<T>) -> Vector3<T> {
+    let r = pose.rotation();
+    let mut c = r.tr_mul(&(p - pose.position()));
+    c.x = -c.x;
+    r * c + pose.position()
+}
+
+/// One cycle's result: the platform frame used, and both modules' solutions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ControlStep<T: Real> {
+    /// The platform frame at this instant (rotation, angular rates).
+    pub frame: PlatformFrame<T>,
+    /// The left module: joints, rates, accelerations, margins.
+    pub left: InstrumentSolution<T>,
+    /// The right module: joints, rates, accelerations, margins.
+    pub right: InstrumentSolution<T>,
+}
+
+/// The per-cycle solver: both instrument modules and the assembly mode each
+/// is kept in.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Controller<T: Real> {
+    /// The left module.
+    pub left: Instrument<T>,
+    /// The right module.
+    pub right: Instrument<T>,
+    /// The assembly mode of each module, `[left, right]` (default A, A).
+    pub modes: [AssemblyMode; 2],
+}
+
+impl<T: Real> Controller<T> {
+    /// The controller of two modules, both in assembly mode A.
+    pub fn new(left: Instrument<T>, right: Instrument<T>) -> Self {
+        Self {
+            left,
+            right,
+            modes: [AssemblyMode::A; 2],
+        }
+    }
+
+    /// The paper's two modules ([`Instrument::paper`]), mode A.
+    pub fn paper() -> Self {
+        Self::new(
+            Instrument::paper(Side::Left),
+            Instrument::paper(Side::Right),
+        )
+    }
+
+    /// One control cycle of motion type 4: both tips held still at `tips`
+    /// while the platform moves as `platform` says.
+    ///
+    /// Errors name the module and what failed: non-finite input, a tip out of
+    /// reach, a singular configuration, a joint beyond its limit.
+    pub fn step(
+        &self,
+        platform: &PlatformState<T>,
+        tips: &TipTargets<T>,
+    ) -> Result<ControlStep<T>, Error> {
+        let frame = platform.frame()?;
+        check_vector(&tips.left, ["tips.left.x", "tips.left.y", "tips.left.z"])?;
+        check_vector(
+            &tips.right,
+            ["tips.right.x", "tips.right.y", "tips.right.z"],
+        )?;
+        let left = self
+            .left
+            .solve(&frame, &TipMotion::still(tips.left), self.modes[0])?;
+        let right = self
+            .right
+            .solve(&frame, &TipMotion::still(tips.right), self.modes[1])?;
+        Ok(ControlStep { frame, left, right })
+    }
+}

@@ -1,0 +1,255 @@
+//! Typed errors: what went wrong, where, and by how much.
+//!
+//! Every solver of the crate returns `Result<_, Error>`; none panics and none
+//! returns a NaN. Values in the variants are `f64` in the crate's units (mm,
+//! rad); the `Display` text converts angles to degrees for people.
+//!
+//! # When this happens, how to handle it
+//! - [`Error::NonFinite`]: a NaN or infinity reached a solver. Upstream bug
+//!   or sensor fault: stop the motion.
+//! - [`Error::OutOfReach`]: the tip asks the instrument for a direction its
+//!   spherical linkage cannot point in. Re-plan the target; the platform
+//!   orientation alone may bring it back into reach.
+//! - [`Error::Singular`]: the target is reachable but on or next to a
+//!   singularity (`cos qs2 = 0`, or the tip at the RCM), where joint rates
+//!   blow up. Keep away: watch the margins the solvers report every cycle.
+//! - [`Error::JointLimit`]: the solution exists but a joint is beyond its
+//!   limit. The other assembly mode may be within limits; otherwise re-plan.
+//! - Module 1 variants ([`Error::LegOutOfReach`], [`Error::ActuatorLimit`],
+//!   [`Error::SerialSingular`], [`Error::NoConvergence`],
+//!   [`Error::SingularJacobian`]): the same meanings for the parallel robot.
+
+use core::fmt;
+
+use crate::instrument::Side;
+use crate::real::Real;
+
+/// A joint of a spherical instrument module.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Joint {
+    /// First rotation, rad.
+    Qs1,
+    /// Second rotation, rad.
+    Qs2,
+    /// Insertion (RCM to tip), mm.
+    Qs3,
+}
+
+impl Joint {
+    /// `value` (rad or mm) in the unit people read: degrees for `qs1`, `qs2`; mm for `qs3`.
+    pub fn display_value(self, value: f64) -> f64 {
+        match self {
+            Joint::Qs1 | Joint::Qs2 => value.to_degrees(),
+            Joint::Qs3 => value,
+        }
+    }
+
+    /// The unit of [`Joint::display_value`]: `"deg"` or `"mm"`.
+    pub fn display_unit(self) -> &'static str {
+        match self {
+            Joint::Qs1 | Joint::Qs2 => "deg",
+            Joint::Qs3 => "mm",
+        }
+    }
+}
+
+impl fmt::Display for Joint {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Joint::Qs1 => "qs1",
+            Joint::Qs2 => "qs2",
+            Joint::Qs3 => "qs3",
+        })
+    }
+}
+
+/// The singularity margin of an instrument module that was violated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Margin {
+    /// `|cos qs2|` (dimensionless): the tool on the reach boundary.
+    CosQs2,
+    /// `qs3` (mm): the tip at the RCM.
+    Qs3,
+}
+
+impl fmt::Display for Margin {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Margin::CosQs2 => "|cos qs2|",
+            Margin::Qs3 => "qs3 (mm)",
+        })
+    }
+}
+
+/// Everything that can go wrong in the kinematics.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A NaN or infinite input.
+    #[error("non-finite input: {what} = {value}")]
+    NonFinite {
+        /// Which input, e.g. `"pose.psi"`, `"tip.x"`.
+        what: &'static str,
+        /// The value (NaN or +-inf).
+        value: f64,
+    },
+
+    /// A geometry parameter out of its valid range.
+    #[error("invalid parameter: {what} = {value}")]
+    InvalidParameter {
+        /// Which parameter, e.g. `"instrument.beta"`.
+        what: &'static str,
+        /// Its value (in the crate's units: mm, rad).
+        value: f64,
+    },
+
+    /// The tool direction asked of an instrument module is outside its cone of
+    /// reach: `|v_x| > cos(beta)`, i.e. `|sin qs2|` would exceed 1.
+    #[error(
+        "{side} instrument: tip out of reach: the tool direction needs |sin qs2| = {sin_qs2:.9} > 1"
+    )]
+    OutOfReach {
+        /// Which module.
+        side: Side,
+        /// `|v_x| / cos(beta)`, above `1 + reach tolerance`.
+        sin_qs2: f64,
+    },
+
+    /// An instrument module at or next to a singular configuration.
+    #[error(
+        "{side} instrument: singular configuration: {margin} = {value:e} is below {threshold:e}"
+    )]
+    Singular {
+        /// Which module.
+        side: Side,
+        /// Which margin.
+        margin: Margin,
+        /// Its value (dimensionless for `|cos qs2|`, mm for `qs3`).
+        value: f64,
+        /// The threshold it fell below.
+        threshold: f64,
+    },
+
+    /// An instrument joint beyond its limit.
+    #[error(
+        "{side} instrument: joint {joint} = {:.6} {unit} is outside [{:.6}, {:.6}] {unit}",
+        joint.display_value(*value), joint.display_value(*min), joint.display_value(*max),
+        unit = joint.display_unit()
+    )]
+    JointLimit {
+        /// Which module.
+        side: Side,
+        /// Which joint.
+        joint: Joint,
+        /// Its value (rad or mm).
+        value: f64,
+        /// The lower limit (rad or mm).
+        min: f64,
+        /// The upper limit (rad or mm).
+        max: f64,
+    },
+
+    /// Module 1: the leg of actuator `q{actuator}` cannot reach its platform
+    /// node at this pose (negative square-root argument in the IK).
+    #[error(
+        "module 1: actuator q{actuator}: the pose is out of its leg's reach (square-root argument {discriminant:.6e} mm^2 < 0)"
+    )]
+    LegOutOfReach {
+        /// The actuator, 1 to 6.
+        actuator: u8,
+        /// `l^2 - |r|^2 + (r.u)^2`, mm^2, negative.
+        discriminant: f64,
+    },
+
+    /// Module 1: an actuator beyond its stroke.
+    #[error("module 1: actuator q{actuator} = {value:.6} mm is outside [{min:.6}, {max:.6}] mm")]
+    ActuatorLimit {
+        /// The actuator, 1 to 6.
+        actuator: u8,
+        /// Its value, mm.
+        value: f64,
+        /// The lower limit, mm.
+        min: f64,
+        /// The upper limit, mm.
+        max: f64,
+    },
+
+    /// Module 1: a link perpendicular (or nearly) to its guide, a serial
+    /// singularity where the actuator rate is unbounded.
+    #[error(
+        "module 1: actuator q{actuator}: serial singularity: margin |e.u|/l = {margin:e} is below {threshold:e}"
+    )]
+    SerialSingular {
+        /// The actuator, 1 to 6.
+        actuator: u8,
+        /// `|e_j . u_j| / l_j`, dimensionless.
+        margin: f64,
+        /// The threshold it fell below.
+        threshold: f64,
+    },
+
+    /// Module 1 forward kinematics: Newton's method did not converge.
+    #[error(
+        "module 1 forward kinematics: no convergence after {iterations} iterations (relative residual {residual:e})"
+    )]
+    NoConvergence {
+        /// Iterations run.
+        iterations: u32,
+        /// The final residual, relative to the link lengths.
+        residual: f64,
+    },
+
+    /// Module 1 forward kinematics: the Jacobian is singular at an iterate.
+    #[error(
+        "module 1 forward kinematics: singular Jacobian at iteration {iteration} (margin {margin:e})"
+    )]
+    SingularJacobian {
+        /// The iteration at which it happened (0 = the starting guess).
+        iteration: u32,
+        /// The dimensionless margin that vanished.
+        margin: f64,
+    },
+}
+
+/// `Err(Error::NonFinite)` when `value` is NaN or infinite.
+#[inline]
+pub fn check_finite<T: Real>(value: T, what: &'static str) -> Result<(), Error> {
+    if value.finite() {
+        Ok(())
+    } else {
+        Err(Error::NonFinite {
+            what,
+            value: value.to_f64(),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use std::string::ToString;
+
+    #[test]
+    fn joint_limit_message_names_joint_value_and_limit_in_degrees() {
+        let e = Error::JointLimit {
+            side: Side::Left,
+            joint: Joint::Qs2,
+            value: -1.5,
+            min: -80f64.to_radians(),
+            max: 80f64.to_radians(),
+        };
+        assert_eq!(
+            e.to_string(),
+            "left instrument: joint qs2 = -85.943669 deg is outside [-80.000000, 80.000000] deg"
+        );
+    }
+
+    #[test]
+    fn non_finite_message_names_the_input() {
+        let e = check_finite(f32::NAN, "tip.y").expect_err("NaN");
+        assert_eq!(e.to_string(), "non-finite input: tip.y = NaN");
+    }
+}

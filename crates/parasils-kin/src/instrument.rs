@@ -1,0 +1,876 @@
+//! The spherical instrument module (modules 2-L and 2-R): geometry, forward and
+//! inverse kinematics, Jacobian, and joint rates.
+//!
+//! Each active instrument is held by a 3-DOF spherical linkage whose remote
+//! centre of motion (RCM) sits at a port of the platform. The joints are
+//! `qs1`, `qs2` (rotations, rad) and `qs3` (insertion: RCM to tip, mm). The
+//! left module, in its RCM frame (parallel to the platform frame), is
+//!
+//! ```text
+//! M_L = R_Y(alpha) R_X(qs1) R_Y(qs2) R_X(beta) T_Z(-qs3)
+//! ```
+//!
+//! and the tip `p_local` is the last column of `M_L`: the tool points along
+//! `-z` of the last frame. The right module is the mirror image of the left
+//! across the platform's `Y'Z'` plane: with `S = diag(-1, 1, 1)`,
+//! `M_R = S M_L S`, so `p_local_R(q) = S p_local_L(q)` and mirror-symmetric
+//! poses have equal joint values.
+//!
+//! ```
+//! use nalgebra::Vector3;
+//! use parasils_kin::instrument::{Instrument, Joints, Side};
+//!
+//! let left = Instrument::<f64>::paper(Side::Left);
+//! let right = Instrument::<f64>::paper(Side::Right);
+//! let q = Joints::new(0.3, -0.5, 120.0);
+//! let s = Vector3::new(-1.0, 1.0, 1.0);
+//! // The right tip is the mirror of the left tip, joint for joint.
+//! assert!((right.tip_local(&q) - left.tip_local(&q).component_mul(&s)).norm() < 1e-12);
+//! ```
+//!
+//! # Inverse kinematics
+//! In closed form (SPEC section 3): `qs3 = |p_local|`, the tool direction
+//! `u = -p_local / qs3`, `v = R_Y(-alpha) u`, `sin qs2 = v_x / cos(beta)`.
+//! Two assembly modes share every reachable tip: [`AssemblyMode::A`] with
+//! `cos qs2 > 0` (`|qs2| < 90 deg`) and [`AssemblyMode::B`] with `cos qs2 < 0`;
+//! the singularity `cos qs2 = 0` separates them, so a continuous motion never
+//! changes mode. Then
+//!
+//! ```text
+//! qs1 = atan2(-sin(beta) v_z - cos(beta) cos(qs2) v_y,  cos(beta) cos(qs2) v_z - sin(beta) v_y)
+//! ```
+//!
+//! # Jacobian
+//! `J = d p_local / d qs` (mm/rad, mm/rad, 1), with
+//! `det J = -qs3^2 cos(qs2) cos(beta)` for the left module and the opposite
+//! sign for the right. Writing `w = R_Y(-alpha) u` as a function of `qs1, qs2`,
+//! `a = dw/dqs1 = e_x x w` and `b = dw/dqs2`, the left Jacobian is
+//! `J = -R_Y(alpha) [qs3 a, qs3 b, w]`; `w` is orthogonal to `a` and `b` and
+//! `a x b = cos(beta) cos(qs2) w`, which gives the inverse in closed form
+//! ([`Instrument::jacobian_inverse`]).
+
+use core::fmt;
+
+use nalgebra::{Matrix3, Vector3};
+
+use crate::error::{Error, Joint, Margin, check_finite};
+use crate::frame::{PlatformFrame, PlatformState, Pose};
+use crate::real::{Real, deg};
+
+/// Which of the two active instruments.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum Side {
+    /// Module 2-L, port at `(-10, 0, 0)` mm in the paper.
+    Left,
+    /// Module 2-R, the mirror image of the left across the platform's `Y'Z'` plane.
+    Right,
+}
+
+impl Side {
+    /// `"left"` or `"right"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Side::Left => "left",
+            Side::Right => "right",
+        }
+    }
+}
+
+impl fmt::Display for Side {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// One of the two solutions of the inverse kinematics.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum AssemblyMode {
+    /// `cos qs2 > 0`, `|qs2| < 90 deg`: the working mode, the default.
+    #[default]
+    A,
+    /// `cos qs2 < 0`, `|qs2| > 90 deg`.
+    B,
+}
+
+impl AssemblyMode {
+    /// The mode a configuration is in (A when `cos qs2 >= 0`).
+    pub fn of<T: Real>(q: &Joints<T>) -> Self {
+        if q.qs2.cos() >= T::zero() {
+            AssemblyMode::A
+        } else {
+            AssemblyMode::B
+        }
+    }
+}
+
+/// The joints of an instrument module, or their rates.
+///
+/// As positions: `qs1`, `qs2` in rad, `qs3` in mm. As rates: rad/s and mm/s;
+/// as accelerations: rad/s^2 and mm/s^2.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Joints<T> {
+    /// First rotation (about the linkage's `x`), rad.
+    pub qs1: T,
+    /// Second rotation (about the linkage's `y`), rad.
+    pub qs2: T,
+    /// Insertion, the distance from the RCM to the tip, mm.
+    pub qs3: T,
+}
+
+impl<T: Real> Joints<T> {
+    /// Joints from `qs1`, `qs2` (rad) and `qs3` (mm).
+    pub const fn new(qs1: T, qs2: T, qs3: T) -> Self {
+        Self { qs1, qs2, qs3 }
+    }
+
+    /// Joints from `qs1`, `qs2` in **degrees** and `qs3` in mm.
+    pub fn from_deg_mm(qs1: f64, qs2: f64, qs3: f64) -> Self {
+        Self::new(deg(qs1), deg(qs2), T::lit(qs3))
+    }
+
+    /// `[qs1, qs2, qs3]`.
+    pub fn to_array(&self) -> [T; 3] {
+        [self.qs1, self.qs2, self.qs3]
+    }
+
+    /// `[qs1, qs2, qs3]` as a vector.
+    pub fn to_vector(&self) -> Vector3<T> {
+        Vector3::new(self.qs1, self.qs2, self.qs3)
+    }
+
+    /// Joints from a vector `[qs1, qs2, qs3]`.
+    pub fn from_vector(v: &Vector3<T>) -> Self {
+        Self::new(v.x, v.y, v.z)
+    }
+
+    /// `Err(Error::NonFinite)` naming the first NaN or infinite joint.
+    pub fn check_finite(&self) -> Result<(), Error> {
+        check_finite(self.qs1, "joints.qs1")?;
+        check_finite(self.qs2, "joints.qs2")?;
+        check_finite(self.qs3, "joints.qs3")
+    }
+}
+
+/// A closed interval `[min, max]` in the unit of the quantity it bounds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Interval<T> {
+    /// Lower bound.
+    pub min: T,
+    /// Upper bound.
+    pub max: T,
+}
+
+impl<T: Real> Interval<T> {
+    /// `[min, max]`.
+    pub const fn new(min: T, max: T) -> Self {
+        Self { min, max }
+    }
+
+    /// The signed distance inside the interval: positive inside (to the
+    /// nearer bound), negative outside (by how much it is exceeded).
+    pub fn margin(&self, value: T) -> T {
+        (value - self.min).min(self.max - value)
+    }
+}
+
+/// Joint limits of an instrument module.
+///
+/// The defaults are **assumed** (the paper gives none, SPEC section 3):
+/// `qs1` in `[-120, 120] deg`, `qs2` in `[-80, 80] deg`, `qs3` in `[10, 300] mm`.
+/// Note that the default `qs2` range excludes assembly mode B entirely.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct JointLimits<T> {
+    /// `qs1`, rad.
+    pub qs1: Interval<T>,
+    /// `qs2`, rad.
+    pub qs2: Interval<T>,
+    /// `qs3`, mm.
+    pub qs3: Interval<T>,
+}
+
+impl<T: Real> Default for JointLimits<T> {
+    fn default() -> Self {
+        Self {
+            qs1: Interval::new(deg(-120.0), deg(120.0)),
+            qs2: Interval::new(deg(-80.0), deg(80.0)),
+            qs3: Interval::new(T::lit(10.0), T::lit(300.0)),
+        }
+    }
+}
+
+impl<T: Real> JointLimits<T> {
+    /// No limits at all: every configuration the linkage reaches is accepted
+    /// (the singularity thresholds still apply).
+    pub fn unlimited() -> Self {
+        let inf = T::lit(f64::INFINITY);
+        Self {
+            qs1: Interval::new(-inf, inf),
+            qs2: Interval::new(-inf, inf),
+            qs3: Interval::new(-inf, inf),
+        }
+    }
+
+    /// The distance of each joint to its nearer limit (rad, rad, mm),
+    /// negative for a joint beyond its limit.
+    pub fn margins(&self, q: &Joints<T>) -> Joints<T> {
+        Joints::new(
+            self.qs1.margin(q.qs1),
+            self.qs2.margin(q.qs2),
+            self.qs3.margin(q.qs3),
+        )
+    }
+
+    /// `Err(Error::JointLimit)` for the first joint beyond its limit.
+    pub fn check(&self, side: Side, q: &Joints<T>) -> Result<(), Error> {
+        for (joint, value, range) in [
+            (Joint::Qs1, q.qs1, &self.qs1),
+            (Joint::Qs2, q.qs2, &self.qs2),
+            (Joint::Qs3, q.qs3, &self.qs3),
+        ] {
+            if !(value >= range.min && value <= range.max) {
+                return Err(Error::JointLimit {
+                    side,
+                    joint,
+                    value: value.to_f64(),
+                    min: range.min.to_f64(),
+                    max: range.max.to_f64(),
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The thresholds at which the inverse kinematics reports an error.
+///
+/// Defaults (SPEC section 3): out of reach when `|v_x| > cos(beta) (1 + reach)`
+/// with `reach = max(1e-12, 8 eps)` (relative; 1e-12 in f64, about 1e-6 in f32);
+/// between `cos(beta)` and that bound the direction is clamped onto the
+/// boundary, where it is singular. Singular when `|cos qs2| < 1e-6` or
+/// `qs3 < 1e-6 mm`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Thresholds<T> {
+    /// Relative tolerance of the reach test (dimensionless).
+    pub reach: T,
+    /// Smallest accepted `|cos qs2|` (dimensionless).
+    pub cos_qs2: T,
+    /// Smallest accepted `qs3`, mm.
+    pub qs3: T,
+}
+
+impl<T: Real> Default for Thresholds<T> {
+    fn default() -> Self {
+        let eight_eps = T::EPSILON * T::lit(8.0);
+        Self {
+            reach: T::lit(1e-12).max(eight_eps),
+            cos_qs2: T::lit(1e-6),
+            qs3: T::lit(1e-6),
+        }
+    }
+}
+
+/// The parameters of one spherical instrument module.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct InstrumentGeometry<T: Real> {
+    /// Left or right (the right is the mirror image of the left).
+    pub side: Side,
+    /// `alpha`, the tilt of the first joint axis, rad (paper: 10 deg).
+    pub alpha: T,
+    /// `beta`, the angle between the tool and the second joint's plane, rad
+    /// (paper: 10 deg). Must be in `[0, 90) deg`.
+    pub beta: T,
+    /// `R`, the radius of the spherical linkage, mm (paper: 110 mm). Used for
+    /// drawing and collision checks; the tip does not depend on it.
+    pub radius: T,
+    /// The RCM (the port) in the platform frame, mm (paper: `(-10, 0, 0)` left,
+    /// `(10, 0, 0)` right).
+    pub rcm: Vector3<T>,
+    /// Joint limits.
+    pub limits: JointLimits<T>,
+    /// Error thresholds.
+    pub thresholds: Thresholds<T>,
+}
+
+impl<T: Real> InstrumentGeometry<T> {
+    /// The paper's module: `alpha = beta = 10 deg`, `R = 110 mm`, port at
+    /// `(-10, 0, 0)` mm (left) or `(10, 0, 0)` mm (right), the default
+    /// (assumed) limits and thresholds.
+    pub fn paper(side: Side) -> Self {
+        let x = match side {
+            Side::Left => -10.0,
+            Side::Right => 10.0,
+        };
+        Self {
+            side,
+            alpha: deg(10.0),
+            beta: deg(10.0),
+            radius: T::lit(110.0),
+            rcm: Vector3::new(T::lit(x), T::zero(), T::zero()),
+            limits: JointLimits::default(),
+            thresholds: Thresholds::default(),
+        }
+    }
+
+    /// Checks the parameters: all finite (limits may be infinite), `beta` in
+    /// `[0, 90) deg`, `R > 0`, each limit `min <= max`, thresholds positive.
+    pub fn validate(&self) -> Result<(), Error> {
+        let invalid = |what, value: T| Error::InvalidParameter {
+            what,
+            value: value.to_f64(),
+        };
+        check_finite(self.alpha, "instrument.alpha")?;
+        check_finite(self.beta, "instrument.beta")?;
+        check_finite(self.radius, "instrument.radius")?;
+        check_finite(self.rcm.x, "instrument.rcm.x")?;
+        check_finite(self.rcm.y, "instrument.rcm.y")?;
+        check_finite(self.rcm.z, "instrument.rcm.z")?;
+        if !(self.beta >= T::zero() && self.beta < T::frac_pi_2()) {
+            return Err(invalid("instrument.beta", self.beta));
+        }
+        if !(self.radius > T::zero()) {
+            return Err(invalid("instrument.radius", self.radius));
+        }
+        for (what, r) in [
+            ("instrument.limits.qs1", &self.limits.qs1),
+            ("instrument.limits.qs2", &self.limits.qs2),
+            ("instrument.limits.qs3", &self.limits.qs3),
+        ] {
+            if !(r.min <= r.max) {
+                return Err(invalid(what, r.min));
+            }
+        }
+        for (what, t) in [
+            ("instrument.thresholds.reach", self.thresholds.reach),
+            ("instrument.thresholds.cos_qs2", self.thresholds.cos_qs2),
+            ("instrument.thresholds.qs3", self.thresholds.qs3),
+        ] {
+            if !(t > T::zero() && t.finite()) {
+                return Err(invalid(what, t));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// What a controller watches on an instrument module every cycle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct InstrumentMargins<T> {
+    /// `|cos qs2|`: 1 far from the reach boundary, 0 on it (dimensionless).
+    pub cos_qs2: T,
+    /// `qs3`, mm: 0 when the tip is at the RCM.
+    pub qs3: T,
+    /// Each joint's distance to its nearer limit (rad, rad, mm).
+    pub limits: Joints<T>,
+}
+
+/// The solution for one module at one instant: joints, rates, accelerations
+/// and margins.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct InstrumentSolution<T> {
+    /// Joint positions (rad, rad, mm).
+    pub q: Joints<T>,
+    /// Joint velocities (rad/s, rad/s, mm/s).
+    pub q_dot: Joints<T>,
+    /// Joint accelerations (rad/s^2, rad/s^2, mm/s^2).
+    pub q_ddot: Joints<T>,
+    /// Margins at `q`.
+    pub margins: InstrumentMargins<T>,
+}
+
+/// A tip target in the fixed frame with its velocity and acceleration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct TipMotion<T: Real> {
+    /// Position, mm, fixed frame.
+    pub position: Vector3<T>,
+    /// Velocity, mm/s, fixed frame.
+    pub velocity: Vector3<T>,
+    /// Acceleration, mm/s^2, fixed frame.
+    pub acceleration: Vector3<T>,
+}
+
+impl<T: Real> TipMotion<T> {
+    /// A tip held still at `position` (mm, fixed frame): motion type 4.
+    pub fn still(position: Vector3<T>) -> Self {
+        Self {
+            position,
+            velocity: Vector3::zeros(),
+            acceleration: Vector3::zeros(),
+        }
+    }
+
+    /// `Err(Error::NonFinite)` naming the first NaN or infinite component.
+    pub fn check_finite(&self) -> Result<(), Error> {
+        check_vector(&self.position, ["tip.x", "tip.y", "tip.z"])?;
+        check_vector(
+            &self.velocity,
+            ["tip_velocity.x", "tip_velocity.y", "tip_velocity.z"],
+        )?;
+        check_vector(
+            &self.acceleration,
+            [
+                "tip_acceleration.x",
+                "tip_acceleration.y",
+                "tip_acceleration.z",
+            ],
+        )
+    }
+}
+
+pub(crate) fn check_vector<T: Real>(v: &Vector3<T>, names: [&'static str; 3]) -> Result<(), Error> {
+    check_finite(v.x, names[0])?;
+    check_finite(v.y, names[1])?;
+    check_finite(v.z, names[2])
+}
+
+/// A spherical instrument module, ready to solve: its geometry and the
+/// trigonometry the geometry fixes.
+///
+/// All positions are in mm, angles in rad. "Local" means the module's RCM
+/// frame (parallel to the platform frame, origin at the RCM).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Instrument<T: Real> {
+    geometry: InstrumentGeometry<T>,
+    sin_alpha: T,
+    cos_alpha: T,
+    sin_beta: T,
+    cos_beta: T,
+    /// `-1` for the left module, `+1` for the right: the sign of `det J / (qs3^2 cos qs2 cos beta)`.
+    mirror: T,
+}
+
+/// The left-convention vectors of a configuration (see the [module docs](self)).
+struct Basis<T: Real> {
+    /// `w = R_Y(-alpha) u`, the tool direction (unit).
+    w: Vector3<T>,
+    /// `dw/dqs1`.
+    a: Vector3<T>,
+    /// `dw/dqs2`.
+    b: Vector3<T>,
+    /// `d2w/dqs2^2`.
+    b2: Vector3<T>,
+    /// `cos(beta) cos(qs2)`: `a x b = d w`.
+    d: T,
+}
+
+impl<T: Real> Instrument<T> {
+    /// A module from its geometry, after [`InstrumentGeometry::validate`].
+    pub fn new(geometry: InstrumentGeometry<T>) -> Result<Self, Error> {
+        geometry.validate()?;
+        Ok(Self::from_valid(geometry))
+    }
+
+    /// The paper's module ([`InstrumentGeometry::paper`]).
+    pub fn paper(side: Side) -> Self {
+        Self::from_valid(InstrumentGeometry::paper(side))
+    }
+
+    fn from_valid(geometry: InstrumentGeometry<T>) -> Self {
+        let (sin_alpha, cos_alpha) = geometry.alpha.sin_cos();
+        let (sin_beta, cos_beta) = geometry.beta.sin_cos();
+        let mirror = match geometry.side {
+            Side::Left => -T::one(),
+            Side::Right => T::one(),
+        };
+        Self {
+            geometry,
+            sin_alpha,
+            cos_alpha,
+            sin_beta,
+            cos_beta,
+            mirror,
+        }
+    }
+
+    /// The geometry.
+    pub fn geometry(&self) -> &InstrumentGeometry<T> {
+        &self.geometry
+    }
+
+    /// Left or right.
+    pub fn side(&self) -> Side {
+        self.geometry.side
+    }
+
+    /// `S v` for the right module, `v` for the left: between the module's own
+    /// frame and the left convention the solvers work in.
+    #[inline]
+    fn to_left(&self, v: &Vector3<T>) -> Vector3<T> {
+        match self.geometry.side {
+            Side::Left => *v,
+            Side::Right => Vector3::new(-v.x, v.y, v.z),
+        }
+    }
+
+    /// `R_Y(alpha) v`.
+    #[inline]
+    fn rot_alpha(&self, v: &Vector3<T>) -> Vector3<T> {
+        let (s, c) = (self.sin_alpha, self.cos_alpha);
+        Vector3::new(c * v.x + s * v.z, v.y, -s * v.x + c * v.z)
+    }
+
+    /// `R_Y(-alpha) v`.
+    #[inline]
+    fn unrot_alpha(&self, v: &Vector3<T>) -> Vector3<T> {
+        let (s, c) = (self.sin_alpha, self.cos_alpha);
+        Vector3::new(c * v.x - s * v.z, v.y, s * v.x + c * v.z)
+    }
+
+    fn basis(&self, q: &Joints<T>) -> Basis<T> {
+        let (s1, c1) = q.qs1.sin_cos();
+        let (s2, c2) = q.qs2.sin_cos();
+        let (sb, cb) = (self.sin_beta, self.cos_beta);
+        let w = Vector3::new(s2 * cb, -c1 * sb - s1 * c2 * cb, -s1 * sb + c1 * c2 * cb);
+        Basis {
+            a: Vector3::new(T::zero(), -w.z, w.y),
+            b: Vector3::new(c2 * cb, s1 * s2 * cb, -c1 * s2 * cb),
+            b2: Vector3::new(-s2 * cb, s1 * c2 * cb, -c1 * c2 * cb),
+            d: cb * c2,
+            w,
+        }
+    }
+
+    /// Forward kinematics: the tip in the module's RCM frame, mm (seed eq. 3).
+    pub fn tip_local(&self, q: &Joints<T>) -> Vector3<T> {
+        let w = self.basis(q).w;
+        self.to_left(&(self.rot_alpha(&w) * -q.qs3))
+    }
+
+    /// Forward kinematics: the tip in the platform frame, `RCM + p_local`, mm.
+    pub fn tip_platform(&self, q: &Joints<T>) -> Vector3<T> {
+        self.geometry.rcm + self.tip_local(q)
+    }
+
+    /// Forward kinematics: the tip in the fixed frame,
+    /// `p_F = R (RCM + p_local(q)) + P`, mm (seed eq. 2 and 4).
+    ///
+    /// Fails only on non-finite input.
+    pub fn tip(&self, pose: &Pose<T>, q: &Joints<T>) -> Result<Vector3<T>, Error> {
+        pose.check_finite()?;
+        q.check_finite()?;
+        Ok(pose.rotation() * self.tip_platform(q) + pose.position())
+    }
+
+    /// The Jacobian `d p_local / d(qs1, qs2, qs3)` in the module's RCM frame
+    /// (columns in mm/rad, mm/rad, dimensionless).
+    pub fn jacobian(&self, q: &Joints<T>) -> Matrix3<T> {
+        let k = self.basis(q);
+        let c1 = self.to_left(&self.rot_alpha(&(k.a * -q.qs3)));
+        let c2 = self.to_left(&self.rot_alpha(&(k.b * -q.qs3)));
+        let c3 = self.to_left(&self.rot_alpha(&-k.w));
+        Matrix3::from_columns(&[c1, c2, c3])
+    }
+
+    /// `det J = -+ qs3^2 cos(qs2) cos(beta)` (`-` left, `+` right), mm^2/rad^2.
+    pub fn jacobian_determinant(&self, q: &Joints<T>) -> T {
+        self.mirror * q.qs3 * q.qs3 * q.qs2.cos() * self.cos_beta
+    }
+
+    /// The closed-form inverse of [`Instrument::jacobian`], or
+    /// [`Error::Singular`] when `|cos qs2|` or `qs3` is below its threshold.
+    pub fn jacobian_inverse(&self, q: &Joints<T>) -> Result<Matrix3<T>, Error> {
+        q.check_finite()?;
+        let k = self.basis(q);
+        self.check_singular(k.d / self.cos_beta, q.qs3)?;
+        // J_L = -R_Y(alpha) K, K = [qs3 a, qs3 b, w]; K^-1 has rows
+        // (b x w)/(qs3 d), (w x a)/(qs3 d), w. J_R = S J_L.
+        let scale = T::one() / (q.qs3 * k.d);
+        let r1 = k.b.cross(&k.w) * scale;
+        let r2 = k.w.cross(&k.a) * scale;
+        let k_inv = Matrix3::from_rows(&[r1.transpose(), r2.transpose(), k.w.transpose()]);
+        let unrot = Matrix3::new(
+            self.cos_alpha,
+            T::zero(),
+            -self.sin_alpha,
+            T::zero(),
+            T::one(),
+            T::zero(),
+            self.sin_alpha,
+            T::zero(),
+            self.cos_alpha,
+        );
+        let mut inv = -(k_inv * unrot);
+        if self.geometry.side == Side::Right {
+            inv.column_mut(0).neg_mut();
+        }
+        Ok(inv)
+    }
+
+    fn check_singular(&self, cos_qs2: T, qs3: T) -> Result<(), Error> {
+        let th = &self.geometry.thresholds;
+        if !(qs3 >= th.qs3) {
+            return Err(Error::Singular {
+                side: self.geometry.side,
+                margin: Margin::Qs3,
+                value: qs3.to_f64(),
+                threshold: th.qs3.to_f64(),
+            });
+        }
+        if !(cos_qs2.abs() >= th.cos_qs2) {
+            return Err(Error::Singular {
+                side: self.geometry.side,
+                margin: Margin::CosQs2,
+                value: cos_qs2.abs().to_f64(),
+                threshold: th.cos_qs2.to_f64(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Inverse kinematics from a tip in the module's RCM frame (mm), in the
+    /// given assembly mode. Joint limits are **not** checked (see
+    /// [`JointLimits::check`]); reach and singularity are.
+    ///
+    /// `qs1` and `qs2` come out in `(-180, 180] deg`.
+    pub fn ik_local(&self, p_local: &Vector3<T>, mode: AssemblyMode) -> Result<Joints<T>, Error> {
+        check_vector(p_local, ["tip_local.x", "tip_local.y", "tip_local.z"])?;
+        let p = self.to_left(p_local);
+        let th = &self.geometry.thresholds;
+        let qs3 = p.norm();
+        if !(qs3 >= th.qs3) {
+            return Err(Error::Singular {
+                side: self.geometry.side,
+                margin: Margin::Qs3,
+                value: qs3.to_f64(),
+                threshold: th.qs3.to_f64(),
+            });
+        }
+        let v = self.unrot_alpha(&(p / -qs3));
+        let sin_qs2 = v.x / self.cos_beta;
+        if sin_qs2.abs() > T::one() + th.reach {
+            return Err(Error::OutOfReach {
+                side: self.geometry.side,
+                sin_qs2: sin_qs2.abs().to_f64(),
+            });
+        }
+        let s2 = sin_qs2.max(-T::one()).min(T::one());
+        let mut c2 = ((T::one() - s2) * (T::one() + s2)).sqrt();
+        if mode == AssemblyMode::B {
+            c2 = -c2;
+        }
+        self.check_singular(c2, qs3)?;
+        let qs2 = s2.atan2(c2);
+        let (sb, cb) = (self.sin_beta, self.cos_beta);
+        let qs1 = (-sb * v.z - cb * c2 * v.y).atan2(cb * c2 * v.z - sb * v.y);
+        Ok(Joints::new(qs1, qs2, qs3))
+    }
+
+    /// The tip (mm, fixed frame) in the module's RCM frame at `pose`:
+    /// `R^T (p_F - P) - RCM`.
+    pub fn tip_to_local(&self, pose: &Pose<T>, tip: &Vector3<T>) -> Result<Vector3<T>, Error> {
+        pose.check_finite()?;
+        check_vector(tip, ["tip.x", "tip.y", "tip.z"])?;
+        Ok(pose.rotation().tr_mul(&(tip - pose.position())) - self.geometry.rcm)
+    }
+
+    /// Both solutions `[mode A, mode B]` of the inverse kinematics for a tip
+    /// (mm, fixed frame) at a platform pose. Joint limits are **not** checked:
+    /// with the default limits, mode B is always outside them.
+    pub fn ik_solutions(&self, pose: &Pose<T>, tip: &Vector3<T>) -> Result<[Joints<T>; 2], Error> {
+        let p = self.tip_to_local(pose, tip)?;
+        Ok([
+            self.ik_local(&p, AssemblyMode::A)?,
+            self.ik_local(&p, AssemblyMode::B)?,
+        ])
+    }
+
+    /// Inverse kinematics in one assembly mode, joint limits checked.
+    pub fn ik(
+        &self,
+        pose: &Pose<T>,
+        tip: &Vector3<T>,
+        mode: AssemblyMode,
+    ) -> Result<Joints<T>, Error> {
+        let q = self.ik_local(&self.tip_to_local(pose, tip)?, mode)?;
+        self.geometry.limits.check(self.geometry.side, &q)?;
+        Ok(q)
+    }
+
+    /// Inverse kinematics continuous with the configuration `current`: the
+    /// same assembly mode, and `qs1` unwrapped by whole turns to the value
+    /// nearest `current.qs1`. Joint limits checked.
+    pub fn ik_continuing(
+        &self,
+        pose: &Pose<T>,
+        tip: &Vector3<T>,
+        current: &Joints<T>,
+    ) -> Result<Joints<T>, Error> {
+        current.check_finite()?;
+        let mut q = self.ik_local(&self.tip_to_local(pose, tip)?, AssemblyMode::of(current))?;
+        q.qs1 = unwrap_near(q.qs1, current.qs1);
+        self.geometry.limits.check(self.geometry.side, &q)?;
+        Ok(q)
+    }
+
+    /// Margins at `q`: `|cos qs2|`, `qs3` and each joint's distance to its limits.
+    pub fn margins(&self, q: &Joints<T>) -> InstrumentMargins<T> {
+        InstrumentMargins {
+            cos_qs2: q.qs2.cos().abs(),
+            qs3: q.qs3,
+            limits: self.geometry.limits.margins(q),
+        }
+    }
+
+    /// Joint velocities and accelerations of the module at `q` from the
+    /// platform's motion and the tip's (SPEC section 4, the general case):
+    ///
+    /// ```text
+    /// qsdot  = J^-1 R^T (p_Fdot - Pdot - Rdot c)
+    /// qsddot = J^-1 (R^T (p_Fddot - Pddot - Rddot c - 2 Rdot J qsdot) - Jdot qsdot)
+    /// ```
+    ///
+    /// with `c = RCM + p_local(q)`. `q` must be the joints of the tip at this
+    /// instant (for instance from [`Instrument::ik`]). Returns
+    /// `(qsdot, qsddot)`; fails with [`Error::Singular`] at a singular `q`.
+    pub fn rates(
+        &self,
+        frame: &PlatformFrame<T>,
+        q: &Joints<T>,
+        tip_velocity: &Vector3<T>,
+        tip_acceleration: &Vector3<T>,
+    ) -> Result<(Joints<T>, Joints<T>), Error> {
+        q.check_finite()?;
+        check_vector(
+            tip_velocity,
+            ["tip_velocity.x", "tip_velocity.y", "tip_velocity.z"],
+        )?;
+        check_vector(
+            tip_acceleration,
+            [
+                "tip_acceleration.x",
+                "tip_acceleration.y",
+                "tip_acceleration.z",
+            ],
+        )?;
+        let k = self.basis(q);
+        self.check_singular(k.d / self.cos_beta, q.qs3)?;
+        Ok(self.rates_unchecked(frame, q, &k, tip_velocity, tip_acceleration))
+    }
+
+    fn rates_unchecked(
+        &self,
+        frame: &PlatformFrame<T>,
+        q: &Joints<T>,
+        k: &Basis<T>,
+        tip_velocity: &Vector3<T>,
+        tip_acceleration: &Vector3<T>,
+    ) -> (Joints<T>, Joints<T>) {
+        let w_b = &frame.omega;
+        let a_b = &frame.alpha;
+        // The tip in the platform frame and its platform-frame rates.
+        let c = self.geometry.rcm + self.to_left(&(self.rot_alpha(&k.w) * -q.qs3));
+        let c_dot = frame.rotation.tr_mul(&(tip_velocity - frame.velocity)) - w_b.cross(&c);
+        let c_ddot = frame
+            .rotation
+            .tr_mul(&(tip_acceleration - frame.acceleration))
+            - a_b.cross(&c)
+            - w_b.cross(&w_b.cross(&c))
+            - w_b.cross(&c_dot) * T::lit(2.0);
+        // In the left convention, y = -R_Y(-alpha) p_local = qs3 w, and
+        // y_dot = K qsdot with K = [qs3 a, qs3 b, w].
+        let y_dot = -self.unrot_alpha(&self.to_left(&c_dot));
+        let y_ddot = -self.unrot_alpha(&self.to_left(&c_ddot));
+        let inv_qd = T::one() / (q.qs3 * k.d);
+        let ba = k.b.cross(&k.w) * inv_qd;
+        let wa = k.w.cross(&k.a) * inv_qd;
+        let solve = |y: &Vector3<T>| Joints::new(ba.dot(y), wa.dot(y), k.w.dot(y));
+        let qd = solve(&y_dot);
+        // y_ddot = K qsddot + 2 qs3dot w_dot + qs3 (a_dot qs1dot + b_dot qs2dot)
+        let w_dot = k.a * qd.qs1 + k.b * qd.qs2;
+        let a_dot = Vector3::new(T::zero(), -w_dot.z, w_dot.y);
+        let b_dot = Vector3::new(T::zero(), -k.b.z, k.b.y) * qd.qs1 + k.b2 * qd.qs2;
+        let rhs =
+            y_ddot - w_dot * (T::lit(2.0) * qd.qs3) - (a_dot * qd.qs1 + b_dot * qd.qs2) * q.qs3;
+        (qd, solve(&rhs))
+    }
+
+    /// Everything a controller needs of this module at one instant: joints in
+    /// `mode` (limits checked), their rates and accelerations, and margins.
+    pub fn solve(
+        &self,
+        frame: &PlatformFrame<T>,
+        tip: &TipMotion<T>,
+        mode: AssemblyMode,
+    ) -> Result<InstrumentSolution<T>, Error> {
+        tip.check_finite()?;
+        let p = frame.to_platform(&tip.position) - self.geometry.rcm;
+        let q = self.ik_local(&p, mode)?;
+        self.geometry.limits.check(self.geometry.side, &q)?;
+        let k = self.basis(&q);
+        let (q_dot, q_ddot) = self.rates_unchecked(frame, &q, &k, &tip.velocity, &tip.acceleration);
+        Ok(InstrumentSolution {
+            q,
+            q_dot,
+            q_ddot,
+            margins: self.margins(&q),
+        })
+    }
+
+    /// [`Instrument::solve`] from a platform state (checks it for finiteness first).
+    pub fn solve_state(
+        &self,
+        platform: &PlatformState<T>,
+        tip: &TipMotion<T>,
+        mode: AssemblyMode,
+    ) -> Result<InstrumentSolution<T>, Error> {
+        self.solve(&platform.frame()?, tip, mode)
+    }
+}
+
+/// `angle + 2 pi k` for the whole `k` that brings it nearest `reference`.
+fn unwrap_near<T: Real>(angle: T, reference: T) -> T {
+    let two_pi = T::two_pi();
+    let turns = ((reference - angle) / two_pi).round();
+    angle + turns * two_pi
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn determinant_matches_the_matrix() {
+        for side in [Side::Left, Side::Right] {
+            let m = Instrument::<f64>::paper(side);
+            for q in [
+                Joints::new(0.3, -0.5, 120.0),
+                Joints::new(-2.0, 1.2, 15.0),
+                Joints::new(3.0, 2.5, 300.0),
+            ] {
+                let det = m.jacobian(&q).determinant();
+                let closed = m.jacobian_determinant(&q);
+                assert!(
+                    (det - closed).abs() < 1e-9 * closed.abs(),
+                    "{side}: {det} vs {closed}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn inverse_jacobian_is_the_inverse() {
+        for side in [Side::Left, Side::Right] {
+            let m = Instrument::<f64>::paper(side);
+            let q = Joints::new(0.7, -0.9, 80.0);
+            let prod = m.jacobian(&q) * m.jacobian_inverse(&q).expect("regular");
+            assert!((prod - Matrix3::identity()).norm() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn unwrap_picks_the_nearest_turn() {
+        let pi = core::f64::consts::PI;
+        assert!((unwrap_near(-pi + 0.1, pi - 0.1) - (pi + 0.1)).abs() < 1e-15);
+        assert!((unwrap_near(0.5_f64, 0.4) - 0.5).abs() < 1e-15);
+    }
+}

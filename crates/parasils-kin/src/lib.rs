@@ -1,0 +1,75 @@
+//! Closed-form kinematics of PARA-SILSROB, the parallel robot for
+//! single-incision laparoscopic surgery.
+//!
+//! A 6-DOF parallel robot (module 1) moves a platform carrying an endoscope
+//! and two instruments; each instrument is held by a 3-DOF spherical module
+//! with a remote centre of motion (RCM) at a port of the platform. When the
+//! surgeon reorients the camera, the platform turns about the endoscope's RCM
+//! and both instrument modules must move so that the instrument tips stay
+//! exactly where they are. This crate computes that motion in closed form:
+//! no iteration, no allocation, `#![no_std]`, in `f32` or `f64`.
+//!
+//! The paper's start pose to the left module's joints:
+//!
+//! ```
+//! use nalgebra::Vector3;
+//! use parasils_kin::{AssemblyMode, Instrument, Pose, Side};
+//!
+//! let left = Instrument::<f64>::paper(Side::Left);
+//! let p0 = Pose::paper_start(); // (15, 20, -500 mm, -15, 10, -60 deg)
+//! let tip = Vector3::new(50.0, -50.0, -620.0); // mm, fixed frame
+//! let q = left.ik(&p0, &tip, AssemblyMode::A)?;
+//! println!(
+//!     "qs1 = {:.4} deg, qs2 = {:.4} deg, qs3 = {:.4} mm",
+//!     q.qs1.to_degrees(),
+//!     q.qs2.to_degrees(),
+//!     q.qs3
+//! );
+//! assert!((q.qs1.to_degrees() - 3.0889).abs() < 5e-5);
+//! assert!((q.qs2.to_degrees() + 38.8695).abs() < 5e-5);
+//! assert!((q.qs3 - 147.7687).abs() < 5e-5);
+//! // And back: the joints put the tip where it was asked.
+//! assert!((left.tip(&p0, &q)? - tip).norm() < 1e-12);
+//! # Ok::<(), parasils_kin::Error>(())
+//! ```
+//!
+//! # Conventions
+//! | quantity | convention |
+//! |---|---|
+//! | units | mm, rad, s inside the crate (degrees only at the edges) |
+//! | fixed frame | `OXYZ`, module 1's base, `-Z` towards the patient |
+//! | platform pose | `(X_P, Y_P, Z_P, psi, theta, phi)`, `R = R_X(psi) R_Y(theta) R_Z(phi)` ([`frame`]) |
+//! | instrument joints | `qs1`, `qs2` rad, `qs3` mm = RCM to tip ([`instrument`]) |
+//! | right module | mirror of the left across the platform's `Y'Z'` plane |
+//! | assembly modes | A: `cos qs2 > 0` (default), B: `cos qs2 < 0` |
+//!
+//! # Modules
+//! - [`frame`]: the platform pose, its rotation and the rotation's rates;
+//! - [`instrument`]: the spherical module: geometry, FK, IK, Jacobian, rates;
+//! - [`controller`]: the one call per control cycle;
+//! - [`error`]: what can go wrong, typed.
+//!
+//! # Features
+//! - `std` (default): nalgebra's std back end. Without it the crate builds for
+//!   bare-metal targets such as `thumbv7em-none-eabihf`.
+//! - `serde`: `Serialize`/`Deserialize` for every parameter, pose and joint type.
+#![no_std]
+#![deny(missing_docs)]
+
+#[cfg(feature = "std")]
+extern crate std;
+
+pub mod controller;
+pub mod error;
+pub mod frame;
+pub mod instrument;
+pub mod real;
+
+pub use controller::{ControlStep, Controller, TipTargets};
+pub use error::Error;
+pub use frame::{PlatformFrame, PlatformState, Pose, PoseRate};
+pub use instrument::{
+    AssemblyMode, Instrument, InstrumentGeometry, InstrumentSolution, Joints, Side, TipMotion,
+};
+pub use nalgebra;
+pub use real::Real;
