@@ -106,7 +106,9 @@ pub enum Error {
         distance: f64,
     },
     /// An imposed duration is shorter than the minimum time, or not finite.
-    #[error("axis {axis}: the duration {requested} s is not finite or below the minimum {minimum} s")]
+    #[error(
+        "axis {axis}: the duration {requested} s is not finite or below the minimum {minimum} s"
+    )]
     InvalidDuration {
         /// The axis index (`0` for a single-axis profile).
         axis: usize,
@@ -132,7 +134,11 @@ pub enum Error {
 }
 
 /// Checks one end position.
-pub(crate) fn check_position<T: Real>(axis: usize, endpoint: Endpoint, value: T) -> Result<(), Error> {
+pub(crate) fn check_position<T: Real>(
+    axis: usize,
+    endpoint: Endpoint,
+    value: T,
+) -> Result<(), Error> {
     if value.is_finite() {
         Ok(())
     } else {

@@ -187,7 +187,7 @@ impl<T: Real> Trapezoid<T> {
     ///
     /// ```
     /// use parasils_traj::{Limits, Trapezoid};
-    /// let slow = Trapezoid::with_duration(0.0, 15.0, Limits::new(10.0, 5.0), 4.5)?;
+    /// let slow = Trapezoid::with_duration(0.0_f64, 15.0, Limits::new(10.0, 5.0), 4.5)?;
     /// assert!((slow.duration() - 4.5).abs() < 1e-12);
     /// assert_eq!(slow.peak_acceleration(), 5.0);
     /// assert!(slow.peak_velocity() < 10.0);
@@ -203,18 +203,29 @@ impl<T: Real> Trapezoid<T> {
     }
 
     /// [`Trapezoid::new`] reporting `axis` in errors.
-    pub(crate) fn new_axis(axis: usize, start: T, goal: T, limits: Limits<T>) -> Result<Self, Error> {
+    pub(crate) fn new_axis(
+        axis: usize,
+        start: T,
+        goal: T,
+        limits: Limits<T>,
+    ) -> Result<Self, Error> {
         limits.check(axis)?;
         let (dir, distance) = check_move(axis, start, goal)?;
         if dir == T::zero() {
             return Ok(Self::still(start, goal, T::zero()));
         }
-        let shape = Shape::min_time(distance, limits).ok_or_else(|| out_of_range(axis, distance))?;
+        let shape =
+            Shape::min_time(distance, limits).ok_or_else(|| out_of_range(axis, distance))?;
         Ok(Self::from_shape(start, goal, dir, distance, shape))
     }
 
     /// This minimum-time profile stretched to `duration`, keeping `a_max`.
-    pub(crate) fn stretched(self, axis: usize, limits: Limits<T>, duration: T) -> Result<Self, Error> {
+    pub(crate) fn stretched(
+        self,
+        axis: usize,
+        limits: Limits<T>,
+        duration: T,
+    ) -> Result<Self, Error> {
         let tol = self.duration * T::epsilon() * T::lit(8.0);
         if !duration.is_finite() || duration < self.duration - tol {
             return Err(Error::InvalidDuration {
@@ -231,7 +242,13 @@ impl<T: Real> Trapezoid<T> {
         }
         let shape = Shape::with_duration(self.distance, limits, duration)
             .ok_or_else(|| out_of_range(axis, self.distance))?;
-        Ok(Self::from_shape(self.start, self.goal, self.dir, self.distance, shape))
+        Ok(Self::from_shape(
+            self.start,
+            self.goal,
+            self.dir,
+            self.distance,
+            shape,
+        ))
     }
 
     /// A profile with the given shape (already scaled to this axis).
@@ -334,7 +351,7 @@ impl<T: Real> Trapezoid<T> {
     /// The state at `t` (s). See the type docs for the conventions.
     #[must_use]
     pub fn sample(&self, t: T) -> State<T> {
-        if !(t > T::zero()) || (self.dir == T::zero() && t < self.duration) {
+        if t.is_nan() || t <= T::zero() || (self.dir == T::zero() && t < self.duration) {
             return State::rest(self.start);
         }
         if t >= self.duration {
@@ -390,6 +407,7 @@ impl<T: Real> Profile<T> for Trapezoid<T> {
 }
 
 #[cfg(test)]
+#[allow(clippy::float_cmp, reason = "exactness is what these tests check")]
 mod tests {
     use super::*;
 
@@ -492,6 +510,8 @@ mod tests {
     #[test]
     fn with_duration_rejects_too_short() {
         let r = Trapezoid::with_duration(0.0_f64, 25.0, Limits::new(10.0, 5.0), 4.0);
-        assert!(matches!(r, Err(Error::InvalidDuration { minimum, .. }) if (minimum - 4.5).abs() < 1e-12));
+        assert!(
+            matches!(r, Err(Error::InvalidDuration { minimum, .. }) if (minimum - 4.5).abs() < 1e-12)
+        );
     }
 }

@@ -1,0 +1,331 @@
+//! Several axes moving together: SPEC section 5's `phase`, `time` and `none`.
+//!
+//! - [`Synchronization::Phase`] (default): a straight line in joint space.
+//!   All axes share one normalised profile and its phase times; axis `i` is
+//!   the copy scaled by `d_i / D` (`D` the longest distance), so that
+//!   `(p_i(t) - start_i) / (goal_i - start_i)` is the same for every moving
+//!   axis at every `t`. The normalised limits are `min_i v_max_i D / d_i` and
+//!   `min_i a_max_i D / d_i` (and `j_max` alike for [`DoubleS`]): the fastest
+//!   straight line that keeps every axis within its own limits. When all axes
+//!   share the same limits (the paper's case), this is exactly SPEC's wording:
+//!   the axis with the longest minimum time sets the timing and the others are
+//!   scaled copies of its profile. When the axes have different limits, the
+//!   straight line can take longer than every single axis alone (one axis
+//!   binds the velocity, another the acceleration).
+//! - [`Synchronization::Time`]: every axis lasts the longest minimum time
+//!   `T`; each other axis keeps its acceleration (and jerk) limit and lowers
+//!   its cruise velocity so as to arrive at `T`, in closed form for the
+//!   trapezoid ([`Trapezoid::with_duration`]).
+//! - [`Synchronization::None`]: each axis on its own minimum-time profile;
+//!   the group's duration is the longest.
+//!
+//! Zero-distance axes stay still (zero velocity and acceleration) and never
+//! divide anything; axes may move in opposite directions.
+
+use crate::double_s::{DoubleS, JerkLimits, SShape};
+use crate::error::{Error, out_of_range};
+use crate::profile::{Motion, Profile, State};
+use crate::real::Real;
+use crate::trapezoid::{Limits, Shape, Trapezoid};
+
+/// How the axes of a [`Multi`] are timed together (SPEC section 5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Synchronization {
+    /// Straight line in joint space; the slowest axis sets the timing (default).
+    #[default]
+    Phase,
+    /// Same duration for all; the others lower their cruise velocity.
+    Time,
+    /// Each axis on its own minimum-time profile.
+    None,
+}
+
+/// `N` axes moving together from `start` to `goal`, synchronised.
+///
+/// `P` is the per-axis profile: [`Trapezoid`] (built by [`Multi::new`]) or
+/// [`DoubleS`] (built by [`Multi::double_s`]). Each axis keeps its own units.
+/// Time is in s from the common start; the group's duration is the longest
+/// axis duration, and each axis rests at its goal after its own end.
+///
+/// ```
+/// use parasils_traj::{Limits, Multi, Synchronization};
+/// // Opposite directions and a still axis, phase-synchronised.
+/// let m = Multi::new([0.0_f64, 0.0, 2.0], [4.0, -2.0, 2.0], [Limits::new(1.0, 1.0); 3], Synchronization::Phase)?;
+/// assert_eq!(m.lead(), Some(0));
+/// let [a, b, c] = m.sample(m.duration() / 3.0);
+/// assert!((a.position + 2.0 * b.position).abs() < 1e-12); // on the straight line
+/// assert_eq!(c.position, 2.0);
+/// # Ok::<(), parasils_traj::Error>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Multi<T, const N: usize, P = Trapezoid<T>> {
+    axes: [P; N],
+    duration: T,
+    sync: Synchronization,
+    lead: Option<usize>,
+}
+
+/// Index of the first longest duration among moving axes, and that duration.
+fn longest<T: Real>(durations: impl Iterator<Item = (T, bool)>) -> (Option<usize>, T) {
+    let mut best = (None, T::zero());
+    for (i, (d, moving)) in durations.enumerate() {
+        if moving && (best.0.is_none() || d > best.1) {
+            best = (Some(i), d);
+        }
+    }
+    best
+}
+
+/// `max_i d_i` and, for each limit, `min_i limit_i D / d_i` over moving axes.
+fn normalised<T: Real, const L: usize>(
+    per_axis: impl Iterator<Item = (T, [T; L])> + Clone,
+) -> (T, [T; L]) {
+    let big = per_axis.clone().fold(T::zero(), |m, (d, _)| m.max(d));
+    let mut lim = [T::infinity(); L];
+    for (d, l) in per_axis.filter(|(d, _)| *d > T::zero()) {
+        let ratio = big / d; // >= 1, may be +inf but never NaN
+        for (m, x) in lim.iter_mut().zip(l) {
+            *m = m.min(x * ratio);
+        }
+    }
+    (big, lim)
+}
+
+impl<T: Real, const N: usize> Multi<T, N, Trapezoid<T>> {
+    /// `N` trapezoidal axes from `start` to `goal` (position units per axis)
+    /// under per-axis `limits`, synchronised by `sync`.
+    ///
+    /// # Errors
+    /// The first invalid axis's [`Error`] (`InvalidLimit`, `NonFinitePosition`,
+    /// `DistanceOverflow`, `OutOfRange`), with its index.
+    pub fn new(
+        start: [T; N],
+        goal: [T; N],
+        limits: [Limits<T>; N],
+        sync: Synchronization,
+    ) -> Result<Self, Error> {
+        let mut own = [Trapezoid::still(T::zero(), T::zero(), T::zero()); N];
+        for (i, (((p, s), g), l)) in own.iter_mut().zip(start).zip(goal).zip(limits).enumerate() {
+            *p = Trapezoid::new_axis(i, s, g, l)?;
+        }
+        let (lead, t_max) = longest(own.iter().map(|p| (p.duration(), p.distance() > T::zero())));
+        let Some(lead_axis) = lead else {
+            // Nothing moves.
+            return Ok(Self {
+                axes: own,
+                duration: T::zero(),
+                sync,
+                lead,
+            });
+        };
+        let mut axes = own;
+        match sync {
+            Synchronization::None => {}
+            Synchronization::Phase => {
+                let (big, [v, a]) = normalised(
+                    own.iter()
+                        .zip(limits)
+                        .map(|(p, l)| (p.distance(), [l.v_max, l.a_max])),
+                );
+                let shape = Shape::min_time(big, Limits::new(v, a))
+                    .ok_or_else(|| out_of_range(lead_axis, big))?;
+                for (ax, p) in axes.iter_mut().zip(own) {
+                    *ax = if p.distance() > T::zero() {
+                        let k = p.distance() / big;
+                        Trapezoid::from_shape(
+                            p.start(),
+                            p.goal(),
+                            p.direction(),
+                            p.distance(),
+                            shape.scaled(k),
+                        )
+                    } else {
+                        Trapezoid::still(p.start(), p.goal(), shape.duration)
+                    };
+                }
+            }
+            Synchronization::Time => {
+                for (i, ((ax, p), l)) in axes.iter_mut().zip(own).zip(limits).enumerate() {
+                    *ax = p.stretched(i, l, t_max)?;
+                }
+            }
+        }
+        let duration = axes.iter().fold(T::zero(), |m, p| m.max(p.duration()));
+        Ok(Self {
+            axes,
+            duration,
+            sync,
+            lead,
+        })
+    }
+}
+
+impl<T: Real, const N: usize> Multi<T, N, DoubleS<T>> {
+    /// `N` jerk-limited axes, as [`Multi::new`]. All three synchronisations
+    /// are supported: `Phase` scales one normalised double-S (velocity,
+    /// acceleration and jerk by `d_i / D`); `Time` keeps each axis's `a_max`
+    /// and `j_max` and lowers its cruise velocity (closed form when `a_max` is
+    /// reached, bisection on the jerk time otherwise).
+    ///
+    /// # Errors
+    /// As [`Multi::new`].
+    pub fn double_s(
+        start: [T; N],
+        goal: [T; N],
+        limits: [JerkLimits<T>; N],
+        sync: Synchronization,
+    ) -> Result<Self, Error> {
+        let mut own = [DoubleS::still(T::zero(), T::zero(), T::zero()); N];
+        for (i, (((p, s), g), l)) in own.iter_mut().zip(start).zip(goal).zip(limits).enumerate() {
+            *p = DoubleS::new_axis(i, s, g, l)?;
+        }
+        let (lead, t_max) = longest(own.iter().map(|p| (p.duration(), p.distance() > T::zero())));
+        let Some(lead_axis) = lead else {
+            return Ok(Self {
+                axes: own,
+                duration: T::zero(),
+                sync,
+                lead,
+            });
+        };
+        let mut axes = own;
+        match sync {
+            Synchronization::None => {}
+            Synchronization::Phase => {
+                let (big, [v, a, j]) = normalised(
+                    own.iter()
+                        .zip(limits)
+                        .map(|(p, l)| (p.distance(), [l.v_max, l.a_max, l.j_max])),
+                );
+                let shape = SShape::min_time(big, JerkLimits::new(v, a, j))
+                    .ok_or_else(|| out_of_range(lead_axis, big))?;
+                for (ax, p) in axes.iter_mut().zip(own) {
+                    *ax = if p.distance() > T::zero() {
+                        let k = p.distance() / big;
+                        DoubleS::from_shape(
+                            p.start(),
+                            p.goal(),
+                            p.direction(),
+                            p.distance(),
+                            shape.scaled(k),
+                        )
+                    } else {
+                        DoubleS::still(p.start(), p.goal(), shape.duration)
+                    };
+                }
+            }
+            Synchronization::Time => {
+                for (i, ((ax, p), l)) in axes.iter_mut().zip(own).zip(limits).enumerate() {
+                    *ax = p.stretched(i, l, t_max)?;
+                }
+            }
+        }
+        let duration = axes.iter().fold(T::zero(), |m, p| m.max(p.duration()));
+        Ok(Self {
+            axes,
+            duration,
+            sync,
+            lead,
+        })
+    }
+}
+
+impl<T: Real, const N: usize, P: Profile<T>> Multi<T, N, P> {
+    /// Duration of the group, in s: the longest axis duration.
+    #[must_use]
+    pub fn duration(&self) -> T {
+        self.duration
+    }
+
+    /// The per-axis profiles, in the order given.
+    #[must_use]
+    pub fn axes(&self) -> &[P; N] {
+        &self.axes
+    }
+
+    /// The profile of axis `i`, or `None` when `i >= N`.
+    #[must_use]
+    pub fn axis(&self, i: usize) -> Option<&P> {
+        self.axes.get(i)
+    }
+
+    /// The synchronisation used.
+    #[must_use]
+    pub fn synchronization(&self) -> Synchronization {
+        self.sync
+    }
+
+    /// The axis with the longest minimum time (the first one on a tie), or
+    /// `None` when no axis moves.
+    #[must_use]
+    pub fn lead(&self) -> Option<usize> {
+        self.lead
+    }
+
+    /// The state of every axis at `t` (s); each axis follows its own profile's
+    /// conventions (start before 0, goal after its end, right-continuous
+    /// acceleration, 0 outside the motion).
+    #[must_use]
+    pub fn sample(&self, t: T) -> [State<T>; N] {
+        self.axes.each_ref().map(|p| p.sample(t))
+    }
+}
+
+impl<T: Real, const N: usize, P: Profile<T>> Motion<T> for Multi<T, N, P> {
+    type Output = [State<T>; N];
+    fn duration(&self) -> T {
+        self.duration
+    }
+    fn sample(&self, t: T) -> [State<T>; N] {
+        Multi::sample(self, t)
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::float_cmp, reason = "exactness is what these tests check")]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn all_still() -> Result<(), Error> {
+        let m = Multi::new(
+            [1.0_f64, 2.0],
+            [1.0, 2.0],
+            [Limits::new(1.0, 1.0); 2],
+            Synchronization::Phase,
+        )?;
+        assert_eq!(m.duration(), 0.0);
+        assert_eq!(m.lead(), None);
+        assert_eq!(m.sample(0.5), [State::rest(1.0), State::rest(2.0)]);
+        Ok(())
+    }
+
+    #[test]
+    fn errors_carry_the_axis() {
+        let r = Multi::new(
+            [0.0_f64, 0.0],
+            [1.0, 1.0],
+            [Limits::new(1.0, 1.0), Limits::new(1.0, 0.0)],
+            Synchronization::Phase,
+        );
+        assert!(matches!(r, Err(Error::InvalidLimit { axis: 1, .. })));
+    }
+
+    #[test]
+    fn phase_with_different_limits_respects_each_axis() -> Result<(), Error> {
+        // Axis 0 binds velocity, axis 1 acceleration: the line is slower than both.
+        let m = Multi::new(
+            [0.0_f64, 0.0],
+            [1.0, 1.0],
+            [Limits::new(0.5, 100.0), Limits::new(100.0, 0.5)],
+            Synchronization::Phase,
+        )?;
+        let [a, b] = m.axes();
+        assert!(a.peak_velocity() <= 0.5 && b.peak_acceleration() <= 0.5);
+        let t0 = Trapezoid::new(0.0_f64, 1.0, Limits::new(0.5, 100.0))?.duration();
+        let t1 = Trapezoid::new(0.0_f64, 1.0, Limits::new(100.0, 0.5))?.duration();
+        assert!(m.duration() > t0.max(t1));
+        Ok(())
+    }
+}
