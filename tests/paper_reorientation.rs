@@ -21,7 +21,10 @@ fn drift<T: Real + parasils::traj::Real>() -> (f64, usize) {
     let tips = TipTargets::<T>::paper();
     let mut worst = 0.0f64;
     let mut n = 0;
-    for s in motion.sampler(<T as parasils::kin::Real>::lit(1000.0)).expect("valid rate") {
+    for s in motion
+        .sampler(<T as parasils::kin::Real>::lit(1000.0))
+        .expect("valid rate")
+    {
         let [psi, theta] = s.state;
         let mut pose = start;
         pose.psi = psi.position;
@@ -31,13 +34,19 @@ fn drift<T: Real + parasils::traj::Real>() -> (f64, usize) {
             [psi.velocity, theta.velocity],
             [psi.acceleration, theta.acceleration],
         );
-        let out = controller.step(&state, &tips).expect("regular along the paper's motion");
+        let out = controller
+            .step(&state, &tips)
+            .expect("regular along the paper's motion");
         for (m, q, target) in [
             (&controller.left, &out.left.q, &tips.left),
             (&controller.right, &out.right.q, &tips.right),
         ] {
             let tip = m.tip(&pose, q).expect("finite");
-            worst = worst.max((tip - target).map(|v| parasils::kin::Real::to_f64(v)).norm());
+            worst = worst.max(
+                (tip - target)
+                    .map(|v| parasils::kin::Real::to_f64(v))
+                    .norm(),
+            );
         }
         n += 1;
     }

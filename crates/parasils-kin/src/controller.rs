@@ -2,11 +2,17 @@
 //!
 //! [`Controller::step`] takes the platform's state (pose, Euler rates and
 //! accelerations) and the two tip targets held still in the fixed frame, and
-//! returns both instrument modules' joints, rates, accelerations and margins:
-//! motion type 4, the endoscope reorientation with the tips kept where they
-//! are. The platform's motion may be any (the general formula of SPEC section
-//! 4 is used); motion type 4 is `P` still and `phi` constant. The trigonometry
-//! of the platform is evaluated once and shared by the modules.
+//! returns module 1's actuators, rates, accelerations and margins, and both
+//! instrument modules' joints, rates, accelerations and margins: motion type
+//! 4, the endoscope reorientation with the tips kept where they are. The
+//! platform's motion may be any (the general formula of SPEC section 4 is
+//! used); motion type 4 is `P` still and `phi` constant. The trigonometry of
+//! the platform is evaluated once ([`PlatformFrame`]) and shared by the three
+//! modules.
+//!
+//! The whole robot's parameters are one [`RobotGeometry`], which a file can
+//! hold; [`Controller::paper`] uses module 1's **assumed** geometry
+//! ([`ParallelGeometry::assumed`]).
 //!
 //! ```
 //! use parasils_kin::controller::{Controller, TipTargets};
@@ -23,6 +29,9 @@
 //! let out = controller.step(&state, &tips)?;
 //! assert!((out.left.q.qs1.to_degrees() - 3.0889).abs() < 1e-4);
 //! assert!(out.left.margins.cos_qs2 > 0.7);
+//! // Module 1 (assumed geometry) at P0.
+//! assert!((out.module1.q[0] - 117.942).abs() < 5e-4);
+//! assert!(out.module1.margins.serial_min > 0.5);
 //! # Ok::<(), parasils_kin::Error>(())
 //! ```
 
@@ -31,8 +40,9 @@ use nalgebra::Vector3;
 use crate::error::Error;
 use crate::frame::{PlatformFrame, PlatformState, Pose};
 use crate::instrument::{
-    AssemblyMode, Instrument, InstrumentSolution, Side, TipMotion, check_vector,
+    AssemblyMode, Instrument, InstrumentGeometry, InstrumentSolution, Side, TipMotion, check_vector,
 };
+use crate::parallel::{ParallelGeometry, ParallelRobot, ParallelSolution};
 use crate::real::Real;
 
 /// The two instrument tips the controller holds still, mm, fixed frame.
@@ -67,21 +77,74 @@ pub fn mirror_across_platform<T: Real>(pose: &Pose<T>, p: &Vector3<T>) -> Vector
     r * c + pose.position()
 }
 
-/// One cycle's result: the platform frame used, and both modules' solutions.
+/// The whole robot's parameters: module 1 and both instrument modules, with
+/// their limits and thresholds. What a robot file holds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct RobotGeometry<T: Real> {
+    /// Module 1, the parallel robot.
+    pub module1: ParallelGeometry<T>,
+    /// The left instrument module (`side` must be [`Side::Left`]).
+    pub left: InstrumentGeometry<T>,
+    /// The right instrument module (`side` must be [`Side::Right`]).
+    pub right: InstrumentGeometry<T>,
+}
+
+impl<T: Real> RobotGeometry<T> {
+    /// The paper's instrument modules ([`InstrumentGeometry::paper`]) on
+    /// module 1's **assumed** geometry ([`ParallelGeometry::assumed`]).
+    pub fn paper() -> Self {
+        Self {
+            module1: ParallelGeometry::assumed(),
+            left: InstrumentGeometry::paper(Side::Left),
+            right: InstrumentGeometry::paper(Side::Right),
+        }
+    }
+
+    /// Checks every module ([`ParallelGeometry::validate`],
+    /// [`InstrumentGeometry::validate`]) and that `left` and `right` are on
+    /// their sides ([`Error::InvalidParameter`] `"robot.left.side"` or
+    /// `"robot.right.side"` otherwise, with the value 0 for left, 1 for right).
+    pub fn validate(&self) -> Result<(), Error> {
+        self.module1.validate()?;
+        for (what, g, side) in [
+            ("robot.left.side", &self.left, Side::Left),
+            ("robot.right.side", &self.right, Side::Right),
+        ] {
+            if g.side != side {
+                return Err(Error::InvalidParameter {
+                    what,
+                    value: match g.side {
+                        Side::Left => 0.0,
+                        Side::Right => 1.0,
+                    },
+                });
+            }
+            g.validate()?;
+        }
+        Ok(())
+    }
+}
+
+/// One cycle's result: the platform frame used, and the three modules' solutions.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ControlStep<T: Real> {
     /// The platform frame at this instant (rotation, angular rates).
     pub frame: PlatformFrame<T>,
+    /// Module 1: actuators, rates, accelerations, margins.
+    pub module1: ParallelSolution<T>,
     /// The left module: joints, rates, accelerations, margins.
     pub left: InstrumentSolution<T>,
     /// The right module: joints, rates, accelerations, margins.
     pub right: InstrumentSolution<T>,
 }
 
-/// The per-cycle solver: both instrument modules and the assembly mode each
-/// is kept in.
+/// The per-cycle solver: module 1, both instrument modules, and the assembly
+/// mode each instrument module is kept in.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Controller<T: Real> {
+    /// Module 1, the parallel robot.
+    pub module1: ParallelRobot<T>,
     /// The left module.
     pub left: Instrument<T>,
     /// The right module.
@@ -91,28 +154,55 @@ pub struct Controller<T: Real> {
 }
 
 impl<T: Real> Controller<T> {
-    /// The controller of two modules, both in assembly mode A.
-    pub fn new(left: Instrument<T>, right: Instrument<T>) -> Self {
+    /// The controller of module 1 and two instrument modules, both in
+    /// assembly mode A.
+    pub fn new(module1: ParallelRobot<T>, left: Instrument<T>, right: Instrument<T>) -> Self {
         Self {
+            module1,
             left,
             right,
             modes: [AssemblyMode::A; 2],
         }
     }
 
-    /// The paper's two modules ([`Instrument::paper`]), mode A.
+    /// The paper's two instrument modules ([`Instrument::paper`]), mode A, on
+    /// module 1's **assumed** geometry ([`ParallelRobot::assumed`]).
     pub fn paper() -> Self {
         Self::new(
+            ParallelRobot::assumed(),
             Instrument::paper(Side::Left),
             Instrument::paper(Side::Right),
         )
     }
 
+    /// The controller of a whole robot's geometry (validated first, see
+    /// [`RobotGeometry::validate`]), both instrument modules in mode A.
+    pub fn from_geometry(geometry: &RobotGeometry<T>) -> Result<Self, Error> {
+        geometry.validate()?;
+        Ok(Self::new(
+            ParallelRobot::new(geometry.module1)?,
+            Instrument::new(geometry.left)?,
+            Instrument::new(geometry.right)?,
+        ))
+    }
+
+    /// The whole robot's geometry (module 1's guide directions normalised).
+    pub fn geometry(&self) -> RobotGeometry<T> {
+        RobotGeometry {
+            module1: *self.module1.geometry(),
+            left: *self.left.geometry(),
+            right: *self.right.geometry(),
+        }
+    }
+
     /// One control cycle of motion type 4: both tips held still at `tips`
     /// while the platform moves as `platform` says.
     ///
-    /// Errors name the module and what failed: non-finite input, a tip out of
-    /// reach, a singular configuration, a joint beyond its limit.
+    /// Module 1 is solved first ([`ParallelRobot::solve`]: strokes checked,
+    /// the parallel margin reported for the caller to watch), then the
+    /// instrument modules. Errors name the module and what failed: non-finite
+    /// input, a leg or a tip out of reach, a singular configuration, an
+    /// actuator or joint beyond its limit.
     pub fn step(
         &self,
         platform: &PlatformState<T>,
@@ -124,12 +214,18 @@ impl<T: Real> Controller<T> {
             &tips.right,
             ["tips.right.x", "tips.right.y", "tips.right.z"],
         )?;
+        let module1 = self.module1.solve(&frame)?;
         let left = self
             .left
             .solve(&frame, &TipMotion::still(tips.left), self.modes[0])?;
         let right = self
             .right
             .solve(&frame, &TipMotion::still(tips.right), self.modes[1])?;
-        Ok(ControlStep { frame, left, right })
+        Ok(ControlStep {
+            frame,
+            module1,
+            left,
+            right,
+        })
     }
 }

@@ -15,9 +15,16 @@
 //!   blow up. Keep away: watch the margins the solvers report every cycle.
 //! - [`Error::JointLimit`]: the solution exists but a joint is beyond its
 //!   limit. The other assembly mode may be within limits; otherwise re-plan.
-//! - Module 1 variants ([`Error::LegOutOfReach`], [`Error::ActuatorLimit`],
-//!   [`Error::SerialSingular`], [`Error::NoConvergence`],
-//!   [`Error::SingularJacobian`]): the same meanings for the parallel robot.
+//! - Module 1 variants: the same meanings for the parallel robot.
+//!   [`Error::LegOutOfReach`]: a leg cannot reach its node at the pose
+//!   asked; re-plan the pose. [`Error::ActuatorLimit`]: the pose needs an
+//!   actuator beyond its stroke; re-plan. [`Error::SerialSingular`]: a link
+//!   (nearly) perpendicular to its guide, where its rate is unbounded; keep
+//!   away by watching the serial margins. Forward kinematics:
+//!   [`Error::NoConvergence`] and [`Error::BranchMismatch`] mean the guess was
+//!   too far (seed with the previous pose); [`Error::SingularJacobian`] means
+//!   a parallel singularity (stop: the platform is not held) or an iterate at
+//!   `theta = +-90 deg` (the Euler angles cannot describe the motion there).
 
 use core::fmt;
 
@@ -203,14 +210,50 @@ pub enum Error {
 
     /// Module 1 forward kinematics: the Jacobian is singular at an iterate.
     #[error(
-        "module 1 forward kinematics: singular Jacobian at iteration {iteration} (margin {margin:e})"
+        "module 1 forward kinematics: singular Jacobian ({kind}) at iteration {iteration}: margin {margin:e} is below {threshold:e}"
     )]
     SingularJacobian {
+        /// Which singularity: the robot's (parallel) or the Euler angles'.
+        kind: ParallelSingularity,
         /// The iteration at which it happened (0 = the starting guess).
         iteration: u32,
-        /// The dimensionless margin that vanished.
+        /// The dimensionless margin that vanished: the parallel margin, or
+        /// `|cos theta|` for the Euler angles.
         margin: f64,
+        /// The threshold it fell below.
+        threshold: f64,
     },
+
+    /// Module 1 forward kinematics: the constraints are solved, but the link
+    /// of actuator `q{actuator}` is on the other branch than the geometry's
+    /// (the sign of `e.u` differs from `s`): another assembly mode, which the
+    /// inverse kinematics would not give back. Start closer.
+    #[error(
+        "module 1 forward kinematics: converged to another assembly mode: the link of actuator q{actuator} is on the other branch"
+    )]
+    BranchMismatch {
+        /// The actuator, 1 to 6.
+        actuator: u8,
+    },
+}
+
+/// The kind of a singular Jacobian in module 1's forward kinematics.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum ParallelSingularity {
+    /// A parallel (type 2) singularity of the robot: the parallel margin vanished.
+    Parallel,
+    /// The Euler angles' own singularity, `theta = +-90 deg`: `|cos theta|` vanished.
+    EulerAngles,
+}
+
+impl fmt::Display for ParallelSingularity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            ParallelSingularity::Parallel => "parallel singularity",
+            ParallelSingularity::EulerAngles => "Euler angles at theta = +-90 deg",
+        })
+    }
 }
 
 /// `Err(Error::NonFinite)` when `value` is NaN or infinite.

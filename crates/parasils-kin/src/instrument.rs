@@ -505,7 +505,7 @@ impl<T: Real> Instrument<T> {
     /// `S v` for the right module, `v` for the left: between the module's own
     /// frame and the left convention the solvers work in.
     #[inline]
-    fn to_left(&self, v: &Vector3<T>) -> Vector3<T> {
+    fn in_left_convention(&self, v: &Vector3<T>) -> Vector3<T> {
         match self.geometry.side {
             Side::Left => *v,
             Side::Right => Vector3::new(-v.x, v.y, v.z),
@@ -543,7 +543,7 @@ impl<T: Real> Instrument<T> {
     /// Forward kinematics: the tip in the module's RCM frame, mm (seed eq. 3).
     pub fn tip_local(&self, q: &Joints<T>) -> Vector3<T> {
         let w = self.basis(q).w;
-        self.to_left(&(self.rot_alpha(&w) * -q.qs3))
+        self.in_left_convention(&(self.rot_alpha(&w) * -q.qs3))
     }
 
     /// Forward kinematics: the tip in the platform frame, `RCM + p_local`, mm.
@@ -565,9 +565,9 @@ impl<T: Real> Instrument<T> {
     /// (columns in mm/rad, mm/rad, dimensionless).
     pub fn jacobian(&self, q: &Joints<T>) -> Matrix3<T> {
         let k = self.basis(q);
-        let c1 = self.to_left(&self.rot_alpha(&(k.a * -q.qs3)));
-        let c2 = self.to_left(&self.rot_alpha(&(k.b * -q.qs3)));
-        let c3 = self.to_left(&self.rot_alpha(&-k.w));
+        let c1 = self.in_left_convention(&self.rot_alpha(&(k.a * -q.qs3)));
+        let c2 = self.in_left_convention(&self.rot_alpha(&(k.b * -q.qs3)));
+        let c3 = self.in_left_convention(&self.rot_alpha(&-k.w));
         Matrix3::from_columns(&[c1, c2, c3])
     }
 
@@ -634,7 +634,7 @@ impl<T: Real> Instrument<T> {
     /// `qs1` and `qs2` come out in `(-180, 180] deg`.
     pub fn ik_local(&self, p_local: &Vector3<T>, mode: AssemblyMode) -> Result<Joints<T>, Error> {
         check_vector(p_local, ["tip_local.x", "tip_local.y", "tip_local.z"])?;
-        let p = self.to_left(p_local);
+        let p = self.in_left_convention(p_local);
         let th = &self.geometry.thresholds;
         let qs3 = p.norm();
         if !(qs3 >= th.qs3) {
@@ -768,7 +768,7 @@ impl<T: Real> Instrument<T> {
         let w_b = &frame.omega;
         let a_b = &frame.alpha;
         // The tip in the platform frame and its platform-frame rates.
-        let c = self.geometry.rcm + self.to_left(&(self.rot_alpha(&k.w) * -q.qs3));
+        let c = self.geometry.rcm + self.in_left_convention(&(self.rot_alpha(&k.w) * -q.qs3));
         let c_dot = frame.rotation.tr_mul(&(tip_velocity - frame.velocity)) - w_b.cross(&c);
         let c_ddot = frame
             .rotation
@@ -778,8 +778,8 @@ impl<T: Real> Instrument<T> {
             - w_b.cross(&c_dot) * T::lit(2.0);
         // In the left convention, y = -R_Y(-alpha) p_local = qs3 w, and
         // y_dot = K qsdot with K = [qs3 a, qs3 b, w].
-        let y_dot = -self.unrot_alpha(&self.to_left(&c_dot));
-        let y_ddot = -self.unrot_alpha(&self.to_left(&c_ddot));
+        let y_dot = -self.unrot_alpha(&self.in_left_convention(&c_dot));
+        let y_ddot = -self.unrot_alpha(&self.in_left_convention(&c_ddot));
         let inv_qd = T::one() / (q.qs3 * k.d);
         let ba = k.b.cross(&k.w) * inv_qd;
         let wa = k.w.cross(&k.a) * inv_qd;

@@ -46,6 +46,8 @@
 //! # Modules
 //! - [`frame`]: the platform pose, its rotation and the rotation's rates;
 //! - [`instrument`]: the spherical module: geometry, FK, IK, Jacobian, rates;
+//! - [`parallel`]: module 1, the 6-DOF parallel robot: geometry (the default
+//!   one **assumed**), IK, actuator rates, FK by Newton's method, margins;
 //! - [`controller`]: the one call per control cycle;
 //! - [`error`]: what can go wrong, typed.
 //!
@@ -63,13 +65,18 @@ pub mod controller;
 pub mod error;
 pub mod frame;
 pub mod instrument;
+pub mod parallel;
 pub mod real;
 
-pub use controller::{ControlStep, Controller, TipTargets};
+pub use controller::{ControlStep, Controller, RobotGeometry, TipTargets};
 pub use error::Error;
 pub use frame::{PlatformFrame, PlatformState, Pose, PoseRate};
 pub use instrument::{
     AssemblyMode, Instrument, InstrumentGeometry, InstrumentSolution, Joints, Side, TipMotion,
 };
 pub use nalgebra;
+pub use parallel::{
+    Actuators, Branch, FkOptions, FkSolution, Guide, ParallelGeometry, ParallelMargins,
+    ParallelRobot, ParallelSolution, ParallelThresholds,
+};
 pub use real::Real;

@@ -358,7 +358,11 @@ fn closed_form_inverse_matches_general_inverse() {
         let m = unlimited::<f64>(side);
         for i in 0..200 {
             let t = f64::from(i);
-            let q = Joints::new((t * 0.37).sin() * 3.0, (t * 0.11).cos() * 1.3, 10.0 + 3.0 * t);
+            let q = Joints::new(
+                (t * 0.37).sin() * 3.0,
+                (t * 0.11).cos() * 1.3,
+                10.0 + 3.0 * t,
+            );
             let closed = m.jacobian_inverse(&q).expect("regular");
             let general = m.jacobian(&q).try_inverse().expect("regular");
             worst = worst.max((closed - general).amax() / general.amax());
@@ -392,9 +396,16 @@ mod bad_inputs {
     #[test]
     fn non_finite_pose_or_tip_is_named() {
         let tip = Vector3::from(P0_TIP_LEFT);
-        for (k, name) in ["pose.x", "pose.y", "pose.z", "pose.psi", "pose.theta", "pose.phi"]
-            .iter()
-            .enumerate()
+        for (k, name) in [
+            "pose.x",
+            "pose.y",
+            "pose.z",
+            "pose.psi",
+            "pose.theta",
+            "pose.phi",
+        ]
+        .iter()
+        .enumerate()
         {
             for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
                 let mut p = Pose::<f64>::paper_start().to_array();
@@ -477,7 +488,9 @@ mod bad_inputs {
         }
         // Just outside the band it solves.
         let q = Joints::from_deg_mm(30.0, 89.9, 120.0);
-        let back = m.ik_local(&m.tip_local(&q), AssemblyMode::A).expect("regular");
+        let back = m
+            .ik_local(&m.tip_local(&q), AssemblyMode::A)
+            .expect("regular");
         assert!((back.qs2 - q.qs2).abs() < 1e-9);
     }
 

@@ -32,7 +32,9 @@ fn largest_drift<T: Real>() -> f64 {
     let mut worst = 0.0f64;
     for k in 0..=4500 {
         let st = state::<T>(f64::from(k) / 1000.0);
-        let out = controller.step(&st, &tips).expect("the paper's motion is regular");
+        let out = controller
+            .step(&st, &tips)
+            .expect("the paper's motion is regular");
         for (module, sol, target) in [
             (&controller.left, &out.left, &tips.left),
             (&controller.right, &out.right, &tips.right),

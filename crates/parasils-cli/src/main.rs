@@ -1,0 +1,5 @@
+//! The `parasils` command.
+
+fn main() -> std::process::ExitCode {
+    parasils_cli::cli::main()
+}

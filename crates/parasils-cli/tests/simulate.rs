@@ -1,0 +1,361 @@
+//! `parasils simulate` run as a process: the paper's scenario, the CSV
+//! contract, and every error path.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn parasils(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_parasils"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the binary runs")
+}
+
+struct Table {
+    header: Vec<String>,
+    rows: Vec<Vec<f64>>,
+}
+
+impl Table {
+    fn parse(text: &str) -> Table {
+        let mut lines = text.lines();
+        let header = lines
+            .next()
+            .expect("a header")
+            .split(',')
+            .map(str::to_owned)
+            .collect();
+        let rows = lines
+            .map(|l| {
+                l.split(',')
+                    .map(|v| v.parse::<f64>().expect("a float"))
+                    .collect()
+            })
+            .collect();
+        Table { header, rows }
+    }
+
+    fn col(&self, name: &str) -> Vec<f64> {
+        let i = self
+            .header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("no column {name}"));
+        self.rows.iter().map(|r| r[i]).collect()
+    }
+}
+
+fn paper_csv() -> Table {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = parasils(
+        &["simulate", "--psi", "15", "--theta", "25", "-o", "-"],
+        dir.path(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    Table::parse(&String::from_utf8(out.stdout).expect("utf8"))
+}
+
+const REQUIRED: &[&str] = &[
+    "t_s",
+    "x_mm",
+    "y_mm",
+    "z_mm",
+    "psi_deg",
+    "theta_deg",
+    "phi_deg",
+    "psi_rate_deg_s",
+    "theta_rate_deg_s",
+    "psi_acc_deg_s2",
+    "theta_acc_deg_s2",
+    "module1_serial_margin",
+    "module1_parallel_margin",
+];
+
+#[test]
+fn the_paper_scenario() {
+    let t = paper_csv();
+    for c in REQUIRED {
+        assert!(t.header.iter().any(|h| h == c), "missing {c}");
+    }
+    for j in 1..=6 {
+        for c in [
+            format!("q{j}_mm"),
+            format!("q{j}_rate_mm_s"),
+            format!("q{j}_acc_mm_s2"),
+        ] {
+            assert!(t.header.contains(&c), "missing {c}");
+        }
+    }
+    for side in ["left", "right"] {
+        for c in [
+            "qs1_deg",
+            "qs2_deg",
+            "qs3_mm",
+            "qs1_rate_deg_s",
+            "qs2_rate_deg_s",
+            "qs3_rate_mm_s",
+            "qs1_acc_deg_s2",
+            "qs2_acc_deg_s2",
+            "qs3_acc_mm_s2",
+            "cos_qs2",
+            "tip_err_mm",
+        ] {
+            assert!(
+                t.header.contains(&format!("{side}_{c}")),
+                "missing {side}_{c}"
+            );
+        }
+    }
+    // 4501 samples over 4.5 s.
+    let time = t.col("t_s");
+    assert_eq!(time.len(), 4501);
+    assert_eq!(time[0], 0.0);
+    assert_eq!(time[4500], 4.5);
+    // The tips do not drift.
+    for side in ["left", "right"] {
+        let worst = t
+            .col(&format!("{side}_tip_err_mm"))
+            .into_iter()
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-9, "{side} drift {worst} mm");
+    }
+    // Platform: psi -15 -> 0, theta 10 -> 35 deg.
+    let (psi, theta) = (t.col("psi_deg"), t.col("theta_deg"));
+    assert!((psi[0] + 15.0).abs() < 1e-12 && psi[4500].abs() < 1e-12);
+    assert!((theta[0] - 10.0).abs() < 1e-12 && (theta[4500] - 35.0).abs() < 1e-12);
+    // The joints of SPEC section 7 at the start and the end.
+    let check = |side: &str, k: usize, want: [f64; 3]| {
+        let got = [
+            t.col(&format!("{side}_qs1_deg"))[k],
+            t.col(&format!("{side}_qs2_deg"))[k],
+            t.col(&format!("{side}_qs3_mm"))[k],
+        ];
+        for i in 0..3 {
+            assert!(
+                (got[i] - want[i]).abs() < 5e-5,
+                "{side} at {k}: {got:?} vs {want:?}"
+            );
+        }
+    };
+    check("left", 0, [3.0889, -38.8695, 147.7687]);
+    check("right", 0, [3.0889, -38.8695, 147.7687]);
+    check("left", 4500, [20.7942, -61.8435, 151.0378]);
+    check("right", 4500, [18.5977, -13.0799, 143.6301]);
+    // Module 1 at P0 (PARALLEL_ROBOT.md's check values, assumed geometry).
+    let p0 = [117.942, 151.459, 56.937, 89.428, 132.193, 77.441];
+    for (j, want) in p0.iter().enumerate() {
+        let got = t.col(&format!("q{}_mm", j + 1))[0];
+        assert!((got - want).abs() < 5e-4, "q{} = {got}", j + 1);
+    }
+}
+
+/// Central differences of `pos` at every sample more than 2 ms from a switch
+/// of the profile (0, 2, 2.5 and 4.5 s for the paper's theta axis, which
+/// psi's phase-synchronised profile shares) against `rate`.
+fn worst_fd_error(time: &[f64], pos: &[f64], rate: &[f64]) -> f64 {
+    let switches = [0.0, 2.0, 2.5, 4.5];
+    let mut worst = 0.0f64;
+    for k in 1..time.len() - 1 {
+        if switches.iter().any(|s| (time[k] - s).abs() <= 0.002 + 1e-9) {
+            continue;
+        }
+        let fd = (pos[k + 1] - pos[k - 1]) / (time[k + 1] - time[k - 1]);
+        worst = worst.max((fd - rate[k]).abs());
+    }
+    worst
+}
+
+#[test]
+fn rates_and_accelerations_match_finite_differences() {
+    let t = paper_csv();
+    let time = t.col("t_s");
+    let mut pairs: Vec<(String, String, String)> = vec![
+        (
+            "psi_deg".into(),
+            "psi_rate_deg_s".into(),
+            "psi_acc_deg_s2".into(),
+        ),
+        (
+            "theta_deg".into(),
+            "theta_rate_deg_s".into(),
+            "theta_acc_deg_s2".into(),
+        ),
+    ];
+    for j in 1..=6 {
+        pairs.push((
+            format!("q{j}_mm"),
+            format!("q{j}_rate_mm_s"),
+            format!("q{j}_acc_mm_s2"),
+        ));
+    }
+    for side in ["left", "right"] {
+        for (q, u) in [("qs1", "deg"), ("qs2", "deg"), ("qs3", "mm")] {
+            pairs.push((
+                format!("{side}_{q}_{u}"),
+                format!("{side}_{q}_rate_{u}_s"),
+                format!("{side}_{q}_acc_{u}_s2"),
+            ));
+        }
+    }
+    for (p, r, a) in &pairs {
+        let (pos, rate, acc) = (t.col(p), t.col(r), t.col(a));
+        let e_rate = worst_fd_error(&time, &pos, &rate);
+        let e_acc = worst_fd_error(&time, &rate, &acc);
+        assert!(e_rate < 1e-4, "{r}: {e_rate}");
+        assert!(e_acc < 1e-4, "{a}: {e_acc}");
+    }
+}
+
+#[test]
+fn same_inputs_give_byte_identical_csv() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let a = parasils(&["simulate", "-o", "a.csv"], dir.path());
+    let b = parasils(
+        &["simulate", "--psi", "15", "--theta", "25", "-o", "b.csv"],
+        dir.path(),
+    );
+    assert!(a.status.success() && b.status.success());
+    let a = std::fs::read(dir.path().join("a.csv")).expect("a.csv");
+    let b = std::fs::read(dir.path().join("b.csv")).expect("b.csv");
+    assert!(a.len() > 1000);
+    assert!(a == b, "the two runs differ");
+}
+
+#[test]
+fn summary_without_output() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = parasils(&["simulate"], dir.path());
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).expect("utf8");
+    assert!(text.contains("duration 4.500 s, 4501 samples"), "{text}");
+    assert!(text.contains("ASSUMED"), "{text}");
+    assert!(text.contains("largest tip drift"), "{text}");
+    assert!(text.contains("q6"), "{text}");
+    assert!(text.contains("smallest margins"), "{text}");
+}
+
+#[test]
+fn absolute_angles_and_other_syncs() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = parasils(
+        &[
+            "simulate",
+            "--absolute",
+            "--psi",
+            "15",
+            "--theta",
+            "25",
+            "--sync",
+            "time",
+            "-o",
+            "-",
+        ],
+        dir.path(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let t = Table::parse(&String::from_utf8(out.stdout).expect("utf8"));
+    let time = t.col("t_s");
+    // psi -15 -> 15 deg is the longer axis: 30 deg at 10 deg/s, 5 deg/s^2 = 5 s.
+    assert_eq!(*time.last().expect("rows"), 5.0);
+    assert!((t.col("psi_deg").last().expect("rows") - 15.0).abs() < 1e-12);
+    assert!((t.col("theta_deg").last().expect("rows") - 25.0).abs() < 1e-12);
+}
+
+/// Runs a failing command in an empty folder: non-zero exit, a one-line
+/// message containing `needle`, and no file left behind.
+fn fails_cleanly(args: &[&str], needle: &str, setup: impl FnOnce(&Path)) {
+    let dir = tempfile::tempdir().expect("tempdir");
+    setup(dir.path());
+    let before: Vec<_> = std::fs::read_dir(dir.path()).expect("dir").collect();
+    let out = parasils(args, dir.path());
+    assert!(!out.status.success(), "{args:?} succeeded");
+    let err = String::from_utf8(out.stderr).expect("utf8");
+    assert!(
+        err.contains(needle),
+        "{args:?}: message {err:?} lacks {needle:?}"
+    );
+    let after: Vec<_> = std::fs::read_dir(dir.path()).expect("dir").collect();
+    assert_eq!(before.len(), after.len(), "{args:?} left a file: {after:?}");
+}
+
+#[test]
+fn bad_arguments() {
+    fails_cleanly(
+        &["simulate", "--pose", "1,2,3", "-o", "x.csv"],
+        "expected 6",
+        |_| {},
+    );
+    fails_cleanly(
+        &["simulate", "--rate", "abc", "-o", "x.csv"],
+        "invalid value",
+        |_| {},
+    );
+    fails_cleanly(&["simulate", "--rate", "-5", "-o", "x.csv"], "rate", |_| {});
+    fails_cleanly(
+        &["simulate", "--omega-max", "0", "-o", "x.csv"],
+        "trajectory",
+        |_| {},
+    );
+    fails_cleanly(&["simulate", "-o", "x.txt"], "format", |_| {});
+    fails_cleanly(
+        &["simulate", "--tip-left", "1,nan,3", "-o", "x.csv"],
+        "finite",
+        |_| {},
+    );
+}
+
+#[test]
+fn unreadable_or_malformed_robot_file() {
+    fails_cleanly(
+        &["simulate", "--robot", "missing.toml", "-o", "x.csv"],
+        "missing.toml",
+        |_| {},
+    );
+    fails_cleanly(
+        &["simulate", "--robot", "bad.toml", "-o", "x.csv"],
+        "bad.toml",
+        |d| std::fs::write(d.join("bad.toml"), "[module1\nlink = ").expect("write"),
+    );
+}
+
+#[test]
+fn unreachable_tip() {
+    // Straight out sideways from the left port: beyond the linkage's cone.
+    fails_cleanly(
+        &["simulate", "--tip-left", "-400,0,-500", "-o", "x.csv"],
+        "at t = 0.000 s: left instrument",
+        |_| {},
+    );
+}
+
+#[test]
+fn trajectory_through_a_joint_limit() {
+    // A larger reorientation drives the left module's qs2 past -80 deg at 4.444 s.
+    fails_cleanly(
+        &["simulate", "--psi", "40", "--theta", "25", "-o", "x.mcap"],
+        "error: at t = 4.444 s: left instrument: joint qs2 = -80.007867 deg is outside [-80.000000, 80.000000] deg\n",
+        |_| {},
+    );
+    fails_cleanly(
+        &[
+            "simulate", "--psi", "40", "--theta", "25", "-o", "x.csv", "--plot", "p.svg",
+        ],
+        "at t = 4.444 s",
+        |_| {},
+    );
+    // Module 1 runs out of stroke.
+    fails_cleanly(
+        &["simulate", "--psi", "-40", "--theta", "40", "-o", "x.csv"],
+        "at t = 4.531 s: module 1: actuator q2 = 320.007433 mm is outside [0.000000, 320.000000] mm",
+        |_| {},
+    );
+}

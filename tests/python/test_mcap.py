@@ -1,0 +1,241 @@
+"""The MCAP output of `parasils simulate`, read back by an independent reader.
+
+Reads the file named by the environment variable ``PARASILS_MCAP`` (written
+by ``parasils simulate -o FILE.mcap``) with the Python ``mcap`` package and
+checks that:
+
+- the summary has statistics, chunk indexes and message indexes, and the
+  reader can seek with them;
+- every message validates against its channel's JSON Schema (``jsonschema``);
+  ``/tf`` and ``/scene`` also against Foxglove's official schemas in
+  ``../shared/foxglove-schemas`` (beside the repository), which the embedded
+  ones must equal;
+- each data channel has one message per sample: as many as the rows of the
+  CSV named by ``PARASILS_CSV`` when set (the same run written as CSV), else
+  the ``samples`` of the ``parasils.run`` metadata record;
+- log times increase strictly on each channel and equal ``t_s`` in ns;
+- with ``PARASILS_CSV``, every field equals its CSV column to the last bit.
+
+Run: ``pip install -r tests/python/requirements.txt``, then
+``PARASILS_MCAP=run.mcap PARASILS_CSV=run.csv pytest tests/python``.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+from collections import defaultdict
+from pathlib import Path
+
+import jsonschema
+import pytest
+from mcap.reader import make_reader
+from mcap.stream_reader import StreamReader
+
+REPO = Path(__file__).resolve().parents[2]
+OFFICIAL_SCHEMAS = REPO.parent / "shared" / "foxglove-schemas"
+EMBEDDED_SCHEMAS = REPO / "crates" / "parasils-cli" / "schemas"
+
+DATA_TOPICS = ["/platform", "/module1", "/left", "/right", "/tips", "/margins"]
+FOXGLOVE = {"/tf": "foxglove.FrameTransforms", "/scene": "foxglove.SceneUpdate"}
+OFFICIAL_FILES = {
+    "foxglove.FrameTransforms": "FrameTransforms.json",
+    "foxglove.SceneUpdate": "SceneUpdate.json",
+}
+
+MCAP_PATH = os.environ.get("PARASILS_MCAP")
+CSV_PATH = os.environ.get("PARASILS_CSV")
+
+pytestmark = pytest.mark.skipif(
+    not MCAP_PATH,
+    reason="set PARASILS_MCAP to a file written by `parasils simulate -o FILE.mcap`",
+)
+
+
+def validator(schema: dict) -> jsonschema.protocols.Validator:
+    """A validator of the schema's own draft (2020-12 when it names none)."""
+    cls = jsonschema.validators.validator_for(
+        schema, default=jsonschema.Draft202012Validator
+    )
+    cls.check_schema(schema)
+    return cls(schema)
+
+
+@pytest.fixture(scope="module")
+def recording():
+    """Everything in the file, read once: summary, metadata, channels, messages."""
+    assert MCAP_PATH is not None
+    with open(MCAP_PATH, "rb") as f:
+        reader = make_reader(f, validate_crcs=True)
+        summary = reader.get_summary()
+        metadata = {m.name: dict(m.metadata) for m in reader.iter_metadata()}
+        messages = defaultdict(list)
+        schemas = {}
+        for schema, channel, message in reader.iter_messages(log_time_order=False):
+            schemas[channel.topic] = (schema, channel)
+            messages[channel.topic].append(message)
+    return summary, metadata, schemas, messages
+
+
+@pytest.fixture(scope="module")
+def sample_count(recording) -> int:
+    """N: the CSV's rows when given, else the run metadata's sample count."""
+    _, metadata, _, _ = recording
+    n_meta = int(metadata["parasils.run"]["samples"])
+    if CSV_PATH:
+        with open(CSV_PATH, newline="") as f:
+            n_csv = sum(1 for _ in f) - 1
+        assert n_csv == n_meta, (
+            "the CSV and the MCAP metadata disagree on the sample count"
+        )
+        return n_csv
+    return n_meta
+
+
+def test_summary_has_statistics_and_indexes(recording):
+    summary, _, _, messages = recording
+    assert summary is not None, "no summary section"
+    stats = summary.statistics
+    assert stats is not None
+    assert stats.message_count == sum(len(v) for v in messages.values())
+    assert stats.metadata_count == 2
+    assert summary.chunk_indexes, "no chunk indexes"
+    for ci in summary.chunk_indexes:
+        assert ci.compression == "zstd"
+        assert ci.message_index_offsets, "a chunk without message indexes"
+    topics = {c.topic for c in summary.channels.values()}
+    assert topics == set(DATA_TOPICS) | set(FOXGLOVE)
+    for c in summary.channels.values():
+        assert c.message_encoding == "json"
+        assert summary.schemas[c.schema_id].encoding == "jsonschema"
+        assert stats.channel_message_counts[c.id] == len(messages[c.topic])
+
+
+def test_the_reader_can_seek(recording):
+    _, _, _, messages = recording
+    times = [m.log_time for m in messages["/platform"]]
+    mid = times[len(times) // 2]
+    with open(MCAP_PATH, "rb") as f:
+        reader = make_reader(f)
+        got = [
+            m.log_time
+            for _, _, m in reader.iter_messages(
+                topics=["/platform"], starting_at=mid, ending_before=mid + 1
+            )
+        ]
+        assert got == [mid]
+        last = next(reader.iter_messages(topics=["/left"], reverse=True))[2]
+        assert last.log_time == times[-1]
+
+
+def test_a_linear_read_agrees(recording):
+    """A record-by-record read with CRC checks finds the same messages."""
+    _, _, _, messages = recording
+    counts = defaultdict(int)
+    channels = {}
+    with open(MCAP_PATH, "rb") as f:
+        for record in StreamReader(f, validate_crcs=True).records:
+            kind = type(record).__name__
+            if kind == "Channel":
+                channels[record.id] = record.topic
+            elif kind == "Message":
+                counts[channels[record.channel_id]] += 1
+    assert dict(counts) == {t: len(v) for t, v in messages.items()}
+
+
+def test_every_message_validates_against_its_schema(recording):
+    _, _, schemas, messages = recording
+    for topic, (schema, channel) in schemas.items():
+        assert schema.encoding == "jsonschema"
+        embedded = json.loads(schema.data)
+        validators = [validator(embedded)]
+        if topic in FOXGLOVE:
+            assert schema.name == FOXGLOVE[topic]
+            official = json.loads(
+                (OFFICIAL_SCHEMAS / OFFICIAL_FILES[schema.name]).read_text()
+            )
+            assert embedded == official, (
+                f"{topic}: the embedded schema is not the official one"
+            )
+            validators.append(validator(official))
+        else:
+            assert embedded["type"] == "object"
+            assert embedded["additionalProperties"] is False
+            assert set(embedded["required"]) == set(embedded["properties"])
+            assert all(p["type"] == "number" for p in embedded["properties"].values())
+            assert "t_s" in embedded["required"]
+        for message in messages[topic]:
+            value = json.loads(message.data)
+            for v in validators:
+                v.validate(value)
+
+
+def test_one_message_per_sample_with_sim_time_log_times(recording, sample_count):
+    _, _, _, messages = recording
+    first = last = None
+    for topic in DATA_TOPICS:
+        msgs = messages[topic]
+        assert len(msgs) == sample_count, topic
+        previous = -1
+        for m in msgs:
+            t = json.loads(m.data)["t_s"]
+            assert abs(m.log_time - t * 1e9) <= 0.5, (topic, t, m.log_time)
+            assert m.publish_time == m.log_time
+            assert m.log_time > previous, (
+                f"{topic}: log times do not increase at t = {t} s"
+            )
+            previous = m.log_time
+        if first is None:
+            first, last = msgs[0].log_time, msgs[-1].log_time
+        assert (msgs[0].log_time, msgs[-1].log_time) == (first, last), topic
+    for topic in FOXGLOVE:
+        msgs = messages[topic]
+        assert msgs, topic
+        times = [m.log_time for m in msgs]
+        assert times == sorted(set(times)), f"{topic}: log times do not increase"
+        assert (times[0], times[-1]) == (first, last), topic
+
+
+def test_transforms_and_scene_are_in_metres(recording):
+    _, _, _, messages = recording
+    tf = json.loads(messages["/tf"][0].data)["transforms"]
+    platform = next(t for t in tf if t["child_frame_id"] == "platform")
+    assert platform["parent_frame_id"] == "world"
+    p = platform["translation"]
+    # The paper's platform is half a metre below the base, not 500 "metres".
+    assert 0.05 < (p["x"] ** 2 + p["y"] ** 2 + p["z"] ** 2) ** 0.5 < 5.0
+    q = platform["rotation"]
+    assert abs(sum(q[k] ** 2 for k in "xyzw") - 1.0) < 1e-9
+    scene = json.loads(messages["/scene"][0].data)
+    ids = {e["id"] for e in scene["entities"]}
+    assert {"module1_legs", "platform", "left_instrument", "right_instrument"} <= ids
+    for e in scene["entities"]:
+        for line in e["lines"]:
+            for pt in line["points"]:
+                assert max(abs(pt["x"]), abs(pt["y"]), abs(pt["z"])) < 5.0, e["id"]
+
+
+def test_metadata_holds_the_scenario_and_geometry(recording, sample_count):
+    _, metadata, _, _ = recording
+    scenario = metadata["parasils.scenario"]
+    s = json.loads(scenario["scenario"])
+    assert {"start", "psi", "theta", "rate_hz", "robot"} <= set(s)
+    g = json.loads(scenario["geometry"])
+    assert len(g["guide_points_mm"]) == 6 and len(g["nodes_mm"]) == 3
+    assert scenario["module1_geometry"]
+    assert int(metadata["parasils.run"]["samples"]) == sample_count
+
+
+@pytest.mark.skipif(
+    not CSV_PATH, reason="set PARASILS_CSV to the same run written as CSV"
+)
+def test_fields_equal_the_csv_to_the_last_bit(recording):
+    _, _, _, messages = recording
+    with open(CSV_PATH, newline="") as f:
+        rows = list(csv.DictReader(f))
+    for topic in DATA_TOPICS:
+        for row, m in zip(rows, messages[topic], strict=True):
+            for name, value in json.loads(m.data).items():
+                if name in row:
+                    assert value == float(row[name]), (topic, name, row["t_s"])
