@@ -11,8 +11,8 @@ pub struct CsvSink<W: Write> {
     buf: ryu::Buffer,
 }
 
-impl<W: Write> std::fmt::Debug for CsvSink<W> {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+impl<W: Write> core::fmt::Debug for CsvSink<W> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("CsvSink").finish_non_exhaustive()
     }
 }

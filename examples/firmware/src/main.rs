@@ -595,7 +595,8 @@ fn breakdown(out: &mut Out, rt: &Runtime, calibration: u32) {
     out.nl();
 }
 
-#[cfg(not(feature = "panic-report"))]
+/// Release builds without `panic-report`: the link-time no-panic check.
+#[cfg(all(not(feature = "panic-report"), not(debug_assertions)))]
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {
     unsafe extern "C" {
@@ -607,9 +608,10 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
     unsafe { parasils_firmware_has_a_panic_path() }
 }
 
-/// With `--features panic-report`, for finding a panic path that the
-/// link-time check found: report where, then fail.
-#[cfg(feature = "panic-report")]
+/// With `--features panic-report` (for finding a panic path that the
+/// link-time check found), and in debug builds, which keep their overflow
+/// and debug assertions: report where, then fail.
+#[cfg(any(feature = "panic-report", debug_assertions))]
 #[panic_handler]
 fn panic(info: &core::panic::PanicInfo) -> ! {
     let mut out = Out::new();

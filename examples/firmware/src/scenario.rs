@@ -67,7 +67,7 @@ pub const FIELD_NAMES: [&str; FIELD_COUNT] = [
     "right.cos_qs2",
 ];
 
-/// How a field is compared (see `Tolerance` in `main.rs`).
+/// How a field is compared (see `tolerance` in `main.rs`).
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub enum Kind {
     /// An angle, rad: absolute tolerance.
