@@ -32,7 +32,7 @@
 //! text; parameters that parse but do not make a valid robot are a
 //! [`RobotFileError::Invalid`] naming the parameter.
 
-use std::fmt;
+use core::fmt;
 use std::path::{Path, PathBuf};
 
 use nalgebra::Vector3;
@@ -42,6 +42,11 @@ use parasils_kin::parallel::{Branch, FkOptions, Guide, ParallelGeometry, Paralle
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 /// What went wrong with a robot file.
+///
+/// The message is complete on its own (file, line, column, key, the line's
+/// text, and the parser's or the kinematics' words); the underlying errors
+/// are kept in the fields, not chained as `source()`, so that a report of
+/// the chain does not repeat them.
 ///
 /// # When this happens, how to handle it
 /// - [`RobotFileError::Io`]: the file cannot be read or written: check the path.
@@ -53,18 +58,17 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 #[non_exhaustive]
 pub enum RobotFileError {
     /// The file could not be read or written.
-    #[error("{}: {source}", path.display())]
+    #[error("{}: {error}", path.display())]
     Io {
         /// The file.
         path: PathBuf,
         /// The operating system's error.
-        #[source]
-        source: std::io::Error,
+        error: std::io::Error,
     },
 
     /// Malformed TOML, a missing, unknown or mistyped key, or a value out of
     /// its range.
-    #[error("{origin}{}: {}{}", Location(*line, *column, key.as_deref()), source.message().trim_end(), Excerpt(*line, text.as_deref()))]
+    #[error("{origin}{}: {}{}", Location(*line, *column, key.as_deref()), error.message().trim_end(), Excerpt(*line, text.as_deref()))]
     Parse {
         /// The file's path, or `"robot file"` for text.
         origin: Box<str>,
@@ -78,12 +82,11 @@ pub enum RobotFileError {
         text: Option<Box<str>>,
         /// The TOML parser's error; its message says what is wrong
         /// (`missing field ...`, `invalid type ...`).
-        #[source]
-        source: Box<toml::de::Error>,
+        error: Box<toml::de::Error>,
     },
 
     /// The values parse but do not make a valid robot.
-    #[error("{origin}{}: invalid robot geometry: {source}{}", Location(*line, None, key.as_deref()), Excerpt(*line, text.as_deref()))]
+    #[error("{origin}{}: invalid robot geometry: {error}{}", Location(*line, None, key.as_deref()), Excerpt(*line, text.as_deref()))]
     Invalid {
         /// The file's path, or `"robot file"` for text.
         origin: Box<str>,
@@ -95,13 +98,12 @@ pub enum RobotFileError {
         /// The text of that line.
         text: Option<Box<str>>,
         /// The kinematics' error, naming the parameter.
-        #[source]
-        source: parasils_kin::Error,
+        error: parasils_kin::Error,
     },
 
     /// The geometry could not be written as TOML.
     #[error("cannot write the robot geometry as TOML: {0}")]
-    Serialize(#[source] Box<toml::ser::Error>),
+    Serialize(Box<toml::ser::Error>),
 }
 
 impl From<toml::ser::Error> for RobotFileError {
@@ -547,14 +549,14 @@ fn parse_from(text: &str, origin: &str) -> Result<RobotGeometry<f64>, RobotFileE
         ("right", geometry.right.validate()),
     ];
     for (table, result) in checks {
-        if let Err(source) = result {
-            let place = locate(text, table, &source);
+        if let Err(error) = result {
+            let place = locate(text, table, &error);
             return Err(RobotFileError::Invalid {
                 origin: origin.into(),
                 line: place.as_ref().and_then(|p| p.line),
                 key: place.as_ref().map(|p| p.key.as_str().into()),
                 text: place.and_then(|p| p.text.map(String::into_boxed_str)),
-                source,
+                error,
             });
         }
     }
@@ -689,16 +691,16 @@ fn parse_error(text: &str, origin: &str, source: toml::de::Error) -> RobotFileEr
         column: position.as_ref().map(|p| p.1),
         key,
         text: position.map(|p| p.2.into_boxed_str()),
-        source: Box::new(source),
+        error: Box::new(source),
     }
 }
 
 /// The geometry in the robot file at `path`, validated.
 pub fn load(path: impl AsRef<Path>) -> Result<RobotGeometry<f64>, RobotFileError> {
     let path = path.as_ref();
-    let text = std::fs::read_to_string(path).map_err(|source| RobotFileError::Io {
+    let text = std::fs::read_to_string(path).map_err(|error| RobotFileError::Io {
         path: path.to_owned(),
-        source,
+        error,
     })?;
     parse_from(&text, &path.display().to_string())
 }
@@ -707,9 +709,9 @@ pub fn load(path: impl AsRef<Path>) -> Result<RobotGeometry<f64>, RobotFileError
 pub fn save(path: impl AsRef<Path>, geometry: &RobotGeometry<f64>) -> Result<(), RobotFileError> {
     let path = path.as_ref();
     let text = to_toml_string(geometry)?;
-    std::fs::write(path, text).map_err(|source| RobotFileError::Io {
+    std::fs::write(path, text).map_err(|error| RobotFileError::Io {
         path: path.to_owned(),
-        source,
+        error,
     })
 }
 
