@@ -187,7 +187,9 @@ impl SimulateArgs {
         Ok((s, assumed))
     }
 
-    fn format(&self, path: &Path) -> Result<Format> {
+    /// The output format for `path`: `--format` if given, else from the
+    /// extension (`.csv`, `.mcap`, any case); an error otherwise.
+    pub fn format(&self, path: &Path) -> Result<Format> {
         if let Some(f) = self.format {
             return Ok(f);
         }
@@ -236,6 +238,116 @@ enum Writer {
     Mcap(Box<McapSink<BufWriter<File>>>),
 }
 
+impl Writer {
+    fn push(&mut self, s: &Sample) -> Result<()> {
+        match self {
+            Writer::Csv(w) => w.push(s)?,
+            Writer::Mcap(w) => w.push(s)?,
+        }
+        Ok(())
+    }
+
+    /// Flushes everything written.
+    fn finish(self) -> Result<()> {
+        match self {
+            Writer::Csv(w) => {
+                w.finish()?.flush()?;
+            }
+            Writer::Mcap(w) => {
+                w.finish()?.flush()?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A CSV or MCAP file that a simulation's samples stream into, as
+/// `parasils simulate -o FILE` writes it (the Python bindings'
+/// `simulate(out=...)` too).
+///
+/// The samples go to a temporary file beside the target, which
+/// [`OutputFile::finish`] renames to it: a failed run (the file dropped
+/// unfinished) leaves nothing behind, not even a truncated file.
+pub struct OutputFile {
+    writer: Writer,
+    tmp: tempfile::NamedTempFile,
+    path: PathBuf,
+}
+
+impl std::fmt::Debug for OutputFile {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("OutputFile")
+            .field("path", &self.path)
+            .finish_non_exhaustive()
+    }
+}
+
+/// An [`OutputFile`] flushed, still under its temporary name.
+struct Flushed {
+    tmp: tempfile::NamedTempFile,
+    path: PathBuf,
+}
+
+impl Flushed {
+    fn persist(self) -> Result<PathBuf> {
+        let Flushed { tmp, path } = self;
+        tmp.persist(&path)
+            .with_context(|| format!("writing {}", path.display()))?;
+        Ok(path)
+    }
+}
+
+impl OutputFile {
+    /// Starts writing `sim`'s samples to `path` in `format` (see
+    /// [`SimulateArgs::format`]): the CSV header, or the MCAP file's header,
+    /// channels and scenario.
+    pub fn create(path: &Path, format: Format, sim: &Simulation) -> Result<Self> {
+        let tmp = temp_beside(path)?;
+        let file = tmp.reopen()?;
+        let writer = match format {
+            Format::Csv => {
+                let f: Box<dyn Write> = Box::new(file);
+                Writer::Csv(CsvSink::new(BufWriter::new(f))?)
+            }
+            Format::Mcap => Writer::Mcap(Box::new(McapSink::new(
+                BufWriter::new(file),
+                sim.scenario(),
+            )?)),
+        };
+        Ok(Self {
+            writer,
+            tmp,
+            path: path.to_owned(),
+        })
+    }
+
+    /// The file's final path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    fn flush(self) -> Result<Flushed> {
+        self.writer.finish()?;
+        Ok(Flushed {
+            tmp: self.tmp,
+            path: self.path,
+        })
+    }
+
+    /// Flushes the file and renames it to its path; returns the path.
+    pub fn finish(self) -> Result<PathBuf> {
+        self.flush()?.persist()
+    }
+}
+
+impl Sink for OutputFile {
+    type Error = anyhow::Error;
+
+    fn push(&mut self, sample: &Sample) -> Result<()> {
+        self.writer.push(sample)
+    }
+}
+
 fn simulate(args: &SimulateArgs) -> Result<()> {
     let (scenario, assumed) = args.scenario()?;
     let sim = Simulation::new(scenario)?;
@@ -255,20 +367,8 @@ fn simulate(args: &SimulateArgs) -> Result<()> {
         }
         Some(p) => {
             let format = args.format(p)?;
-            let tmp = temp_beside(p)?;
-            let file = tmp.reopen()?;
-            let w = match format {
-                Format::Csv => {
-                    let f: Box<dyn Write> = Box::new(file);
-                    Writer::Csv(CsvSink::new(BufWriter::new(f))?)
-                }
-                Format::Mcap => Writer::Mcap(Box::new(McapSink::new(
-                    BufWriter::new(file),
-                    sim.scenario(),
-                )?)),
-            };
-            out_file = Some((tmp, p.clone()));
-            Some(w)
+            out_file = Some(OutputFile::create(p, format, &sim)?);
+            None
         }
     };
     let mut plot = args
@@ -280,10 +380,11 @@ fn simulate(args: &SimulateArgs) -> Result<()> {
     for (k, sample) in sim.samples().enumerate() {
         let s: Sample = sample?;
         let _ = summary.push(&s);
-        match &mut writer {
-            Some(Writer::Csv(w)) => w.push(&s)?,
-            Some(Writer::Mcap(w)) => w.push(&s)?,
-            None => {}
+        if let Some(w) = &mut writer {
+            w.push(&s)?;
+        }
+        if let Some(f) = &mut out_file {
+            f.push(&s)?;
         }
         if let Some(p) = &mut plot {
             p.push(&s)?;
@@ -298,24 +399,18 @@ fn simulate(args: &SimulateArgs) -> Result<()> {
         pb.finish_and_clear();
     }
 
-    match writer {
-        Some(Writer::Csv(w)) => {
-            w.finish()?.flush()?;
-        }
-        Some(Writer::Mcap(w)) => {
-            w.finish()?.flush()?;
-        }
-        None => {}
+    if let Some(w) = writer {
+        w.finish()?;
     }
+    let out_file = out_file.map(OutputFile::flush).transpose()?;
     if let (Some(p), Some(path)) = (plot, &args.plot) {
         let tmp = temp_beside(path)?;
         p.finish(tmp.path(), path)?;
         tmp.persist(path)
             .with_context(|| format!("writing {}", path.display()))?;
     }
-    if let Some((tmp, path)) = out_file {
-        tmp.persist(&path)
-            .with_context(|| format!("writing {}", path.display()))?;
+    if let Some(f) = out_file {
+        let path = f.persist()?;
         eprintln!(
             "parasils: wrote {} samples ({:.3} s) to {}",
             summary.count(),
