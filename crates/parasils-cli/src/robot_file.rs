@@ -168,6 +168,10 @@ pub struct Module1File {
     /// Smallest parallel margin the forward kinematics accepts.
     #[serde(deserialize_with = "positive")]
     pub parallel_margin_min: f64,
+    /// Smallest parallel margin the per-cycle call accepts (a command
+    /// closer to a parallel singularity is refused).
+    #[serde(deserialize_with = "positive")]
+    pub parallel_margin_command_min: f64,
     /// Smallest `|cos theta|` the forward kinematics accepts.
     #[serde(deserialize_with = "positive")]
     pub euler_cos_theta_min: f64,
@@ -355,6 +359,7 @@ impl RobotFile {
                 assumed: m.assumed,
                 serial_margin_min: m.thresholds.serial,
                 parallel_margin_min: m.thresholds.parallel,
+                parallel_margin_command_min: m.thresholds.parallel_command,
                 euler_cos_theta_min: m.thresholds.euler,
                 fk_tolerance_rel: m.fk.tolerance,
                 fk_max_iterations: m.fk.max_iterations,
@@ -390,6 +395,7 @@ impl RobotFile {
                 thresholds: ParallelThresholds {
                     serial: m.serial_margin_min,
                     parallel: m.parallel_margin_min,
+                    parallel_command: m.parallel_margin_command_min,
                     euler: m.euler_cos_theta_min,
                 },
                 fk: FkOptions {
@@ -457,12 +463,16 @@ const HEADER: &str = "\
 ";
 
 /// Comments appended to the lines whose key they explain.
-const KEY_COMMENTS: [(&str, &str); 14] = [
+const KEY_COMMENTS: [(&str, &str); 15] = [
     ("assumed", "true: the dimensions below are assumed"),
     ("serial_margin_min", "smallest accepted |e.u|/l, in (0, 1)"),
     (
         "parallel_margin_min",
         "FK: smallest accepted parallel margin",
+    ),
+    (
+        "parallel_margin_command_min",
+        "each cycle: smallest accepted parallel margin",
     ),
     ("euler_cos_theta_min", "FK: smallest accepted |cos theta|"),
     ("fk_tolerance_rel", "FK: max |f_j| / l_j at convergence"),
@@ -607,6 +617,7 @@ fn locate(text: &str, table: &str, error: &parasils_kin::Error) -> Option<Place>
             let key = match what {
                 "module1.thresholds.serial" => "serial_margin_min",
                 "module1.thresholds.parallel" => "parallel_margin_min",
+                "module1.thresholds.parallel_command" => "parallel_margin_command_min",
                 "module1.thresholds.euler" => "euler_cos_theta_min",
                 "module1.fk.tolerance" => "fk_tolerance_rel",
                 "module1.fk.max_iterations" => "fk_max_iterations",

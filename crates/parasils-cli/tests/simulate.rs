@@ -352,6 +352,13 @@ fn trajectory_through_a_joint_limit() {
         "at t = 4.444 s",
         |_| {},
     );
+    // Module 1 (assumed geometry) crosses a parallel singularity near
+    // theta = 49.7 deg.
+    fails_cleanly(
+        &["simulate", "--psi", "0", "--theta", "60", "-o", "x.csv"],
+        "at t = 4.927 s: module 1: parallel singularity: margin 9.945e-3 is below 1e-2",
+        |_| {},
+    );
     // Module 1 runs out of stroke.
     fails_cleanly(
         &["simulate", "--psi", "-40", "--theta", "40", "-o", "x.csv"],

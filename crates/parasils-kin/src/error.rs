@@ -197,6 +197,18 @@ pub enum Error {
         threshold: f64,
     },
 
+    /// Module 1: the commanded pose is at or next to a parallel (type 2)
+    /// singularity, where the platform is not held by the locked actuators.
+    #[error(
+        "module 1: parallel singularity: margin {margin:.3e} is below {threshold:e}"
+    )]
+    ParallelSingular {
+        /// The parallel margin (dimensionless, see `parallel`).
+        margin: f64,
+        /// The threshold it fell below.
+        threshold: f64,
+    },
+
     /// Module 1 forward kinematics: Newton's method did not converge.
     #[error(
         "module 1 forward kinematics: no convergence after {iterations} iterations (relative residual {residual:e})"

@@ -6,8 +6,11 @@
 //! with a remote centre of motion (RCM) at a port of the platform. When the
 //! surgeon reorients the camera, the platform turns about the endoscope's RCM
 //! and both instrument modules must move so that the instrument tips stay
-//! exactly where they are. This crate computes that motion in closed form:
-//! no iteration, no allocation, `#![no_std]`, in `f32` or `f64`.
+//! exactly where they are. This crate computes that motion in closed form
+//! (the per-cycle call [`Controller::step`] has no iteration and a fixed
+//! cost), without allocation, `#![no_std]`, in `f32` or `f64`. Only module 1's
+//! forward kinematics, which the control cycle does not need, iterates
+//! (Newton's method, bounded).
 //!
 //! The paper's start pose to the left module's joints:
 //!

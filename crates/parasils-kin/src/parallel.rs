@@ -270,7 +270,8 @@ impl<T: Real> SymmetricLayout<T> {
 
 /// The thresholds at which module 1's solvers report a singularity.
 ///
-/// All are dimensionless; the default of each is `1e-6` in `f32` and `f64`.
+/// All are dimensionless. Defaults: `1e-6` for `serial`, `parallel` and
+/// `euler`; `1e-2` for `parallel_command`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ParallelThresholds<T> {
@@ -281,6 +282,14 @@ pub struct ParallelThresholds<T> {
     /// Smallest parallel margin (see the [module docs](self)) that the
     /// forward kinematics accepts at an iterate.
     pub parallel: T,
+    /// Smallest parallel margin that [`ParallelRobot::solve`], the per-cycle
+    /// call, accepts: a command closer to a parallel singularity is refused
+    /// ([`Error::ParallelSingular`]). At the default `1e-2`, actuator errors
+    /// are amplified at most about 100 times into platform errors. It is
+    /// checked at each call, so a trajectory sampled at 1 kHz cannot step over
+    /// a singularity unnoticed unless its margin changes by more than `1e-2`
+    /// per sample.
+    pub parallel_command: T,
     /// Smallest `|cos theta|` that the forward kinematics accepts at an
     /// iterate (the Euler angles' own singularity).
     pub euler: T,
@@ -291,6 +300,7 @@ impl<T: Real> Default for ParallelThresholds<T> {
         Self {
             serial: T::lit(1e-6),
             parallel: T::lit(1e-6),
+            parallel_command: T::lit(1e-2),
             euler: T::lit(1e-6),
         }
     }
@@ -501,6 +511,7 @@ impl<T: Real> ParallelGeometry<T> {
         }
         for (what, t) in [
             ("module1.thresholds.parallel", th.parallel),
+            ("module1.thresholds.parallel_command", th.parallel_command),
             ("module1.thresholds.euler", th.euler),
             ("module1.fk.tolerance", self.fk.tolerance),
         ] {
@@ -875,10 +886,10 @@ impl<T: Real> ParallelRobot<T> {
     /// actuators, their rates and accelerations, and the margins.
     ///
     /// Checks as [`ParallelRobot::ik`] does, **strokes included**: the
-    /// controller must refuse a command beyond an actuator's stroke. The
-    /// parallel margin is reported, not checked: the IK and the rates are
-    /// well defined at a parallel singularity, and the threshold at which to
-    /// stop is the controller's (compare `margins.parallel`). A frame with a
+    /// controller must refuse a command beyond an actuator's stroke. Then
+    /// the parallel margin: below `thresholds.parallel_command` the platform
+    /// is no longer held (the IK and the rates are still defined there, but
+    /// commanding them is unsafe), [`Error::ParallelSingular`]. A frame with a
     /// NaN or an infinity is [`Error::NonFinite`] (`"frame"`; build frames
     /// with [`PlatformState::frame`], which names the input).
     pub fn solve(&self, frame: &PlatformFrame<T>) -> Result<ParallelSolution<T>, Error> {
@@ -887,12 +898,20 @@ impl<T: Real> ParallelRobot<T> {
         self.check_serial(&legs.eu)?;
         let q = Actuators(legs.q);
         self.check_strokes(&q)?;
+        let margins = self.margins_of(&legs);
+        let threshold = self.geometry.thresholds.parallel_command;
+        if !(margins.parallel >= threshold) {
+            return Err(Error::ParallelSingular {
+                margin: margins.parallel.to_f64(),
+                threshold: threshold.to_f64(),
+            });
+        }
         let (q_dot, q_ddot) = self.rates_unchecked(frame, &legs.e, &legs.eu);
         Ok(ParallelSolution {
             q,
             q_dot,
             q_ddot,
-            margins: self.margins_of(&legs),
+            margins,
         })
     }
 

@@ -887,3 +887,27 @@ fn layout_builds_the_assumed_geometry() {
         assert!((g.nodes[i] - a.nodes[i]).norm() < 1e-12, "node {i}");
     }
 }
+
+/// The per-cycle call refuses a pose next to a parallel singularity: the
+/// assumed geometry has one near `psi = -15 deg, theta = 49.7 deg` (found
+/// along `parasils simulate --psi 0 --theta 60`), where the IK alone is fine.
+#[test]
+fn solve_refuses_a_pose_next_to_a_parallel_singularity() {
+    use parasils_kin::frame::{PlatformState, Pose};
+    use parasils_kin::parallel::ParallelRobot;
+    let robot = ParallelRobot::<f64>::assumed();
+    let near = Pose::from_mm_deg(15.0, 20.0, -500.0, -15.0, 49.7, -60.0);
+    assert!(robot.ik(&near).is_ok());
+    let margin = robot.margins(&near).expect("reachable").parallel;
+    assert!(margin < 1e-2, "margin {margin}");
+    match robot.solve_state(&PlatformState::at_rest(near)) {
+        Err(parasils_kin::Error::ParallelSingular { margin: m, threshold }) => {
+            assert!((m - margin).abs() < 1e-15);
+            assert!((threshold - 1e-2).abs() < 1e-18);
+        }
+        other => panic!("{other:?}"),
+    }
+    // Farther away it solves.
+    let far = Pose::from_mm_deg(15.0, 20.0, -500.0, -15.0, 40.0, -60.0);
+    assert!(robot.solve_state(&PlatformState::at_rest(far)).is_ok());
+}

@@ -510,6 +510,7 @@ fn report_fault(out: &mut Out, cycle: usize, fault: &Fault) {
                 Error::LegOutOfReach { .. } => "module 1 leg out of reach",
                 Error::ActuatorLimit { .. } => "module 1 actuator beyond its stroke",
                 Error::SerialSingular { .. } => "module 1 serial singularity",
+                Error::ParallelSingular { .. } => "module 1 parallel singularity",
                 _ => "kinematics error",
             });
         }
