@@ -1,0 +1,110 @@
+//! `parasils ik`, `parasils fk` and `parasils robot` run as processes.
+
+use std::process::{Command, Output};
+
+fn parasils(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_parasils"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn json(args: &[&str]) -> serde_json::Value {
+    let out = parasils(args);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice(&out.stdout).expect("JSON")
+}
+
+fn num(v: &serde_json::Value) -> f64 {
+    v.as_f64().expect("a number")
+}
+
+#[test]
+fn ik_at_p0_gives_the_check_values() {
+    let v = json(&["ik", "--json"]);
+    // PARALLEL_ROBOT.md's check values at P0 (assumed geometry).
+    let want = [117.942, 151.459, 56.937, 89.428, 132.193, 77.441];
+    let q = v["module1"]["q_mm"].as_array().expect("q_mm");
+    for (got, want) in q.iter().zip(want) {
+        assert!((num(got) - want).abs() < 5e-4, "{got} vs {want}");
+    }
+    assert_eq!(v["module1"]["assumed_geometry"], serde_json::json!(true));
+    // SPEC section 7: both modules, mode A, and the left's mode B.
+    for side in ["left", "right"] {
+        let a = &v[side]["mode_a"];
+        assert!((num(&a["qs1_deg"]) - 3.0889).abs() < 5e-5);
+        assert!((num(&a["qs2_deg"]) + 38.8695).abs() < 5e-5);
+        assert!((num(&a["qs3_mm"]) - 147.7687).abs() < 5e-5);
+        assert!(a["limit_error"].is_null());
+        let b = &v[side]["mode_b"];
+        assert!((num(&b["qs1_deg"]) + 151.3897).abs() < 5e-5);
+        assert!(b["limit_error"].as_str().expect("beyond limits").contains("qs1"));
+    }
+}
+
+#[test]
+fn ik_text_names_the_assumed_geometry() {
+    let out = parasils(&["ik", "--pose", "15,20,-500,-15,10,-60", "--tip-left", "50,-50,-620"]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).expect("utf8");
+    assert!(text.contains("ASSUMED"), "{text}");
+    assert!(text.contains("mode A: qs1 =    3.0889 deg, qs2 =  -38.8695 deg, qs3 = 147.7687 mm"), "{text}");
+}
+
+#[test]
+fn fk_recovers_p0_and_the_tip() {
+    let v = json(&[
+        "fk",
+        "--q",
+        "117.94221,151.45877,56.93665,89.42758,132.19295,77.44067",
+        "--guess",
+        "10,15,-495,-10,5,-55",
+        "--qs-left",
+        "3.0889,-38.8695,147.7687",
+        "--json",
+    ]);
+    let p = &v["pose"];
+    for (k, want) in [
+        ("x_mm", 15.0),
+        ("y_mm", 20.0),
+        ("z_mm", -500.0),
+        ("psi_deg", -15.0),
+        ("theta_deg", 10.0),
+        ("phi_deg", -60.0),
+    ] {
+        // The actuators above carry five decimals: about 1e-5 mm of input noise.
+        assert!((num(&p[k]) - want).abs() < 1e-3, "{k}: {}", p[k]);
+    }
+    assert!(v["module1"]["iterations"].as_u64().expect("iterations") <= 10);
+    let tip = v["left"]["tip_mm"].as_array().expect("tip");
+    for (got, want) in tip.iter().zip([50.0, -50.0, -620.0]) {
+        assert!((num(got) - want).abs() < 1e-2, "{got} vs {want}");
+    }
+}
+
+#[test]
+fn fk_from_a_singular_guess_fails_cleanly() {
+    let out = parasils(&[
+        "fk",
+        "--q",
+        "117.942,151.459,56.937,89.428,132.193,77.441",
+        "--guess",
+        "15,20,-500,-15,90,-60",
+    ]);
+    assert!(!out.status.success());
+    let err = String::from_utf8(out.stderr).expect("utf8");
+    assert!(err.starts_with("parasils: error: module 1 forward kinematics"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+}
+
+#[test]
+fn robot_prints_the_committed_default_file() {
+    let out = parasils(&["robot"]);
+    assert!(out.status.success());
+    let committed = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../robots/default.toml"
+    ))
+    .expect("robots/default.toml");
+    assert_eq!(String::from_utf8(out.stdout).expect("utf8"), committed);
+}
