@@ -361,8 +361,8 @@ fn trajectory_through_a_joint_limit() {
     );
     // Module 1 runs out of stroke.
     fails_cleanly(
-        &["simulate", "--psi", "-40", "--theta", "40", "-o", "x.csv"],
-        "at t = 4.531 s: module 1: actuator q2 = 320.007433 mm is outside [0.000000, 320.000000] mm",
+        &["simulate", "--psi", "-60", "--theta", "0", "-o", "x.csv"],
+        "at t = 6.391 s: module 1: actuator q4 = 320.083507 mm is outside [0.000000, 320.000000] mm",
         |_| {},
     );
 }
