@@ -234,7 +234,7 @@ pub fn run(cli: Cli) -> Result<()> {
 pub use crate::pose_cmd::{FkArgs, IkArgs};
 
 enum Writer {
-    Csv(CsvSink<BufWriter<Box<dyn Write>>>),
+    Csv(Box<CsvSink<BufWriter<Box<dyn Write>>>>),
     Mcap(Box<McapSink<BufWriter<File>>>),
 }
 
@@ -274,8 +274,8 @@ pub struct OutputFile {
     path: PathBuf,
 }
 
-impl std::fmt::Debug for OutputFile {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+impl core::fmt::Debug for OutputFile {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("OutputFile")
             .field("path", &self.path)
             .finish_non_exhaustive()
@@ -307,7 +307,7 @@ impl OutputFile {
         let writer = match format {
             Format::Csv => {
                 let f: Box<dyn Write> = Box::new(file);
-                Writer::Csv(CsvSink::new(BufWriter::new(f))?)
+                Writer::Csv(Box::new(CsvSink::new(BufWriter::new(f))?))
             }
             Format::Mcap => Writer::Mcap(Box::new(McapSink::new(
                 BufWriter::new(file),
@@ -363,7 +363,7 @@ fn simulate(args: &SimulateArgs) -> Result<()> {
                 bail!("MCAP cannot go to standard output: give a file name");
             }
             let stdout: Box<dyn Write> = Box::new(io::stdout().lock());
-            Some(Writer::Csv(CsvSink::new(BufWriter::new(stdout))?))
+            Some(Writer::Csv(Box::new(CsvSink::new(BufWriter::new(stdout))?)))
         }
         Some(p) => {
             let format = args.format(p)?;

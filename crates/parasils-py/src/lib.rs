@@ -1,1 +1,41 @@
-//! Python bindings of parasils.
+//! Python bindings of parasils: the extension module `parasils._parasils`,
+//! which the Python package `parasils` (`python/parasils/__init__.py`)
+//! re-exports.
+//!
+//! The bindings only convert: the numbers come from `parasils-kin` (the
+//! solvers, the same code as the firmware) and from `parasils-cli`'s library
+//! (the simulation, the same code as the `parasils` command), so that a
+//! notebook, the CLI and the firmware agree to the last bit.
+//!
+//! - [`robot`]: `parasils.Robot`, the solvers on one sample or a batch of
+//!   NumPy rows, looped in Rust without the GIL;
+//! - [`simulate`]: `parasils.simulate`, the CLI's `simulate` returning its
+//!   CSV table as NumPy columns;
+//! - [`errors`]: the exception hierarchy (`KinematicsError` and its
+//!   subclasses, `TrajectoryError`, `RobotFileError`);
+//! - [`batch`]: shapes, broadcasting, the loop and the `errors="nan"` mask.
+//!
+//! Built by maturin (`pyproject.toml`); its tests are in Python (`tests/`,
+//! run by `scripts/python-tests`).
+
+use pyo3::prelude::*;
+
+pub mod batch;
+pub mod errors;
+pub mod robot;
+pub mod simulate;
+
+/// Kinematics and motion of PARA-SILSROB from Python (the compiled part of
+/// the `parasils` package; import `parasils`).
+#[pymodule]
+fn _parasils(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add(
+        "COLUMNS",
+        pyo3::types::PyTuple::new(m.py(), parasils_cli::sample::COLUMNS)?,
+    )?;
+    m.add_class::<robot::Robot>()?;
+    m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
+    errors::register(m)?;
+    Ok(())
+}

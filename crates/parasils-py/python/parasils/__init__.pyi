@@ -1,0 +1,259 @@
+"""Type stubs of the parasils package (the compiled module parasils._parasils).
+
+Units: mm, rad, s, except in ``simulate``, whose argument and column names
+carry their units (deg, deg/s, Hz, mm).
+"""
+
+import os
+from typing import Dict, Literal, Optional, Sequence, Tuple, Union, overload
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+#: The CSV columns of ``parasils simulate`` and the keys of ``simulate()``'s
+#: dict, in order, each named with its unit.
+COLUMNS: Tuple[str, ...]
+
+_Side = Literal["left", "right"]
+_Mode = Literal["A", "B"]
+_F64 = npt.NDArray[np.float64]
+_Mask = npt.NDArray[np.bool_]
+_Array = npt.ArrayLike
+_Path = Union[str, "os.PathLike[str]"]
+
+class Robot:
+    """The PARA-SILSROB robot: module 1 and the two instrument modules.
+
+    Every method takes one sample ((6,), (3,)) or a batch ((N, 6), (N, 3));
+    a single row goes with every row of a batch. With errors="nan" a
+    boolean mask (or a bool for one sample) is appended to the result.
+    """
+
+    def __init__(self) -> None:
+        """The paper's robot (module 1's geometry assumed)."""
+    @staticmethod
+    def from_toml(path: _Path) -> "Robot":
+        """The robot of a robot file (TOML, angles in deg, lengths in mm)."""
+    def to_toml(self) -> str:
+        """The geometry as a robot file (TOML)."""
+    @property
+    def module1_assumed(self) -> bool:
+        """Whether module 1's geometry is assumed (not the real robot's)."""
+    @overload
+    def instrument_ik(
+        self,
+        side: _Side,
+        pose: _Array,
+        tip: _Array,
+        *,
+        mode: _Mode = "A",
+        errors: Literal["raise"] = "raise",
+    ) -> _F64:
+        """Instrument IK: pose (x, y, z mm, psi, theta, phi rad), tip (mm,
+        fixed frame) -> qs (qs1 rad, qs2 rad, qs3 mm)."""
+    @overload
+    def instrument_ik(
+        self,
+        side: _Side,
+        pose: _Array,
+        tip: _Array,
+        *,
+        mode: _Mode = "A",
+        errors: Literal["nan"],
+    ) -> Tuple[_F64, Union[_Mask, bool]]: ...
+    @overload
+    def instrument_fk(
+        self, side: _Side, pose: _Array, qs: _Array, *, errors: Literal["raise"] = "raise"
+    ) -> _F64:
+        """Instrument FK: pose (mm, rad), qs (rad, rad, mm) -> tip (mm, fixed frame)."""
+    @overload
+    def instrument_fk(
+        self, side: _Side, pose: _Array, qs: _Array, *, errors: Literal["nan"]
+    ) -> Tuple[_F64, Union[_Mask, bool]]: ...
+    @overload
+    def instrument_rates(
+        self,
+        side: _Side,
+        pose: _Array,
+        pose_rate: _Array,
+        pose_acc: _Array,
+        tip: _Array,
+        tip_rate: Optional[_Array] = None,
+        tip_acc: Optional[_Array] = None,
+        *,
+        mode: _Mode = "A",
+        errors: Literal["raise"] = "raise",
+    ) -> Tuple[_F64, _F64, _F64]:
+        """Instrument joints, rates, accelerations (rad, rad/s, rad/s^2; mm,
+        mm/s, mm/s^2) from the pose (mm, rad), its rate (mm/s, rad/s) and
+        acceleration (mm/s^2, rad/s^2), and the tip's (mm, mm/s, mm/s^2)."""
+    @overload
+    def instrument_rates(
+        self,
+        side: _Side,
+        pose: _Array,
+        pose_rate: _Array,
+        pose_acc: _Array,
+        tip: _Array,
+        tip_rate: Optional[_Array] = None,
+        tip_acc: Optional[_Array] = None,
+        *,
+        mode: _Mode = "A",
+        errors: Literal["nan"],
+    ) -> Tuple[_F64, _F64, _F64, Union[_Mask, bool]]: ...
+    @overload
+    def platform_ik(self, pose: _Array, *, errors: Literal["raise"] = "raise") -> _F64:
+        """Module 1 IK: pose (mm, rad) -> actuators q1..q6 (mm)."""
+    @overload
+    def platform_ik(
+        self, pose: _Array, *, errors: Literal["nan"]
+    ) -> Tuple[_F64, Union[_Mask, bool]]: ...
+    @overload
+    def platform_fk(
+        self, q: _Array, guess: _Array, *, errors: Literal["raise"] = "raise"
+    ) -> _F64:
+        """Module 1 FK (Newton from guess): actuators (mm) -> pose (mm, rad)."""
+    @overload
+    def platform_fk(
+        self, q: _Array, guess: _Array, *, errors: Literal["nan"]
+    ) -> Tuple[_F64, Union[_Mask, bool]]: ...
+    @overload
+    def platform_rates(
+        self,
+        pose: _Array,
+        pose_rate: _Array,
+        pose_acc: _Array,
+        *,
+        errors: Literal["raise"] = "raise",
+    ) -> Tuple[_F64, _F64, _F64]:
+        """Module 1 actuators, rates, accelerations (mm, mm/s, mm/s^2)."""
+    @overload
+    def platform_rates(
+        self,
+        pose: _Array,
+        pose_rate: _Array,
+        pose_acc: _Array,
+        *,
+        errors: Literal["nan"],
+    ) -> Tuple[_F64, _F64, _F64, Union[_Mask, bool]]: ...
+
+def simulate(
+    *,
+    psi_deg: float = 15.0,
+    theta_deg: float = 25.0,
+    absolute: bool = False,
+    omega_max_deg_s: float = 10.0,
+    eps_max_deg_s2: float = 5.0,
+    sync: Literal["phase", "time", "none"] = "phase",
+    rate_hz: float = 1000.0,
+    pose: Optional[Sequence[float]] = None,
+    tip_left_mm: Optional[Sequence[float]] = None,
+    tip_right_mm: Optional[Sequence[float]] = None,
+    robot: Union[_Path, Robot, None] = None,
+    out: Optional[_Path] = None,
+    format: Optional[Literal["csv", "mcap"]] = None,
+) -> Dict[str, _F64]:
+    """The CLI's ``parasils simulate``: the CSV table as NumPy columns keyed by
+    COLUMNS. ``pose`` is (x, y, z mm, psi, theta, phi deg) like the CLI's."""
+
+class KinematicsError(ValueError):
+    """A kinematics solver failed. Values in mm and rad."""
+
+    kind: str
+    row: Optional[int]
+    t: Optional[float]
+
+class NonFiniteError(KinematicsError):
+    what: str
+    value: float
+
+class InvalidParameterError(KinematicsError):
+    what: str
+    value: float
+
+class OutOfReachError(KinematicsError):
+    side: _Side
+    sin_qs2: float
+
+class SingularError(KinematicsError):
+    side: _Side
+    margin: Literal["cos_qs2", "qs3"]
+    value: float
+    threshold: float
+
+class JointLimitError(KinematicsError):
+    side: _Side
+    joint: Literal["qs1", "qs2", "qs3"]
+    value: float
+    min: float
+    max: float
+    limit: float
+
+class LegOutOfReachError(KinematicsError):
+    actuator: int
+    discriminant: float
+
+class ActuatorLimitError(KinematicsError):
+    actuator: int
+    value: float
+    min: float
+    max: float
+    limit: float
+
+class SerialSingularError(KinematicsError):
+    actuator: int
+    margin: float
+    threshold: float
+
+class ParallelSingularError(KinematicsError):
+    margin: float
+    threshold: float
+
+class NoConvergenceError(KinematicsError):
+    iterations: int
+    residual: float
+
+class SingularJacobianError(KinematicsError):
+    singularity: Literal["parallel", "euler_angles"]
+    iteration: int
+    margin: float
+    threshold: float
+
+class BranchMismatchError(KinematicsError):
+    actuator: int
+
+class TrajectoryError(ValueError):
+    kind: str
+    axis: Optional[int]
+    value: Optional[float]
+
+class RobotFileError(ValueError):
+    kind: Literal["parse", "invalid"]
+    path: str
+    line: Optional[int]
+    column: Optional[int]
+    key: Optional[str]
+    text: Optional[str]
+
+__all__ = [
+    "COLUMNS",
+    "ActuatorLimitError",
+    "BranchMismatchError",
+    "InvalidParameterError",
+    "JointLimitError",
+    "KinematicsError",
+    "LegOutOfReachError",
+    "NoConvergenceError",
+    "NonFiniteError",
+    "OutOfReachError",
+    "ParallelSingularError",
+    "Robot",
+    "RobotFileError",
+    "SerialSingularError",
+    "SingularError",
+    "SingularJacobianError",
+    "TrajectoryError",
+    "__version__",
+    "simulate",
+]

@@ -1,0 +1,396 @@
+//! `parasils.Robot`: the whole robot's geometry and its solvers on arrays.
+
+use std::path::PathBuf;
+
+use parasils_cli::robot_file;
+use parasils_kin::controller::RobotGeometry;
+use parasils_kin::nalgebra::Vector3;
+use parasils_kin::{
+    Actuators, AssemblyMode, Controller, Instrument, Joints, PlatformState, Pose, PoseRate,
+    TipMotion,
+};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+use crate::batch::{self, ArrayArg, OnError, Rows};
+use crate::errors;
+
+/// The PARA-SILSROB robot: module 1 (the 6-DOF parallel robot) and the two
+/// spherical instrument modules, with their limits and thresholds.
+///
+/// Robot() is the paper's robot: instrument modules alpha = beta = 10 deg,
+/// R = 110 mm, ports at (-10, 0, 0) and (10, 0, 0) mm, on module 1's
+/// ASSUMED geometry (its real dimensions are not published). Robot.from_toml
+/// reads another geometry from a robot file (see `parasils robot`).
+///
+/// Units everywhere: mm, rad, s. A platform pose is (x, y, z, psi, theta, phi):
+/// the position of P (the endoscope's RCM) in the fixed frame in mm, then the
+/// intrinsic X-Y-Z Euler angles in rad, R = R_X(psi) R_Y(theta) R_Z(phi).
+/// Instrument joints are (qs1, qs2, qs3): rad, rad, mm (qs3 = RCM to tip).
+/// Module 1's actuators are (q1, ..., q6), mm.
+///
+/// Every method takes one sample (pose of shape (6,), tip of shape (3,), ...)
+/// or a batch ((N, 6), (N, 3), ...) and returns the same leading shape; a
+/// single row goes with every row of a batch. Batches run in Rust without
+/// the GIL. errors="raise" (default) raises the first failing row's
+/// KinematicsError (its .row is the index); errors="nan" returns NaN rows and
+/// appends a boolean mask (True where the row succeeded) to the result.
+#[pyclass(frozen, module = "parasils")]
+#[derive(Debug)]
+pub struct Robot {
+    geometry: RobotGeometry<f64>,
+    controller: Controller<f64>,
+    source: Option<PathBuf>,
+}
+
+impl Robot {
+    /// The geometry, as given (not normalised).
+    pub(crate) fn geometry(&self) -> &RobotGeometry<f64> {
+        &self.geometry
+    }
+
+    fn instrument(&self, side: &str) -> PyResult<&Instrument<f64>> {
+        match side {
+            "left" => Ok(&self.controller.left),
+            "right" => Ok(&self.controller.right),
+            _ => Err(PyValueError::new_err(format!(
+                "side must be 'left' or 'right', got {side:?}"
+            ))),
+        }
+    }
+}
+
+fn parse_mode(mode: &str) -> PyResult<AssemblyMode> {
+    match mode {
+        "A" => Ok(AssemblyMode::A),
+        "B" => Ok(AssemblyMode::B),
+        _ => Err(PyValueError::new_err(format!(
+            "mode must be 'A' or 'B', got {mode:?}"
+        ))),
+    }
+}
+
+fn pose_of(v: [f64; 6]) -> Pose<f64> {
+    Pose::from_array(v)
+}
+
+fn rate_of(v: [f64; 6]) -> PoseRate<f64> {
+    PoseRate::new(v[0], v[1], v[2], v[3], v[4], v[5])
+}
+
+#[pymethods]
+impl Robot {
+    /// The paper's robot (module 1's geometry assumed).
+    #[new]
+    fn new() -> Self {
+        let geometry = RobotGeometry::paper();
+        Self {
+            geometry,
+            controller: Controller::paper(),
+            source: None,
+        }
+    }
+
+    /// Robot.from_toml(path) -> Robot
+    ///
+    /// The robot described by a robot file (TOML, the format `parasils robot`
+    /// prints; angles in deg, lengths in mm), validated.
+    ///
+    /// Raises OSError (FileNotFoundError, ...) when the file cannot be read,
+    /// RobotFileError for malformed TOML or a bad key or value (with .line,
+    /// .column, .key), or for parameters that do not make a valid robot (the
+    /// KinematicsError naming the parameter is its __cause__).
+    #[staticmethod]
+    fn from_toml(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
+        let geometry = robot_file::load(&path).map_err(|e| errors::robot_file(py, &e))?;
+        let controller = Controller::from_geometry(&geometry)
+            .map_err(|e| errors::kinematics(py, &e, None, None, ""))?;
+        Ok(Self {
+            geometry,
+            controller,
+            source: Some(path),
+        })
+    }
+
+    /// The robot's geometry as a robot file (TOML; angles in deg, lengths in mm).
+    fn to_toml(&self) -> PyResult<String> {
+        robot_file::to_toml_string(&self.geometry).map_err(|e| PyValueError::new_err(e.to_string()))
+    }
+
+    /// True when module 1's geometry is assumed (the default: the real robot's
+    /// dimensions are not published), False for a robot file that says
+    /// `assumed = false`.
+    #[getter]
+    fn module1_assumed(&self) -> bool {
+        self.geometry.module1.assumed
+    }
+
+    fn __repr__(&self) -> String {
+        match &self.source {
+            None => "parasils.Robot()".to_owned(),
+            Some(p) => format!("parasils.Robot.from_toml({:?})", p.display().to_string()),
+        }
+    }
+
+    /// Inverse kinematics of an instrument module, in closed form: the joints
+    /// that put its tip at `tip` with the platform at `pose`.
+    ///
+    /// side: "left" or "right".
+    /// pose: platform pose (x, y, z mm, psi, theta, phi rad), shape (6,) or (N, 6).
+    /// tip: the tip in the fixed frame, mm, shape (3,) or (N, 3).
+    /// mode: assembly mode "A" (cos qs2 > 0, the default) or "B" (cos qs2 < 0).
+    /// errors: "raise" or "nan" (then returns (qs, ok)).
+    ///
+    /// Returns qs = (qs1 rad, qs2 rad, qs3 mm), shape (3,) or (N, 3); qs1 and
+    /// qs2 in (-pi, pi].
+    ///
+    /// Raises NonFiniteError, OutOfReachError, SingularError (tip at the RCM,
+    /// or |cos qs2| < 1e-6), JointLimitError (limits are checked).
+    #[pyo3(signature = (side, pose, tip, *, mode = "A", errors = "raise"))]
+    fn instrument_ik<'py>(
+        &self,
+        py: Python<'py>,
+        side: &str,
+        pose: ArrayArg<'py>,
+        tip: ArrayArg<'py>,
+        mode: &str,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let m = self.instrument(side)?;
+        let mode = parse_mode(mode)?;
+        let on_error = OnError::parse(errors)?;
+        let pose = Rows::new(&pose, "pose", 6)?;
+        let tip = Rows::new(&tip, "tip", 3)?;
+        let n = batch::batch_size(&[("pose", &pose), ("tip", &tip)])?;
+        let (values, ok) = batch::run::<3, _>(py, n, on_error, |i| {
+            let q = m.ik(&pose_of(pose.get(i)), &Vector3::from(tip.get::<3>(i)), mode)?;
+            Ok(q.to_array())
+        })?;
+        batch::output(py, values, ok, &[3], n, on_error)
+    }
+
+    /// Forward kinematics of an instrument module: the tip in the fixed
+    /// frame, p_F = R (RCM + p_local(qs)) + P.
+    ///
+    /// side: "left" or "right".
+    /// pose: platform pose (x, y, z mm, psi, theta, phi rad), shape (6,) or (N, 6).
+    /// qs: joints (qs1 rad, qs2 rad, qs3 mm), shape (3,) or (N, 3); not
+    ///     checked against the joint limits.
+    /// errors: "raise" or "nan" (then returns (tip, ok)).
+    ///
+    /// Returns the tip, mm, fixed frame, shape (3,) or (N, 3).
+    ///
+    /// Raises NonFiniteError only.
+    #[pyo3(signature = (side, pose, qs, *, errors = "raise"))]
+    fn instrument_fk<'py>(
+        &self,
+        py: Python<'py>,
+        side: &str,
+        pose: ArrayArg<'py>,
+        qs: ArrayArg<'py>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let m = self.instrument(side)?;
+        let on_error = OnError::parse(errors)?;
+        let pose = Rows::new(&pose, "pose", 6)?;
+        let qs = Rows::new(&qs, "qs", 3)?;
+        let n = batch::batch_size(&[("pose", &pose), ("qs", &qs)])?;
+        let (values, ok) = batch::run::<3, _>(py, n, on_error, |i| {
+            let [a, b, c] = qs.get::<3>(i);
+            let tip = m.tip(&pose_of(pose.get(i)), &Joints::new(a, b, c))?;
+            Ok([tip.x, tip.y, tip.z])
+        })?;
+        batch::output(py, values, ok, &[3], n, on_error)
+    }
+
+    /// An instrument module's joints, joint velocities and joint accelerations
+    /// from the platform's motion and the tip's (SPEC section 4, the general
+    /// case), with c = RCM + p_local(qs) in the platform frame:
+    ///
+    ///     qs_dot  = J^-1 R^T (p_F' - P' - R' c)
+    ///     qs_ddot = J^-1 (R^T (p_F'' - P'' - R'' c - 2 R' J qs_dot) - J' qs_dot)
+    ///
+    /// Motion type 4 (endoscope reorientation) is tip_rate = tip_acc = 0 with
+    /// P and phi still; motion type 3 (instrument manipulation) is
+    /// pose_rate = pose_acc = 0.
+    ///
+    /// side: "left" or "right".
+    /// pose: platform pose (x, y, z mm, psi, theta, phi rad), shape (6,) or (N, 6).
+    /// pose_rate: its time derivative (mm/s, and the Euler rates in rad/s),
+    ///     shape (6,) or (N, 6).
+    /// pose_acc: its second derivative (mm/s^2, rad/s^2), shape (6,) or (N, 6).
+    /// tip: the tip in the fixed frame, mm, shape (3,) or (N, 3).
+    /// tip_rate: the tip's velocity, mm/s, fixed frame; None for a still tip.
+    /// tip_acc: the tip's acceleration, mm/s^2, fixed frame; None for zero.
+    /// mode: assembly mode "A" (default) or "B".
+    /// errors: "raise" or "nan" (then returns (qs, qs_dot, qs_ddot, ok)).
+    ///
+    /// Returns qs (rad, rad, mm), qs_dot (rad/s, rad/s, mm/s) and qs_ddot
+    /// (rad/s^2, rad/s^2, mm/s^2), each of shape (3,) or (N, 3).
+    ///
+    /// Raises as instrument_ik (the joints are solved first, limits checked).
+    #[pyo3(signature = (side, pose, pose_rate, pose_acc, tip, tip_rate = None, tip_acc = None, *, mode = "A", errors = "raise"))]
+    #[allow(clippy::too_many_arguments)]
+    fn instrument_rates<'py>(
+        &self,
+        py: Python<'py>,
+        side: &str,
+        pose: ArrayArg<'py>,
+        pose_rate: ArrayArg<'py>,
+        pose_acc: ArrayArg<'py>,
+        tip: ArrayArg<'py>,
+        tip_rate: Option<ArrayArg<'py>>,
+        tip_acc: Option<ArrayArg<'py>>,
+        mode: &str,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let m = self.instrument(side)?;
+        let mode = parse_mode(mode)?;
+        let on_error = OnError::parse(errors)?;
+        let pose = Rows::new(&pose, "pose", 6)?;
+        let pose_rate = Rows::new(&pose_rate, "pose_rate", 6)?;
+        let pose_acc = Rows::new(&pose_acc, "pose_acc", 6)?;
+        let tip = Rows::new(&tip, "tip", 3)?;
+        let tip_rate = match &tip_rate {
+            Some(a) => Rows::new(a, "tip_rate", 3)?,
+            None => Rows::zeros(3),
+        };
+        let tip_acc = match &tip_acc {
+            Some(a) => Rows::new(a, "tip_acc", 3)?,
+            None => Rows::zeros(3),
+        };
+        let n = batch::batch_size(&[
+            ("pose", &pose),
+            ("pose_rate", &pose_rate),
+            ("pose_acc", &pose_acc),
+            ("tip", &tip),
+            ("tip_rate", &tip_rate),
+            ("tip_acc", &tip_acc),
+        ])?;
+        let (values, ok) = batch::run::<9, _>(py, n, on_error, |i| {
+            let state = PlatformState {
+                pose: pose_of(pose.get(i)),
+                velocity: rate_of(pose_rate.get(i)),
+                acceleration: rate_of(pose_acc.get(i)),
+            };
+            let motion = TipMotion {
+                position: Vector3::from(tip.get::<3>(i)),
+                velocity: Vector3::from(tip_rate.get::<3>(i)),
+                acceleration: Vector3::from(tip_acc.get::<3>(i)),
+            };
+            let s = m.solve_state(&state, &motion, mode)?;
+            let [a, b, c] = s.q.to_array();
+            let [d, e, f] = s.q_dot.to_array();
+            let [g, h, k] = s.q_ddot.to_array();
+            Ok([a, b, c, d, e, f, g, h, k])
+        })?;
+        batch::output(py, values, ok, &[3, 3, 3], n, on_error)
+    }
+
+    /// Inverse kinematics of module 1, in closed form: the actuators that put
+    /// the platform at `pose`.
+    ///
+    /// pose: platform pose (x, y, z mm, psi, theta, phi rad), shape (6,) or (N, 6).
+    /// errors: "raise" or "nan" (then returns (q, ok)).
+    ///
+    /// Returns q = (q1, ..., q6), mm, shape (6,) or (N, 6).
+    ///
+    /// Raises NonFiniteError, LegOutOfReachError, SerialSingularError,
+    /// ActuatorLimitError (strokes are checked).
+    #[pyo3(signature = (pose, *, errors = "raise"))]
+    fn platform_ik<'py>(
+        &self,
+        py: Python<'py>,
+        pose: ArrayArg<'py>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let on_error = OnError::parse(errors)?;
+        let pose = Rows::new(&pose, "pose", 6)?;
+        let n = batch::batch_size(&[("pose", &pose)])?;
+        let robot = &self.controller.module1;
+        let (values, ok) = batch::run::<6, _>(py, n, on_error, |i| {
+            Ok(robot.ik(&pose_of(pose.get(i)))?.to_array())
+        })?;
+        batch::output(py, values, ok, &[6], n, on_error)
+    }
+
+    /// Forward kinematics of module 1: the platform pose at which the
+    /// actuators `q` hold it, by Newton's method from `guess` (which picks the
+    /// assembly mode: seed it with the previous pose along a motion).
+    ///
+    /// q: actuators (q1, ..., q6), mm, shape (6,) or (N, 6); strokes not checked.
+    /// guess: a pose near the solution (x, y, z mm, psi, theta, phi rad),
+    ///     shape (6,) or (N, 6).
+    /// errors: "raise" or "nan" (then returns (pose, ok)).
+    ///
+    /// Returns the pose (mm, rad), shape (6,) or (N, 6); the angles are not
+    /// wrapped (continuous with the guess).
+    ///
+    /// Raises NonFiniteError, NoConvergenceError, SingularJacobianError,
+    /// BranchMismatchError.
+    #[pyo3(signature = (q, guess, *, errors = "raise"))]
+    fn platform_fk<'py>(
+        &self,
+        py: Python<'py>,
+        q: ArrayArg<'py>,
+        guess: ArrayArg<'py>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let on_error = OnError::parse(errors)?;
+        let q = Rows::new(&q, "q", 6)?;
+        let guess = Rows::new(&guess, "guess", 6)?;
+        let n = batch::batch_size(&[("q", &q), ("guess", &guess)])?;
+        let robot = &self.controller.module1;
+        let (values, ok) = batch::run::<6, _>(py, n, on_error, |i| {
+            let sol = robot.fk(&Actuators::new(q.get(i)), &pose_of(guess.get(i)))?;
+            Ok(sol.pose.to_array())
+        })?;
+        batch::output(py, values, ok, &[6], n, on_error)
+    }
+
+    /// Module 1's actuators, their velocities and accelerations from the
+    /// platform's motion, in closed form.
+    ///
+    /// pose: platform pose (x, y, z mm, psi, theta, phi rad), shape (6,) or (N, 6).
+    /// pose_rate: its time derivative (mm/s, Euler rates rad/s), shape (6,) or (N, 6).
+    /// pose_acc: its second derivative (mm/s^2, rad/s^2), shape (6,) or (N, 6).
+    /// errors: "raise" or "nan" (then returns (q, q_dot, q_ddot, ok)).
+    ///
+    /// Returns q (mm), q_dot (mm/s), q_ddot (mm/s^2), each (6,) or (N, 6).
+    ///
+    /// Raises as platform_ik.
+    #[pyo3(signature = (pose, pose_rate, pose_acc, *, errors = "raise"))]
+    fn platform_rates<'py>(
+        &self,
+        py: Python<'py>,
+        pose: ArrayArg<'py>,
+        pose_rate: ArrayArg<'py>,
+        pose_acc: ArrayArg<'py>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let on_error = OnError::parse(errors)?;
+        let pose = Rows::new(&pose, "pose", 6)?;
+        let pose_rate = Rows::new(&pose_rate, "pose_rate", 6)?;
+        let pose_acc = Rows::new(&pose_acc, "pose_acc", 6)?;
+        let n = batch::batch_size(&[
+            ("pose", &pose),
+            ("pose_rate", &pose_rate),
+            ("pose_acc", &pose_acc),
+        ])?;
+        let robot = &self.controller.module1;
+        let (values, ok) = batch::run::<18, _>(py, n, on_error, |i| {
+            let state = PlatformState {
+                pose: pose_of(pose.get(i)),
+                velocity: rate_of(pose_rate.get(i)),
+                acceleration: rate_of(pose_acc.get(i)),
+            };
+            let s = robot.solve_state(&state)?;
+            let mut out = [0.0; 18];
+            out[..6].copy_from_slice(&s.q.to_array());
+            out[6..12].copy_from_slice(&s.q_dot.to_array());
+            out[12..].copy_from_slice(&s.q_ddot.to_array());
+            Ok(out)
+        })?;
+        batch::output(py, values, ok, &[6, 6, 6], n, on_error)
+    }
+}

@@ -1,0 +1,208 @@
+"""parasils.simulate against the CLI: the same library, the same bits."""
+
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import parasils
+from conftest import ROOT
+
+ROBOT_FILE = ROOT / "robots" / "default.toml"
+
+
+def read_csv(path):
+    """The CLI's CSV as a dict of arrays; float() reads ryu's shortest round-trip text back exactly."""
+    with open(path) as f:
+        header = f.readline().rstrip("\n").split(",")
+        rows = [[float(v) for v in line.rstrip("\n").split(",")] for line in f]
+    values = np.array(rows, dtype=np.float64).reshape(len(rows), len(header))
+    return {name: values[:, k] for k, name in enumerate(header)}
+
+
+def assert_bit_equal(table, expected):
+    assert list(table) == list(expected) == list(parasils.COLUMNS)
+    for name in parasils.COLUMNS:
+        a, b = table[name], expected[name]
+        assert a.dtype == np.float64 and a.shape == b.shape, name
+        assert np.array_equal(a.view(np.uint64), b.view(np.uint64)), name
+
+
+#: (keyword arguments of simulate, the CLI's arguments for the same run)
+CASES = [
+    ({}, []),
+    (
+        dict(psi_deg=-10.0, theta_deg=12.5, sync="time", rate_hz=250.0, omega_max_deg_s=7.5, eps_max_deg_s2=3.25),
+        ["--psi", "-10.0", "--theta", "12.5", "--sync", "time", "--rate", "250.0", "--omega-max", "7.5", "--eps-max", "3.25"],
+    ),
+    (
+        dict(psi_deg=15.0, theta_deg=25.0, absolute=True, sync="none", rate_hz=333.0),
+        ["--psi", "15", "--theta", "25", "--absolute", "--sync", "none", "--rate", "333"],
+    ),
+    (
+        dict(
+            pose=[10.0, 25.0, -510.0, -12.0, 8.0, -55.0],
+            tip_left_mm=(45.0, -52.5, -615.0),
+            tip_right_mm=np.array([-12.0, 50.0, -630.0]),
+            psi_deg=0.1 + 0.2,  # not a short decimal: passed as repr()
+            rate_hz=100.0,
+        ),
+        ["--pose", "10,25,-510,-12,8,-55", "--tip-left", "45,-52.5,-615", "--tip-right", "-12,50,-630",
+         "--psi", repr(0.1 + 0.2), "--rate", "100"],
+    ),
+    (dict(robot=str(ROBOT_FILE), rate_hz=200.0), ["--robot", ROBOT_FILE, "--rate", "200"]),
+]
+
+
+@pytest.mark.parametrize("kwargs, args", CASES, ids=["paper", "time-sync", "absolute", "pose-tips", "robot-file"])
+def test_table_equals_the_cli_csv_to_the_last_bit(run_cli, tmp_path, kwargs, args):
+    path = tmp_path / "cli.csv"
+    run_cli("simulate", *args, "-o", path)
+    assert_bit_equal(parasils.simulate(**kwargs), read_csv(path))
+
+
+def test_paper_table(run_cli):
+    table = parasils.simulate()
+    assert len(table) == 53 and all(len(v) == 4501 for v in table.values())
+    assert table["t_s"][0] == 0.0 and table["t_s"][-1] == 4.5
+    assert tuple(table) == parasils.COLUMNS
+
+
+def test_robot_object_equals_robot_file(run_cli, tmp_path):
+    robot = parasils.Robot.from_toml(ROBOT_FILE)
+    a = parasils.simulate(robot=robot, rate_hz=100.0)
+    b = parasils.simulate(robot=ROBOT_FILE, rate_hz=100.0)  # os.PathLike
+    assert_bit_equal(a, b)
+    assert_bit_equal(parasils.simulate(robot=parasils.Robot(), rate_hz=100.0), b)
+
+
+@pytest.mark.parametrize("ext, fmt", [("csv", None), ("mcap", None), ("data", "csv"), ("bin", "mcap")])
+def test_out_writes_the_same_file_as_the_cli(run_cli, tmp_path, ext, fmt):
+    cli_path = tmp_path / f"cli.{ext}"
+    py_path = tmp_path / f"py.{ext}"
+    extra = ["--format", fmt] if fmt else []
+    run_cli("simulate", "--rate", "200", "-o", cli_path, *extra)
+    table = parasils.simulate(rate_hz=200.0, out=py_path, format=fmt)
+    assert py_path.read_bytes() == cli_path.read_bytes()
+    assert len(table["t_s"]) == 901
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([cli_path.name, py_path.name])
+    if (fmt or ext) == "csv":
+        assert_bit_equal(table, read_csv(py_path))
+
+
+def test_pandas_dataframe():
+    pd = pytest.importorskip("pandas")
+    df = pd.DataFrame(parasils.simulate(rate_hz=10.0))
+    assert list(df.columns) == list(parasils.COLUMNS) and len(df) == 46
+
+
+# --- errors -------------------------------------------------------------------
+
+
+def cli_error(cli, *args):
+    proc = subprocess.run([cli, "simulate", *map(str, args)], capture_output=True, text=True, check=False)
+    assert proc.returncode != 0
+    return proc.stderr.strip().removeprefix("parasils: error: ")
+
+
+def test_joint_limit_during_the_motion(cli, tmp_path):
+    out = tmp_path / "run.csv"
+    with pytest.raises(parasils.JointLimitError) as e:
+        parasils.simulate(psi_deg=60.0, theta_deg=60.0, out=out)
+    err = e.value
+    assert (err.side, err.joint) == ("left", "qs2")
+    assert err.row == 4075 and err.t == pytest.approx(4.075, abs=1e-12)
+    assert str(err) == cli_error(cli, "--psi", 60, "--theta", 60)
+    assert str(err).startswith("at t = 4.075 s: left instrument: joint qs2")
+    # A failed run leaves nothing behind, like the CLI.
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_parallel_singularity_during_the_motion(cli):
+    with pytest.raises(parasils.ParallelSingularError) as e:
+        parasils.simulate(psi_deg=-60.0, theta_deg=40.0)
+    assert e.value.t > 0 and e.value.row == round(e.value.t * 1000)
+    assert str(e.value) == cli_error(cli, "--psi", -60, "--theta", 40)
+
+
+def test_unreachable_tip():
+    with pytest.raises(parasils.KinematicsError) as e:
+        parasils.simulate(tip_left_mm=[5000.0, 0.0, -620.0])
+    assert e.value.row == 0 and e.value.t == 0.0
+    assert e.value.kind in ("out_of_reach", "joint_limit")
+
+
+def test_non_finite_tip():
+    with pytest.raises(parasils.NonFiniteError) as e:
+        parasils.simulate(tip_right_mm=[np.nan, 0.0, 0.0])
+    assert e.value.what == "right tip" and e.value.t == 0.0 and e.value.row is None
+
+
+def test_non_finite_pose():
+    with pytest.raises(parasils.NonFiniteError) as e:
+        parasils.simulate(pose=[np.nan, 20, -500, -15, 10, -60], tip_right_mm=[-10, 54, -637])
+    assert e.value.what == "pose.x" and e.value.row == 0
+
+
+@pytest.mark.parametrize(
+    "kwargs, kind, axis",
+    [
+        (dict(omega_max_deg_s=0.0), "invalid_limit", 0),
+        (dict(eps_max_deg_s2=-5.0), "invalid_limit", 0),
+        (dict(rate_hz=0.0), "invalid_rate", None),
+        (dict(rate_hz=float("nan")), "invalid_rate", None),
+        (dict(theta_deg=float("inf")), "non_finite_position", 1),
+    ],
+)
+def test_trajectory_errors(kwargs, kind, axis):
+    with pytest.raises(parasils.TrajectoryError) as e:
+        parasils.simulate(**kwargs)
+    assert (e.value.kind, e.value.axis) == (kind, axis)
+    assert str(e.value).startswith("trajectory: ")
+
+
+def test_trajectory_error_message_is_the_cli_s(cli):
+    with pytest.raises(parasils.TrajectoryError) as e:
+        parasils.simulate(omega_max_deg_s=0.0)
+    assert str(e.value) == cli_error(cli, "--omega-max", 0)
+
+
+def test_invalid_robot_in_simulate(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text("not toml at all [")
+    with pytest.raises(parasils.RobotFileError):
+        parasils.simulate(robot=path)
+    with pytest.raises(FileNotFoundError):
+        parasils.simulate(robot=tmp_path / "missing.toml")
+    with pytest.raises(TypeError, match="robot must be"):
+        parasils.simulate(robot=42)
+
+
+def test_bad_arguments(tmp_path):
+    with pytest.raises(ValueError, match="sync must be 'phase', 'time' or 'none'"):
+        parasils.simulate(sync="fast")
+    with pytest.raises(ValueError, match="format must be 'csv' or 'mcap'"):
+        parasils.simulate(format="json")
+    with pytest.raises(ValueError, match="cannot tell the output format"):
+        parasils.simulate(out=tmp_path / "run.txt")
+    with pytest.raises(ValueError, match=r"pose must have shape \(6,\)"):
+        parasils.simulate(pose=[1.0, 2.0, 3.0])
+    with pytest.raises(ValueError, match=r"tip_left_mm must have shape \(3,\)"):
+        parasils.simulate(tip_left_mm=np.zeros((2, 3)))
+    with pytest.raises(TypeError):
+        parasils.simulate(15.0)  # keyword arguments only
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_unwritable_output(tmp_path):
+    target = tmp_path / "missing" / "run.csv"
+    with pytest.raises(FileNotFoundError) as e:
+        parasils.simulate(rate_hz=10.0, out=target)
+    assert e.value.filename == str(target)
+    assert str(tmp_path / "missing") in str(e.value)
+    if os.geteuid() != 0:  # root writes anywhere
+        ro = tmp_path / "ro"
+        ro.mkdir(mode=0o500)
+        with pytest.raises(PermissionError):
+            parasils.simulate(rate_hz=10.0, out=ro / "run.csv")
