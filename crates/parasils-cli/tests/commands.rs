@@ -11,7 +11,11 @@ fn parasils(args: &[&str]) -> Output {
 
 fn json(args: &[&str]) -> serde_json::Value {
     let out = parasils(args);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     serde_json::from_slice(&out.stdout).expect("JSON")
 }
 
@@ -38,17 +42,31 @@ fn ik_at_p0_gives_the_check_values() {
         assert!(a["limit_error"].is_null());
         let b = &v[side]["mode_b"];
         assert!((num(&b["qs1_deg"]) + 151.3897).abs() < 5e-5);
-        assert!(b["limit_error"].as_str().expect("beyond limits").contains("qs1"));
+        assert!(
+            b["limit_error"]
+                .as_str()
+                .expect("beyond limits")
+                .contains("qs1")
+        );
     }
 }
 
 #[test]
 fn ik_text_names_the_assumed_geometry() {
-    let out = parasils(&["ik", "--pose", "15,20,-500,-15,10,-60", "--tip-left", "50,-50,-620"]);
+    let out = parasils(&[
+        "ik",
+        "--pose",
+        "15,20,-500,-15,10,-60",
+        "--tip-left",
+        "50,-50,-620",
+    ]);
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).expect("utf8");
     assert!(text.contains("ASSUMED"), "{text}");
-    assert!(text.contains("mode A: qs1 =    3.0889 deg, qs2 =  -38.8695 deg, qs3 = 147.7687 mm"), "{text}");
+    assert!(
+        text.contains("mode A: qs1 =    3.0889 deg, qs2 =  -38.8695 deg, qs3 = 147.7687 mm"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -93,7 +111,10 @@ fn fk_from_a_singular_guess_fails_cleanly() {
     ]);
     assert!(!out.status.success());
     let err = String::from_utf8(out.stderr).expect("utf8");
-    assert!(err.starts_with("parasils: error: module 1 forward kinematics"), "{err}");
+    assert!(
+        err.starts_with("parasils: error: module 1 forward kinematics"),
+        "{err}"
+    );
     assert_eq!(err.lines().count(), 1, "{err}");
 }
 
