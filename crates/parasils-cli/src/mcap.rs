@@ -56,9 +56,26 @@
 //! the small indexes of the file's chunks: memory stays flat however long the
 //! run. JSON is written directly as text (shortest round-trip floats, `ryu`)
 //! into buffers reused from sample to sample.
+//!
+//! Three threads share the work. The caller's formats the JSON (most of it
+//! number formatting) into batches of messages of about 64 KiB; a writer
+//! thread, which owns the `mcap` writer, turns them into records (message
+//! headers, indexes, checksums) and feeds the compressor; zstd's
+//! multithreaded encoder (the `mcap` crate's default: one worker per physical
+//! core) compresses a job once it has about 2 MiB of input, so with 4 MiB
+//! chunks (the default) a chunk's first half is compressed while its second
+//! half is written (with 1 MiB chunks each chunk was compressed while the
+//! writer waited at its end). The batches travel through a bounded channel
+//! (at most 32 in flight, 2 MiB) and are reused, so memory stays flat. The file is the same,
+//! byte for byte, as one written on a single thread; an I/O error of the
+//! writer thread is reported by the next [`Sink::push`] or by
+//! [`McapSink::finish`]. The paper's run (8.6 MB of JSON) takes 3 chunks;
+//! `BENCHMARKS.md` has the measurements.
 
 use std::collections::BTreeMap;
 use std::io::{Seek, Write};
+use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
+use std::thread::JoinHandle;
 
 use mcap::records::{MessageHeader, Metadata};
 use mcap::{WriteOptions, Writer};
@@ -198,12 +215,12 @@ pub struct McapOptions {
 }
 
 impl Default for McapOptions {
-    /// 20 ms scene period, zstd level 1, 1 MiB chunks.
+    /// 20 ms scene period, zstd level 1, 4 MiB chunks.
     fn default() -> Self {
         Self {
             scene_period_s: 0.02,
             compression_level: 1,
-            chunk_size: 1 << 20,
+            chunk_size: 4 << 20,
         }
     }
 }
@@ -281,7 +298,10 @@ struct DataChannel {
 
 /// Streams samples into an MCAP file; see the module docs.
 pub struct McapSink<W: Write + Seek> {
-    writer: Writer<W>,
+    /// The writer thread, which owns the `mcap` writer.
+    thread: WriterThread<W>,
+    /// The messages formatted since the last batch was sent.
+    batch: Batch,
     data: Vec<DataChannel>,
     tf: (u16, u32),
     scene: (u16, u32),
@@ -297,6 +317,107 @@ pub struct McapSink<W: Write + Seek> {
     count: u64,
     buf: Vec<u8>,
     ryu: ryu::Buffer,
+}
+
+/// Messages formatted and not yet written: each header with the end of its
+/// data in `bytes`, the data back to back.
+#[derive(Debug, Default)]
+struct Batch {
+    headers: Vec<(MessageHeader, usize)>,
+    bytes: Vec<u8>,
+}
+
+/// The size at which a batch goes to the writer thread, bytes.
+const BATCH_BYTES: usize = 64 << 10;
+
+/// The most batches queued for the writer thread (2 MiB of JSON): enough for
+/// the formatting to go on while the writer waits at a chunk's end for zstd
+/// to finish compressing it (4 in flight: 53 ms for the paper's run, 32:
+/// 44 ms; see `BENCHMARKS.md`).
+const BATCHES_IN_FLIGHT: usize = 32;
+
+/// What the writer thread returns: the writer, and the first error.
+type Written<W> = (Writer<W>, Result<(), McapError>);
+
+/// The writer thread and the channels to it (batches to write) and from it
+/// (written batches, to reuse).
+struct WriterThread<W: Write + Seek> {
+    to: Option<SyncSender<Batch>>,
+    back: Receiver<Batch>,
+    handle: Option<JoinHandle<Written<W>>>,
+}
+
+impl<W: Write + Seek + Send + 'static> WriterThread<W> {
+    fn spawn(writer: Writer<W>) -> Result<Self, McapError> {
+        let (to, from_main) = sync_channel::<Batch>(BATCHES_IN_FLIGHT);
+        let (to_main, back) = sync_channel::<Batch>(BATCHES_IN_FLIGHT + 2);
+        let handle = std::thread::Builder::new()
+            .name("parasils-mcap".to_owned())
+            .spawn(move || {
+                let mut writer = writer;
+                for mut batch in from_main {
+                    let mut start = 0;
+                    for (header, end) in &batch.headers {
+                        let data = batch.bytes.get(start..*end).unwrap_or_default();
+                        if let Err(e) = writer.write_to_known_channel(header, data) {
+                            return (writer, Err(McapError::from(e)));
+                        }
+                        start = *end;
+                    }
+                    batch.headers.clear();
+                    batch.bytes.clear();
+                    // Reused if the sender wants it; dropped otherwise.
+                    let _ = to_main.try_send(batch);
+                }
+                (writer, Ok(()))
+            })
+            .map_err(|e| McapError::Mcap(e.into()))?;
+        Ok(Self {
+            to: Some(to),
+            back,
+            handle: Some(handle),
+        })
+    }
+
+    /// Sends `batch` to be written; on failure, the writer thread's error.
+    fn send(&mut self, batch: Batch) -> Result<(), McapError> {
+        let sent = match &self.to {
+            Some(to) => to.send(batch).is_ok(),
+            None => false,
+        };
+        if sent {
+            Ok(())
+        } else {
+            // The thread stopped on an error: report it (once; then a
+            // generic one).
+            match self.join() {
+                Ok((_, Err(e))) => Err(e),
+                _ => Err(McapError::Mcap(
+                    std::io::Error::other("the MCAP writer stopped on an earlier error").into(),
+                )),
+            }
+        }
+    }
+
+    /// An empty batch, reused when one came back.
+    fn empty_batch(&self) -> Batch {
+        self.back.try_recv().unwrap_or_else(|_| Batch {
+            headers: Vec::with_capacity(256),
+            bytes: Vec::with_capacity(BATCH_BYTES + (16 << 10)),
+        })
+    }
+
+    /// Ends the thread once it has written everything sent; its writer and
+    /// first error.
+    fn join(&mut self) -> Result<Written<W>, McapError> {
+        self.to = None;
+        let handle = self.handle.take().ok_or_else(|| {
+            McapError::Mcap(std::io::Error::other("the MCAP writer thread is gone").into())
+        })?;
+        handle.join().map_err(|_| {
+            McapError::Mcap(std::io::Error::other("the MCAP writer thread panicked").into())
+        })
+    }
 }
 
 impl<W: Write + Seek> core::fmt::Debug for McapSink<W> {
@@ -614,7 +735,7 @@ impl Json<'_> {
     }
 }
 
-impl<W: Write + Seek> McapSink<W> {
+impl<W: Write + Seek + Send + 'static> McapSink<W> {
     /// Starts the file with the default [`McapOptions`]: header, schemas,
     /// channels and the `parasils.scenario` metadata record.
     ///
@@ -735,8 +856,10 @@ impl<W: Write + Seek> McapSink<W> {
         )?;
         let scene = writer.add_channel(scene_schema, SCENE_TOPIC, "json", &no_meta)?;
 
+        let thread = WriterThread::spawn(writer)?;
         Ok(Self {
-            writer,
+            batch: thread.empty_batch(),
+            thread,
             data,
             tf: (tf, 0),
             scene: (scene, 0),
@@ -778,6 +901,10 @@ impl<W: Write + Seek> McapSink<W> {
         if let Some((sample, ns, false)) = self.last {
             self.write_visuals(&sample, ns)?;
         }
+        let batch = core::mem::take(&mut self.batch);
+        self.thread.send(batch)?;
+        let (mut writer, written) = self.thread.join()?;
+        written?;
         let mut meta = BTreeMap::new();
         meta.insert("samples".to_owned(), self.count.to_string());
         let mut ryu = ryu::Buffer::new();
@@ -785,14 +912,15 @@ impl<W: Write + Seek> McapSink<W> {
             meta.insert("t_first_s".to_owned(), ryu.format(first).to_owned());
             meta.insert("t_last_s".to_owned(), ryu.format(last.t).to_owned());
         }
-        self.writer.write_metadata(&Metadata {
+        writer.write_metadata(&Metadata {
             name: RUN_METADATA.to_owned(),
             metadata: meta,
         })?;
-        self.writer.finish()?;
-        Ok(self.writer.into_inner())
+        writer.finish()?;
+        Ok(writer.into_inner())
     }
 
+    /// Queues the message in `buf` for the writer thread.
     fn write(&mut self, id: u16, sequence: u32, ns: u64) -> Result<(), McapError> {
         let header = MessageHeader {
             channel_id: id,
@@ -800,7 +928,8 @@ impl<W: Write + Seek> McapSink<W> {
             log_time: ns,
             publish_time: ns,
         };
-        self.writer.write_to_known_channel(&header, &self.buf)?;
+        self.batch.bytes.extend_from_slice(&self.buf);
+        self.batch.headers.push((header, self.batch.bytes.len()));
         Ok(())
     }
 
@@ -995,7 +1124,7 @@ impl<W: Write + Seek> McapSink<W> {
     }
 }
 
-impl<W: Write + Seek> Sink for McapSink<W> {
+impl<W: Write + Seek + Send + 'static> Sink for McapSink<W> {
     type Error = McapError;
 
     fn push(&mut self, s: &Sample) -> Result<(), McapError> {
@@ -1045,6 +1174,11 @@ impl<W: Write + Seek> Sink for McapSink<W> {
         self.first_t.get_or_insert(s.t);
         self.last = Some((*s, ns, publish));
         self.count += 1;
+        if self.batch.bytes.len() >= BATCH_BYTES {
+            let next = self.thread.empty_batch();
+            let full = core::mem::replace(&mut self.batch, next);
+            self.thread.send(full)?;
+        }
         Ok(())
     }
 }

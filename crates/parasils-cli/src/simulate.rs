@@ -5,7 +5,7 @@
 //! analytic state at its time, so the tips' drift is the kinematics' rounding
 //! only. Samples stream to a [`Sink`]; memory stays flat however long the run.
 
-use parasils_kin::{Controller, Instrument, PlatformState, Pose, TipTargets};
+use parasils_kin::{AssemblyMode, Controller, Instrument, PlatformState, Pose, TipTargets};
 use parasils_traj::{Limits, Multi, Sampler};
 
 use crate::sample::{ModuleSample, Sample, Sink};
@@ -136,13 +136,24 @@ impl Simulation {
         let out = self.controller.step(state, &self.tips).map_err(fail)?;
         let module = |m: &Instrument<f64>,
                       sol: &parasils_kin::InstrumentSolution<f64>,
+                      mode: AssemblyMode,
                       target: nalgebra::Vector3<f64>| {
-            let tip = m.tip(&state.pose, &sol.q).map_err(fail)?;
+            // The tip by forward kinematics from the joints, placed with the
+            // step's own platform frame (the rotation `Instrument::tip` would
+            // evaluate again from the Euler angles, the same numbers): `q`
+            // and the frame are finite, the step checked them.
+            let tip = out.frame.to_fixed(&m.tip_platform(&sol.q));
+            // `cos qs2` signed: `|cos qs2|` from the step's margins, positive
+            // in mode A and negative in mode B (the IK keeps the mode).
+            let cos_qs2 = match mode {
+                AssemblyMode::A => sol.margins.cos_qs2,
+                AssemblyMode::B => -sol.margins.cos_qs2,
+            };
             Ok::<_, SimulationError>(ModuleSample {
                 q: sol.q.to_array(),
                 q_dot: sol.q_dot.to_array(),
                 q_ddot: sol.q_ddot.to_array(),
-                cos_qs2: sol.q.qs2.cos(),
+                cos_qs2,
                 tip,
                 tip_err: (tip - target).norm(),
             })
@@ -163,8 +174,18 @@ impl Simulation {
             q_ddot: m1.q_ddot.to_array(),
             serial_margin: m1.margins.serial_min,
             parallel_margin: m1.margins.parallel,
-            left: module(&self.controller.left, &out.left, self.tips.left)?,
-            right: module(&self.controller.right, &out.right, self.tips.right)?,
+            left: module(
+                &self.controller.left,
+                &out.left,
+                self.controller.modes[0],
+                self.tips.left,
+            )?,
+            right: module(
+                &self.controller.right,
+                &out.right,
+                self.controller.modes[1],
+                self.tips.right,
+            )?,
         })
     }
 

@@ -199,9 +199,7 @@ pub enum Error {
 
     /// Module 1: the commanded pose is at or next to a parallel (type 2)
     /// singularity, where the platform is not held by the locked actuators.
-    #[error(
-        "module 1: parallel singularity: margin {margin:.3e} is below {threshold:e}"
-    )]
+    #[error("module 1: parallel singularity: margin {margin:.3e} is below {threshold:e}")]
     ParallelSingular {
         /// The parallel margin (dimensionless, see `parallel`).
         margin: f64,

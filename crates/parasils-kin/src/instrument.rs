@@ -449,6 +449,15 @@ pub struct Instrument<T: Real> {
     mirror: T,
 }
 
+/// The sines and cosines of `qs1` and `qs2`.
+#[derive(Clone, Copy)]
+struct Trig<T> {
+    s1: T,
+    c1: T,
+    s2: T,
+    c2: T,
+}
+
 /// The left-convention vectors of a configuration (see the [module docs](self)).
 struct Basis<T: Real> {
     /// `w = R_Y(-alpha) u`, the tool direction (unit).
@@ -529,6 +538,13 @@ impl<T: Real> Instrument<T> {
     fn basis(&self, q: &Joints<T>) -> Basis<T> {
         let (s1, c1) = q.qs1.sin_cos();
         let (s2, c2) = q.qs2.sin_cos();
+        self.basis_of(&Trig { s1, c1, s2, c2 })
+    }
+
+    /// The basis from the sines and cosines of `qs1` and `qs2`.
+    #[inline]
+    fn basis_of(&self, trig: &Trig<T>) -> Basis<T> {
+        let Trig { s1, c1, s2, c2 } = *trig;
         let (sb, cb) = (self.sin_beta, self.cos_beta);
         let w = Vector3::new(s2 * cb, -c1 * sb - s1 * c2 * cb, -s1 * sb + c1 * c2 * cb);
         Basis {
@@ -633,6 +649,20 @@ impl<T: Real> Instrument<T> {
     ///
     /// `qs1` and `qs2` come out in `(-180, 180] deg`.
     pub fn ik_local(&self, p_local: &Vector3<T>, mode: AssemblyMode) -> Result<Joints<T>, Error> {
+        self.ik_trig(p_local, mode).map(|(q, _)| q)
+    }
+
+    /// [`Instrument::ik_local`], with the sines and cosines of `qs1` and
+    /// `qs2` that the IK has on the way: `sin qs2 = v_x / cos(beta)`,
+    /// `cos qs2` its root, and `qs1`'s `atan2` arguments divided by their
+    /// norm. The rates reuse them instead of evaluating `sin_cos` of the
+    /// angles again (equal to rounding).
+    #[inline]
+    fn ik_trig(
+        &self,
+        p_local: &Vector3<T>,
+        mode: AssemblyMode,
+    ) -> Result<(Joints<T>, Trig<T>), Error> {
         check_vector(p_local, ["tip_local.x", "tip_local.y", "tip_local.z"])?;
         let p = self.in_left_convention(p_local);
         let th = &self.geometry.thresholds;
@@ -659,10 +689,28 @@ impl<T: Real> Instrument<T> {
             c2 = -c2;
         }
         self.check_singular(c2, qs3)?;
-        let qs2 = s2.atan2(c2);
+        // atan2(s2, c2) with c2 = +-sqrt(1 - s2^2): asin is the same angle in
+        // mode A and its supplement in mode B, at about a third of atan2's
+        // cost (libm), within an ulp; +pi (not -pi) for s2 = -0 in mode B.
+        let qs2 = match mode {
+            AssemblyMode::A => s2.asin(),
+            AssemblyMode::B if s2 >= T::zero() => T::pi() - s2.asin(),
+            AssemblyMode::B => -T::pi() - s2.asin(),
+        };
         let (sb, cb) = (self.sin_beta, self.cos_beta);
-        let qs1 = (-sb * v.z - cb * c2 * v.y).atan2(cb * c2 * v.z - sb * v.y);
-        Ok(Joints::new(qs1, qs2, qs3))
+        let (y, x) = (-sb * v.z - cb * c2 * v.y, cb * c2 * v.z - sb * v.y);
+        let qs1 = y.atan2(x);
+        // |(x, y)| = 1 - v_x^2 >= cos(qs2)^2 > 0 past the singularity check;
+        // should it underflow (thresholds far below the defaults), the angle's
+        // own sine and cosine.
+        let norm = (x * x + y * y).sqrt();
+        let (s1, c1) = if norm > T::zero() {
+            let inv = T::one() / norm;
+            (y * inv, x * inv)
+        } else {
+            qs1.sin_cos()
+        };
+        Ok((Joints::new(qs1, qs2, qs3), Trig { s1, c1, s2, c2 }))
     }
 
     /// The tip (mm, fixed frame) in the module's RCM frame at `pose`:
@@ -754,27 +802,30 @@ impl<T: Real> Instrument<T> {
         )?;
         let k = self.basis(q);
         self.check_singular(k.d / self.cos_beta, q.qs3)?;
-        Ok(self.rates_unchecked(frame, q, &k, tip_velocity, tip_acceleration))
+        // The tip in the platform frame.
+        let c = self.geometry.rcm + self.in_left_convention(&(self.rot_alpha(&k.w) * -q.qs3));
+        Ok(self.rates_unchecked(frame, q, &k, &c, tip_velocity, tip_acceleration))
     }
 
+    /// The rates at `q` (basis `k`), the tip at `c` (mm, platform frame).
     fn rates_unchecked(
         &self,
         frame: &PlatformFrame<T>,
         q: &Joints<T>,
         k: &Basis<T>,
+        c: &Vector3<T>,
         tip_velocity: &Vector3<T>,
         tip_acceleration: &Vector3<T>,
     ) -> (Joints<T>, Joints<T>) {
         let w_b = &frame.omega;
         let a_b = &frame.alpha;
-        // The tip in the platform frame and its platform-frame rates.
-        let c = self.geometry.rcm + self.in_left_convention(&(self.rot_alpha(&k.w) * -q.qs3));
-        let c_dot = frame.rotation.tr_mul(&(tip_velocity - frame.velocity)) - w_b.cross(&c);
+        // The tip's platform-frame rates.
+        let c_dot = frame.rotation.tr_mul(&(tip_velocity - frame.velocity)) - w_b.cross(c);
         let c_ddot = frame
             .rotation
             .tr_mul(&(tip_acceleration - frame.acceleration))
-            - a_b.cross(&c)
-            - w_b.cross(&w_b.cross(&c))
+            - a_b.cross(c)
+            - w_b.cross(&w_b.cross(c))
             - w_b.cross(&c_dot) * T::lit(2.0);
         // In the left convention, y = -R_Y(-alpha) p_local = qs3 w, and
         // y_dot = K qsdot with K = [qs3 a, qs3 b, w].
@@ -803,16 +854,24 @@ impl<T: Real> Instrument<T> {
         mode: AssemblyMode,
     ) -> Result<InstrumentSolution<T>, Error> {
         tip.check_finite()?;
-        let p = frame.to_platform(&tip.position) - self.geometry.rcm;
-        let q = self.ik_local(&p, mode)?;
+        // The tip in the platform frame, then in the module's RCM frame.
+        let c = frame.to_platform(&tip.position);
+        let (q, trig) = self.ik_trig(&(c - self.geometry.rcm), mode)?;
         self.geometry.limits.check(self.geometry.side, &q)?;
-        let k = self.basis(&q);
-        let (q_dot, q_ddot) = self.rates_unchecked(frame, &q, &k, &tip.velocity, &tip.acceleration);
+        // The trigonometry of the IK serves the rates and the margins (the
+        // same values as `margins(&q)` and `rates(..)`, to rounding).
+        let k = self.basis_of(&trig);
+        let (q_dot, q_ddot) =
+            self.rates_unchecked(frame, &q, &k, &c, &tip.velocity, &tip.acceleration);
         Ok(InstrumentSolution {
             q,
             q_dot,
             q_ddot,
-            margins: self.margins(&q),
+            margins: InstrumentMargins {
+                cos_qs2: trig.c2.abs(),
+                qs3: q.qs3,
+                limits: self.geometry.limits.margins(&q),
+            },
         })
     }
 

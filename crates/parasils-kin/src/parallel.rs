@@ -76,12 +76,14 @@
 //!
 //! The parallel margin costs one singular value decomposition of a 6x6
 //! matrix per call (one-sided Jacobi, values only, at most 30 sweeps, no
-//! panicking branch): [`ParallelRobot::solve`] takes about 2 us in `f64` and
-//! 1.5 us in `f32` on one x86-64 server core, and 17 000 instructions in
-//! `f32` on a Cortex-M4F (`examples/firmware`), mostly the margin. It was
-//! chosen over cheaper numbers (a determinant, the pivots of an LU) because
-//! those do not measure the distance to the singularity and change with the
-//! scaling of the rows.
+//! panicking branch): [`ParallelRobot::solve`] takes about 1.3 us in `f64`
+//! and 0.95 us in `f32` on one x86-64 server core (`BENCHMARKS.md`), and
+//! 19 000 instructions in `f32` on a Cortex-M4F (`examples/firmware`),
+//! mostly the margin. Its time is the latency of about 25 rounds of two
+//! square roots and a division (5 sweeps of 5 rounds of 3 independent
+//! rotations), not the instruction count. It was chosen over cheaper numbers
+//! (a determinant, the pivots of an LU) because those do not measure the
+//! distance to the singularity and change with the scaling of the rows.
 //!
 //! # Forward kinematics
 //! Newton's method on the six constraints `f_j = (|A_i - B_j|^2 - l_j^2) / (2 l_j)`
@@ -831,18 +833,23 @@ impl<T: Real> ParallelRobot<T> {
         (Actuators(q_dot), Actuators(q_ddot))
     }
 
-    /// The dimensionless Jacobian of the parallel margin, row `j`:
+    /// The rows of the dimensionless Jacobian of the parallel margin, row `j`:
     /// `(e_j / l_j, (R a_i) x e_j / (l_j L))`.
-    fn scaled_jacobian(&self, rho: &[Vector3<T>; 3], e: &[Vector3<T>; 6]) -> Matrix6<T> {
+    fn scaled_jacobian_rows(&self, rho: &[Vector3<T>; 3], e: &[Vector3<T>; 6]) -> [Vector6<T>; 6] {
         let inv_scale = T::one() / self.length_scale;
-        let mut j_n = Matrix6::zeros();
-        for (j, g) in self.geometry.guides.iter().enumerate() {
+        let mut rows = [Vector6::zeros(); 6];
+        for (j, (row, g)) in rows.iter_mut().zip(&self.geometry.guides).enumerate() {
             let n = e[j] / g.link_length;
             let m = rho[j / 2].cross(&n) * inv_scale;
-            j_n.fixed_view_mut::<1, 3>(j, 0).copy_from(&n.transpose());
-            j_n.fixed_view_mut::<1, 3>(j, 3).copy_from(&m.transpose());
+            *row = Vector6::new(n.x, n.y, n.z, m.x, m.y, m.z);
         }
-        j_n
+        rows
+    }
+
+    /// The dimensionless Jacobian of the parallel margin (rows as
+    /// [`ParallelRobot::scaled_jacobian_rows`]).
+    fn scaled_jacobian(&self, rho: &[Vector3<T>; 3], e: &[Vector3<T>; 6]) -> Matrix6<T> {
+        Matrix6::from_rows(&self.scaled_jacobian_rows(rho, e).map(|r| r.transpose()))
     }
 
     fn margins_of(&self, legs: &Legs<T>) -> ParallelMargins<T> {
@@ -853,7 +860,10 @@ impl<T: Real> ParallelRobot<T> {
             stroke[j] = g.stroke.margin(legs.q[j]);
         }
         let serial_min = serial.iter().fold(T::one(), |m, &s| m.min(s));
-        let parallel = Svd6::new(&self.scaled_jacobian(&legs.rho, &legs.e), false).smallest();
+        // The singular values of J are those of J^T: the rows serve as the
+        // columns of the one-sided Jacobi, without a transposed copy.
+        let parallel =
+            Svd6::of_columns::<false>(self.scaled_jacobian_rows(&legs.rho, &legs.e)).smallest();
         ParallelMargins {
             serial,
             serial_min,
@@ -1108,7 +1118,7 @@ impl<T: Real> ParallelRobot<T> {
                     threshold: th.parallel.to_f64(),
                 })
             };
-            let svd = Svd6::new(&self.scaled_jacobian(&c.rho, &c.e), true);
+            let svd = Svd6::new(&self.scaled_jacobian(&c.rho, &c.e));
             let sigma_min = svd.smallest();
             if !(sigma_min >= th.parallel) {
                 return Err(singular(sigma_min));
@@ -1280,28 +1290,53 @@ fn check_frame<T: Real>(frame: &PlatformFrame<T>) -> Result<(), Error> {
 /// panic: every access below is by iterator or `get`. Jacobi also gives the
 /// small singular values to high relative accuracy, which is what a margin
 /// near a singularity needs. At most [`JACOBI_MAX_SWEEPS`] sweeps of 15
-/// rotations; a 6x6 matrix converges in 5 to 8.
+/// rotations in the order [`JACOBI_ORDER`]; a 6x6 matrix converges in 5 to 8
+/// (the margins along the paper's motion: 4 sweeps of 15 rotations, one of
+/// 3 to 9, one that finds nothing left to rotate).
 struct Svd6<T: Real> {
     /// `W = M V`, by columns.
     w: [Vector6<T>; 6],
-    /// `V`, by columns (the identity when not asked for).
+    /// `V`, by columns (zeros when not asked for).
     v: [Vector6<T>; 6],
 }
 
 /// The most sweeps of the Jacobi SVD (each sweep rotates all 15 pairs).
 const JACOBI_MAX_SWEEPS: usize = 30;
 
+/// The order of the 15 pairs of a sweep: 5 rounds of 3 disjoint pairs (a
+/// round-robin tournament of the 6 columns). The three rotations of a round
+/// touch different columns, so the processor overlaps them; in the cyclic
+/// order `(0,1), (0,2), ...` each rotation waits for the previous one's
+/// square roots and division. Convergence is about the same (6 sweeps for
+/// the margins along the paper's motion, about 5% more rotations); the time
+/// is about 30% less on an out-of-order x86-64 core.
+const JACOBI_ORDER: [[(usize, usize); 3]; 5] = [
+    [(0, 1), (2, 5), (3, 4)],
+    [(0, 2), (1, 3), (4, 5)],
+    [(0, 3), (2, 4), (1, 5)],
+    [(0, 4), (3, 5), (1, 2)],
+    [(0, 5), (1, 4), (2, 3)],
+];
+
 impl<T: Real> Svd6<T> {
-    /// The decomposition of `m`; `V` is accumulated only `with_v`.
-    fn new(m: &Matrix6<T>, with_v: bool) -> Self {
+    /// The decomposition of `m`, `V` accumulated.
+    fn new(m: &Matrix6<T>) -> Self {
         let mut w = [Vector6::zeros(); 6];
         for (dst, col) in w.iter_mut().zip(m.column_iter()) {
             *dst = col.into_owned();
         }
+        Self::of_columns::<true>(w)
+    }
+
+    /// The decomposition of the matrix whose columns are `w`; `V` is
+    /// accumulated only `WITH_V` (the margin needs the values only).
+    fn of_columns<const WITH_V: bool>(mut w: [Vector6<T>; 6]) -> Self {
         let mut v = [Vector6::zeros(); 6];
-        for (k, col) in v.iter_mut().enumerate() {
-            if let Some(x) = col.get_mut(k) {
-                *x = T::one();
+        if WITH_V {
+            for (k, col) in v.iter_mut().enumerate() {
+                if let Some(x) = col.get_mut(k) {
+                    *x = T::one();
+                }
             }
         }
         let two = T::lit(2.0);
@@ -1313,59 +1348,57 @@ impl<T: Real> Svd6<T> {
                 *n = col.norm_squared();
             }
             let mut rotated = false;
-            for p in 0..6 {
-                for q in p + 1..6 {
-                    let (Some(&wp), Some(&wq), Some(&alpha), Some(&beta)) =
-                        (w.get(p), w.get(q), norms.get(p), norms.get(q))
-                    else {
+            for &(p, q) in JACOBI_ORDER.iter().flatten() {
+                let (Some(&wp), Some(&wq), Some(&alpha), Some(&beta)) =
+                    (w.get(p), w.get(q), norms.get(p), norms.get(q))
+                else {
+                    continue;
+                };
+                let gamma = wp.dot(&wq);
+                // Orthogonal to working precision (or a zero column):
+                // |gamma| <= eps sqrt(alpha beta), without the root.
+                if !(gamma * gamma > T::EPSILON * T::EPSILON * alpha * beta) {
+                    continue;
+                }
+                rotated = true;
+                // The rotation that makes the pair orthogonal, the smaller of
+                // the two angles: with d = beta - alpha and
+                // r = sqrt(d^2 + 4 gamma^2), t = tan = sign(d) 2 gamma / (|d| + r),
+                // c = 1 / sqrt(1 + t^2) = sqrt(u / 2r) and s = c t, where
+                // u = |d| + r: two roots and one division on the way to the
+                // new columns (Rutishauser's form through zeta = d / 2 gamma
+                // takes three divisions). No overflow: gamma != 0 here, and
+                // the columns of the matrices solved (scaled Jacobians) have
+                // norms of order 1.
+                let d = beta - alpha;
+                let g2 = two * gamma;
+                let r = (d * d + g2 * g2).sqrt();
+                let u = d.abs() + r;
+                let sg = if d >= T::zero() { g2 } else { -g2 };
+                let h = T::one() / (two * r * u).sqrt();
+                let (c, s) = (u * h, sg * h);
+                let t_gamma = sg / u * gamma;
+                if let Some(x) = w.get_mut(p) {
+                    *x = wp * c - wq * s;
+                }
+                if let Some(x) = w.get_mut(q) {
+                    *x = wp * s + wq * c;
+                }
+                if let Some(n) = norms.get_mut(p) {
+                    *n = alpha - t_gamma;
+                }
+                if let Some(n) = norms.get_mut(q) {
+                    *n = beta + t_gamma;
+                }
+                if WITH_V {
+                    let (Some(&vp), Some(&vq)) = (v.get(p), v.get(q)) else {
                         continue;
                     };
-                    let gamma = wp.dot(&wq);
-                    // Orthogonal to working precision (or a zero column):
-                    // |gamma| <= eps sqrt(alpha beta), without the root.
-                    if !(gamma * gamma > T::EPSILON * T::EPSILON * alpha * beta) {
-                        continue;
+                    if let Some(x) = v.get_mut(p) {
+                        *x = vp * c - vq * s;
                     }
-                    rotated = true;
-                    // The rotation that makes the pair orthogonal, the smaller
-                    // of the two angles (|t| <= 1).
-                    let zeta = (beta - alpha) / (two * gamma);
-                    let t = if zeta.abs() > T::lit(1e10) {
-                        // sqrt(1 + zeta^2) = |zeta| to working precision,
-                        // and zeta^2 could overflow in f32.
-                        T::one() / (two * zeta)
-                    } else {
-                        let sign = if zeta >= T::zero() {
-                            T::one()
-                        } else {
-                            -T::one()
-                        };
-                        sign / (zeta.abs() + (T::one() + zeta * zeta).sqrt())
-                    };
-                    let c = T::one() / (T::one() + t * t).sqrt();
-                    let s = c * t;
-                    if let Some(x) = w.get_mut(p) {
-                        *x = wp * c - wq * s;
-                    }
-                    if let Some(x) = w.get_mut(q) {
-                        *x = wp * s + wq * c;
-                    }
-                    if let Some(n) = norms.get_mut(p) {
-                        *n = alpha - t * gamma;
-                    }
-                    if let Some(n) = norms.get_mut(q) {
-                        *n = beta + t * gamma;
-                    }
-                    if with_v {
-                        let (Some(&vp), Some(&vq)) = (v.get(p), v.get(q)) else {
-                            continue;
-                        };
-                        if let Some(x) = v.get_mut(p) {
-                            *x = vp * c - vq * s;
-                        }
-                        if let Some(x) = v.get_mut(q) {
-                            *x = vp * s + vq * c;
-                        }
+                    if let Some(x) = v.get_mut(q) {
+                        *x = vp * s + vq * c;
                     }
                 }
             }
@@ -1444,7 +1477,7 @@ mod tests {
                 let c = m.column(1) * 0.3 - m.column(4) * 1.7;
                 m.set_column(2, &c);
             }
-            let svd = Svd6::new(&m, true);
+            let svd = Svd6::new(&m);
             let mut ours: [f64; 6] = core::array::from_fn(|k| svd.w[k].norm());
             ours.sort_by(|a, b| b.total_cmp(a));
             let theirs = m.singular_values();

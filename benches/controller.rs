@@ -1,0 +1,59 @@
+//! The motion-type-4 control step, `parasils_kin::Controller::step`: the
+//! platform frame (rotation, angular velocity and acceleration), module 1's
+//! six actuators with rates, accelerations and margins (the parallel margin's
+//! 6x6 singular values included), and both instrument modules' joints with
+//! rates, accelerations and margins. `f64` and `f32`, at `t = 1 s` of the
+//! paper's motion; then the step's parts one by one, to show where the time
+//! goes.
+//!
+//! `cargo bench -p parasils --bench controller`; results in `BENCHMARKS.md`.
+
+mod common;
+
+use core::hint::black_box;
+
+use criterion::Criterion;
+use parasils::kin::{TipMotion, frame::PlatformFrame};
+
+use common::{Float, paper_step_inputs};
+
+fn bench_step<T: Float>(c: &mut Criterion, name: &str) {
+    let (controller, tips, state) = paper_step_inputs::<T>();
+    c.bench_function(&format!("controller/step/{name}"), |b| {
+        b.iter(|| controller.step(black_box(&state), black_box(&tips)))
+    });
+}
+
+fn bench_parts<T: Float>(c: &mut Criterion, name: &str) {
+    let (controller, tips, state) = paper_step_inputs::<T>();
+    let frame = state.frame().expect("finite");
+    c.bench_function(&format!("controller/part/frame/{name}"), |b| {
+        b.iter(|| PlatformFrame::new(black_box(&state)))
+    });
+    c.bench_function(&format!("controller/part/module1_solve/{name}"), |b| {
+        b.iter(|| controller.module1.solve(black_box(&frame)))
+    });
+    c.bench_function(&format!("controller/part/module1_margins/{name}"), |b| {
+        b.iter(|| controller.module1.margins(black_box(&state.pose)))
+    });
+    c.bench_function(&format!("controller/part/module1_ik/{name}"), |b| {
+        b.iter(|| controller.module1.ik(black_box(&state.pose)))
+    });
+    let tip = TipMotion::still(tips.left);
+    c.bench_function(&format!("controller/part/instrument_solve/{name}"), |b| {
+        b.iter(|| {
+            controller
+                .left
+                .solve(black_box(&frame), black_box(&tip), controller.modes[0])
+        })
+    });
+}
+
+fn main() {
+    let mut c = common::criterion();
+    bench_step::<f64>(&mut c, "f64");
+    bench_step::<f32>(&mut c, "f32");
+    bench_parts::<f64>(&mut c, "f64");
+    bench_parts::<f32>(&mut c, "f32");
+    c.final_summary();
+}
