@@ -132,8 +132,10 @@ impl Simulation {
     }
 
     fn sample_at(&self, t: f64, state: &PlatformState<f64>) -> Result<Sample, SimulationError> {
-        let fail = |error| SimulationError::Kinematics { t, error };
-        let out = self.controller.step(state, &self.tips).map_err(fail)?;
+        let out = self
+            .controller
+            .step(state, &self.tips)
+            .map_err(|error| SimulationError::Kinematics { t, error })?;
         let module = |m: &Instrument<f64>,
                       sol: &parasils_kin::InstrumentSolution<f64>,
                       mode: AssemblyMode,
@@ -149,14 +151,14 @@ impl Simulation {
                 AssemblyMode::A => sol.margins.cos_qs2,
                 AssemblyMode::B => -sol.margins.cos_qs2,
             };
-            Ok::<_, SimulationError>(ModuleSample {
+            ModuleSample {
                 q: sol.q.to_array(),
                 q_dot: sol.q_dot.to_array(),
                 q_ddot: sol.q_ddot.to_array(),
                 cos_qs2,
                 tip,
                 tip_err: (tip - target).norm(),
-            })
+            }
         };
         let p: &Pose<f64> = &state.pose;
         let m1 = &out.module1;
@@ -179,13 +181,13 @@ impl Simulation {
                 &out.left,
                 self.controller.modes[0],
                 self.tips.left,
-            )?,
+            ),
             right: module(
                 &self.controller.right,
                 &out.right,
                 self.controller.modes[1],
                 self.tips.right,
-            )?,
+            ),
         })
     }
 
