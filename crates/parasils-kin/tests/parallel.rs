@@ -15,6 +15,9 @@ use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::TestRunner;
 
+mod common;
+use common::reorientation;
+
 /// `PARALLEL_ROBOT.md`: the actuators at `P0`, mm.
 const Q_P0: [f64; 6] = [117.942, 151.459, 56.937, 89.428, 132.193, 77.441];
 /// `PARALLEL_ROBOT.md`: every actuator at the symmetric pose, mm.
@@ -435,26 +438,6 @@ proptest! {
             prop_assert!((lhs[j] - rhs).abs() < 1e-9 * (1.0 + rhs.abs()), "row {j}: {} vs {rhs}", lhs[j]);
         }
     }
-}
-
-/// The smooth stand-in for the paper's reorientation (SPEC section 7,
-/// increments reading): `psi: -15 -> 0 deg`, `theta: 10 -> 35 deg` over 4.5 s
-/// with a quintic smoothstep, `P` and `phi` still; rates analytic.
-fn reorientation<T: Real>(t: f64) -> PlatformState<T> {
-    let duration = 4.5;
-    let s = (t / duration).clamp(0.0, 1.0);
-    let pos = s * s * s * (10.0 + s * (-15.0 + 6.0 * s));
-    let vel = 30.0 * s * s * (1.0 - s) * (1.0 - s) / duration;
-    let acc = 60.0 * s * (1.0 - s) * (1.0 - 2.0 * s) / (duration * duration);
-    let (d_psi, d_theta) = (15f64.to_radians(), 25f64.to_radians());
-    let mut pose = Pose::paper_start().to_array();
-    pose[3] += d_psi * pos;
-    pose[4] += d_theta * pos;
-    PlatformState::reorientation(
-        Pose::from_array(pose.map(T::lit)),
-        [T::lit(d_psi * vel), T::lit(d_theta * vel)],
-        [T::lit(d_psi * acc), T::lit(d_theta * acc)],
-    )
 }
 
 #[test]

@@ -3,27 +3,10 @@
 //! sample, in f64 and in f32, with nothing integrated.
 
 use nalgebra::Vector3;
-use parasils_kin::{Controller, PlatformState, Pose, Real, TipTargets};
+use parasils_kin::{Controller, Real, TipTargets};
 
-/// `psi: -15 -> 0 deg`, `theta: 10 -> 35 deg` over 4.5 s with a quintic
-/// smoothstep, so that rates and accelerations are analytic and vanish at
-/// both ends. Returns the state at `t` (s).
-fn state<T: Real>(t: f64) -> PlatformState<T> {
-    let duration = 4.5;
-    let s = (t / duration).clamp(0.0, 1.0);
-    let pos = s * s * s * (10.0 + s * (-15.0 + 6.0 * s));
-    let vel = 30.0 * s * s * (1.0 - s) * (1.0 - s) / duration;
-    let acc = 60.0 * s * (1.0 - s) * (1.0 - 2.0 * s) / (duration * duration);
-    let (d_psi, d_theta) = (15f64.to_radians(), 25f64.to_radians());
-    let mut pose = Pose::paper_start().to_array();
-    pose[3] += d_psi * pos;
-    pose[4] += d_theta * pos;
-    PlatformState::reorientation(
-        Pose::from_array(pose.map(T::lit)),
-        [T::lit(d_psi * vel), T::lit(d_theta * vel)],
-        [T::lit(d_psi * acc), T::lit(d_theta * acc)],
-    )
-}
+mod common;
+use common::reorientation;
 
 /// The largest tip drift (mm) over 4501 samples at 1 kHz, both modules.
 fn largest_drift<T: Real>() -> f64 {
@@ -31,7 +14,7 @@ fn largest_drift<T: Real>() -> f64 {
     let tips = TipTargets::<T>::paper();
     let mut worst = 0.0f64;
     for k in 0..=4500 {
-        let st = state::<T>(f64::from(k) / 1000.0);
+        let st = reorientation::<T>(f64::from(k) / 1000.0);
         let out = controller
             .step(&st, &tips)
             .expect("the paper's motion is regular");
@@ -65,7 +48,7 @@ fn tips_do_not_drift_in_f32() {
 fn end_of_the_motion_matches_the_check_values() {
     let controller = Controller::<f64>::paper();
     let out = controller
-        .step(&state(4.5), &TipTargets::paper())
+        .step(&reorientation(4.5), &TipTargets::paper())
         .expect("regular");
     let deg = |q: &parasils_kin::Joints<f64>| [q.qs1.to_degrees(), q.qs2.to_degrees(), q.qs3];
     let (l, r) = (deg(&out.left.q), deg(&out.right.q));
