@@ -18,14 +18,20 @@ use parasils::kin::{TipMotion, frame::PlatformFrame};
 use common::{Float, paper_step_inputs};
 
 fn bench_step<T: Float>(c: &mut Criterion, name: &str) {
-    let (controller, tips, state) = paper_step_inputs::<T>();
+    let (mut controller, tips, states) = paper_step_inputs::<T>();
+    let mut k = 0;
     c.bench_function(&format!("controller/step/{name}"), |b| {
-        b.iter(|| controller.step(black_box(&state), black_box(&tips)))
+        b.iter(|| {
+            // t = 1 s and t = 0.999 s in turn: every margin from the last one's direction.
+            k = (k + 1) % 2;
+            controller.step(black_box(&states[k]), black_box(&tips))
+        })
     });
 }
 
 fn bench_parts<T: Float>(c: &mut Criterion, name: &str) {
-    let (controller, tips, state) = paper_step_inputs::<T>();
+    let (controller, tips, states) = paper_step_inputs::<T>();
+    let state = states[1];
     let frame = state.frame().expect("finite");
     c.bench_function(&format!("controller/part/frame/{name}"), |b| {
         b.iter(|| PlatformFrame::new(black_box(&state)))
@@ -33,6 +39,20 @@ fn bench_parts<T: Float>(c: &mut Criterion, name: &str) {
     c.bench_function(&format!("controller/part/module1_solve/{name}"), |b| {
         b.iter(|| controller.module1.solve(black_box(&frame)))
     });
+    let frames = states.map(|s| s.frame().expect("finite"));
+    let mut tracker = *controller.margin_tracker();
+    let mut k = 0;
+    c.bench_function(
+        &format!("controller/part/module1_solve_tracking/{name}"),
+        |b| {
+            b.iter(|| {
+                k = (k + 1) % 2;
+                controller
+                    .module1
+                    .solve_tracking(black_box(&frames[k]), &mut tracker)
+            })
+        },
+    );
     c.bench_function(&format!("controller/part/module1_margins/{name}"), |b| {
         b.iter(|| controller.module1.margins(black_box(&state.pose)))
     });

@@ -16,23 +16,33 @@ use std::process::Command;
 
 use parasils::kin::{
     Actuators, AssemblyMode, ControlStep, Controller, FkSolution, InstrumentSolution, Joints,
-    ParallelSolution, PlatformFrame, PlatformState, Pose, TipMotion, TipTargets,
+    MarginTracker, ParallelSolution, PlatformFrame, PlatformState, Pose, TipMotion, TipTargets,
 };
 use parasils::traj::{Multi, State};
 
 use common::{paper_motion, paper_step_inputs, state_at};
 
 /// The kernels, by name: what each call does.
-const KERNELS: [(&str, &str); 9] = [
-    ("step_f64", "Controller::step, f64"),
-    ("step_f32", "Controller::step, f32"),
+const KERNELS: [(&str, &str); 10] = [
+    (
+        "step_f64",
+        "Controller::step (from the step 1 ms earlier), f64",
+    ),
+    (
+        "step_f32",
+        "Controller::step (from the step 1 ms earlier), f32",
+    ),
     (
         "frame_f64",
         "PlatformState::frame (rotation, omega, alpha), f64",
     ),
     (
         "module1_solve_f64",
-        "ParallelRobot::solve (IK, rates, margins), f64",
+        "ParallelRobot::solve (IK, rates, margins by the full SVD), f64",
+    ),
+    (
+        "module1_solve_tracking_f64",
+        "ParallelRobot::solve_tracking (the margin from 1 ms earlier), f64",
     ),
     (
         "instrument_solve_f64",
@@ -55,7 +65,7 @@ const KERNELS: [(&str, &str); 9] = [
 
 #[inline(never)]
 fn kernel_step_f64(
-    c: &Controller<f64>,
+    c: &mut Controller<f64>,
     s: &PlatformState<f64>,
     t: &TipTargets<f64>,
 ) -> Option<ControlStep<f64>> {
@@ -64,7 +74,7 @@ fn kernel_step_f64(
 
 #[inline(never)]
 fn kernel_step_f32(
-    c: &Controller<f32>,
+    c: &mut Controller<f32>,
     s: &PlatformState<f32>,
     t: &TipTargets<f32>,
 ) -> Option<ControlStep<f32>> {
@@ -82,6 +92,15 @@ fn kernel_module1_solve_f64(
     f: &PlatformFrame<f64>,
 ) -> Option<ParallelSolution<f64>> {
     c.module1.solve(f).ok()
+}
+
+#[inline(never)]
+fn kernel_module1_solve_tracking_f64(
+    c: &Controller<f64>,
+    f: &PlatformFrame<f64>,
+    tracker: &mut MarginTracker<f64>,
+) -> Option<ParallelSolution<f64>> {
+    c.module1.solve_tracking(f, tracker).ok()
 }
 
 #[inline(never)]
@@ -126,9 +145,12 @@ fn kernel_trajectory_sample_f64(m: &Multi<f64, 2>, t: f64) -> [State<f64>; 2] {
 
 /// Runs kernel `name` `n` times.
 fn run(name: &str, n: usize) {
-    let (c, tips, state) = paper_step_inputs::<f64>();
-    let (c32, tips32, state32) = paper_step_inputs::<f32>();
+    let (mut c, tips, states) = paper_step_inputs::<f64>();
+    let (mut c32, tips32, states32) = paper_step_inputs::<f32>();
+    let state = states[1];
     let frame = state.frame().expect("finite");
+    let frames = states.map(|s| s.frame().expect("finite"));
+    let mut tracker = *c.margin_tracker();
     let tip = TipMotion::still(tips.left);
     let local = c
         .left
@@ -137,17 +159,24 @@ fn run(name: &str, n: usize) {
     let motion = paper_motion::<f64>();
     let previous = state_at(&motion, 0.999).pose;
     let q = c.module1.ik(&state.pose).expect("reachable");
-    for _ in 0..n {
+    for i in 0..n {
+        // The steps alternate t = 1 s and t = 0.999 s (see `paper_step_inputs`).
+        let k = (i + 1) % 2;
         match name {
             "step_f64" => drop(black_box(kernel_step_f64(
-                black_box(&c),
-                black_box(&state),
+                black_box(&mut c),
+                black_box(&states[k]),
                 black_box(&tips),
             ))),
             "step_f32" => drop(black_box(kernel_step_f32(
-                black_box(&c32),
-                black_box(&state32),
+                black_box(&mut c32),
+                black_box(&states32[k]),
                 black_box(&tips32),
+            ))),
+            "module1_solve_tracking_f64" => drop(black_box(kernel_module1_solve_tracking_f64(
+                black_box(&c),
+                black_box(&frames[k]),
+                black_box(&mut tracker),
             ))),
             "frame_f64" => drop(black_box(kernel_frame_f64(black_box(&state)))),
             "module1_solve_f64" => drop(black_box(kernel_module1_solve_f64(

@@ -40,12 +40,12 @@ impl Sink for Discard {
 
 fn bench_loop<T: Float>(c: &mut Criterion, name: &str) {
     let motion = paper_motion::<T>();
-    let controller = Controller::<T>::paper();
     let tips = TipTargets::<T>::paper();
     let lit = <T as parasils::kin::Real>::lit;
     let start = Pose::<T>::paper_start();
     c.bench_function(&format!("scenario/loop/{name}"), |b| {
         b.iter(|| {
+            let mut controller = Controller::<T>::paper();
             let mut n = 0usize;
             for s in black_box(&motion).sampler(lit(1000.0)).expect("rate") {
                 let [psi, theta] = s.state;

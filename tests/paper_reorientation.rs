@@ -17,7 +17,7 @@ fn drift<T: Real + parasils::traj::Real>() -> (f64, usize) {
         Synchronization::Phase,
     )
     .expect("valid limits");
-    let controller = Controller::<T>::paper();
+    let mut controller = Controller::<T>::paper();
     let tips = TipTargets::<T>::paper();
     let mut worst = 0.0f64;
     let mut n = 0;

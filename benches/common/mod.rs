@@ -45,14 +45,18 @@ pub fn state_at<T: Float>(motion: &Multi<T, 2>, t: T) -> PlatformState<T> {
     )
 }
 
-/// The paper's controller, tips and the state at `t = 1 s`.
-pub fn paper_step_inputs<T: Float>() -> (Controller<T>, TipTargets<T>, PlatformState<T>) {
+/// The paper's controller, tips and the states at `t = 0.999 s` and `t = 1 s`,
+/// the controller having stepped at `0.999 s`: a bench that alternates the
+/// two states times each step from the previous cycle's margin direction,
+/// 1 ms away, as in a 1 kHz loop.
+pub fn paper_step_inputs<T: Float>() -> (Controller<T>, TipTargets<T>, [PlatformState<T>; 2]) {
     let motion = paper_motion::<T>();
-    (
-        Controller::paper(),
-        TipTargets::paper(),
-        state_at(&motion, <T as parasils::kin::Real>::lit(1.0)),
-    )
+    let lit = <T as parasils::kin::Real>::lit;
+    let states = [state_at(&motion, lit(0.999)), state_at(&motion, lit(1.0))];
+    let mut controller = Controller::paper();
+    let tips = TipTargets::paper();
+    controller.step(&states[0], &tips).expect("regular");
+    (controller, tips, states)
 }
 
 /// A short criterion configuration: these functions take nanoseconds, and

@@ -27,7 +27,7 @@ fn main() {
     println!("cargo:rustc-link-search={}", out.display());
 
     let (start, motion) = scenario::paper_reorientation::<f64>().expect("valid motion");
-    let controller = Controller::<f64>::paper();
+    let mut controller = Controller::<f64>::paper();
     let tips = TipTargets::<f64>::paper();
     let mut peak = [0.0f64; FIELD_COUNT];
     let mut references = Vec::new();

@@ -115,8 +115,10 @@ impl Simulation {
         self.sampler.sample_count()
     }
 
-    /// The samples, computed one at a time.
+    /// The samples, computed one at a time. Each call starts the
+    /// controller afresh (module 1's margin tracked from the first sample).
     pub fn samples(&self) -> impl Iterator<Item = Result<Sample, SimulationError>> + '_ {
+        let mut controller = self.controller;
         self.sampler.clone().map(move |s| {
             let [psi, theta] = s.state;
             let mut pose = self.scenario.start;
@@ -127,13 +129,17 @@ impl Simulation {
                 [psi.velocity, theta.velocity],
                 [psi.acceleration, theta.acceleration],
             );
-            self.sample_at(s.time, &state)
+            self.sample_at(&mut controller, s.time, &state)
         })
     }
 
-    fn sample_at(&self, t: f64, state: &PlatformState<f64>) -> Result<Sample, SimulationError> {
-        let out = self
-            .controller
+    fn sample_at(
+        &self,
+        controller: &mut Controller<f64>,
+        t: f64,
+        state: &PlatformState<f64>,
+    ) -> Result<Sample, SimulationError> {
+        let out = controller
             .step(state, &self.tips)
             .map_err(|error| SimulationError::Kinematics { t, error })?;
         let module = |m: &Instrument<f64>,

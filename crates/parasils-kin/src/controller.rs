@@ -18,7 +18,7 @@
 //! use parasils_kin::controller::{Controller, TipTargets};
 //! use parasils_kin::frame::{PlatformState, Pose};
 //!
-//! let controller = Controller::<f64>::paper();
+//! let mut controller = Controller::<f64>::paper();
 //! let tips = TipTargets::paper();
 //! // At P0, psi turning at 5 deg/s and theta accelerating at 5 deg/s^2.
 //! let state = PlatformState::reorientation(
@@ -42,7 +42,7 @@ use crate::frame::{PlatformFrame, PlatformState, Pose};
 use crate::instrument::{
     AssemblyMode, Instrument, InstrumentGeometry, InstrumentSolution, Side, TipMotion, check_vector,
 };
-use crate::parallel::{ParallelGeometry, ParallelRobot, ParallelSolution};
+use crate::parallel::{MarginTracker, ParallelGeometry, ParallelRobot, ParallelSolution};
 use crate::real::Real;
 
 /// The two instrument tips the controller holds still, mm, fixed frame.
@@ -151,6 +151,8 @@ pub struct Controller<T: Real> {
     pub right: Instrument<T>,
     /// The assembly mode of each module, `[left, right]` (default A, A).
     pub modes: [AssemblyMode; 2],
+    /// Module 1's weakest direction from the previous cycle.
+    tracker: MarginTracker<T>,
 }
 
 impl<T: Real> Controller<T> {
@@ -162,6 +164,7 @@ impl<T: Real> Controller<T> {
             left,
             right,
             modes: [AssemblyMode::A; 2],
+            tracker: MarginTracker::new(),
         }
     }
 
@@ -198,13 +201,19 @@ impl<T: Real> Controller<T> {
     /// One control cycle of motion type 4: both tips held still at `tips`
     /// while the platform moves as `platform` says.
     ///
-    /// Module 1 is solved first ([`ParallelRobot::solve`]: strokes checked,
-    /// the parallel margin reported for the caller to watch), then the
-    /// instrument modules. Errors name the module and what failed: non-finite
-    /// input, a leg or a tip out of reach, a singular configuration, an
-    /// actuator or joint beyond its limit.
+    /// Module 1 is solved first ([`ParallelRobot::solve_tracking`]: strokes
+    /// checked, the parallel margin reported for the caller to watch, from
+    /// the previous cycle's weakest direction), then the instrument modules.
+    /// Errors name the module and what failed: non-finite input, a leg or a
+    /// tip out of reach, a singular configuration, an actuator or joint
+    /// beyond its limit.
+    ///
+    /// The only state a step leaves behind is module 1's weakest direction
+    /// ([`Controller::margin_tracker`]), which makes the next margin cheaper;
+    /// every output is a function of this call's inputs (the margin to within
+    /// [`MarginTracker`]'s certified tolerance).
     pub fn step(
-        &self,
+        &mut self,
         platform: &PlatformState<T>,
         tips: &TipTargets<T>,
     ) -> Result<ControlStep<T>, Error> {
@@ -214,7 +223,7 @@ impl<T: Real> Controller<T> {
             &tips.right,
             ["tips.right.x", "tips.right.y", "tips.right.z"],
         )?;
-        let module1 = self.module1.solve(&frame)?;
+        let module1 = self.module1.solve_tracking(&frame, &mut self.tracker)?;
         let left = self
             .left
             .solve(&frame, &TipMotion::still(tips.left), self.modes[0])?;
@@ -227,5 +236,11 @@ impl<T: Real> Controller<T> {
             left,
             right,
         })
+    }
+
+    /// Module 1's weakest direction from the previous cycle, and how many
+    /// margins took the full decomposition (see [`MarginTracker`]).
+    pub fn margin_tracker(&self) -> &MarginTracker<T> {
+        &self.tracker
     }
 }

@@ -79,7 +79,7 @@ pub use instrument::{
 };
 pub use nalgebra;
 pub use parallel::{
-    Actuators, Branch, FkOptions, FkSolution, Guide, ParallelGeometry, ParallelMargins,
-    ParallelRobot, ParallelSolution, ParallelThresholds,
+    Actuators, Branch, FkOptions, FkSolution, Guide, MarginTracker, ParallelGeometry,
+    ParallelMargins, ParallelRobot, ParallelSolution, ParallelThresholds,
 };
 pub use real::Real;

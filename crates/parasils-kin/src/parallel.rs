@@ -74,16 +74,18 @@
 //!   `L omega`) stretches the links only by `m` (mm/s): `1/m` bounds how much
 //!   actuator errors are amplified into platform pose errors.
 //!
-//! The parallel margin costs one singular value decomposition of a 6x6
-//! matrix per call (one-sided Jacobi, values only, at most 30 sweeps, no
+//! From scratch the parallel margin costs one singular value decomposition
+//! of a 6x6 matrix (one-sided Jacobi, values only, at most 30 sweeps, no
 //! panicking branch): [`ParallelRobot::solve`] takes about 1.3 us in `f64`
-//! and 0.95 us in `f32` on one x86-64 server core (`BENCHMARKS.md`), and
-//! 19 000 instructions in `f32` on a Cortex-M4F (`examples/firmware`),
-//! mostly the margin. Its time is the latency of about 25 rounds of two
-//! square roots and a division (5 sweeps of 5 rounds of 3 independent
-//! rotations), not the instruction count. It was chosen over cheaper numbers
-//! (a determinant, the pivots of an LU) because those do not measure the
-//! distance to the singularity and change with the scaling of the rows.
+//! on one x86-64 server core (`BENCHMARKS.md`), mostly the margin, whose time
+//! is the latency of about 25 rounds of two square roots and a division. It
+//! was chosen over cheaper numbers (a determinant, the pivots of an LU)
+//! because those do not measure the distance to the singularity and change
+//! with the scaling of the rows. In a control loop the platform moves little
+//! from one cycle to the next, and [`ParallelRobot::solve_tracking`] gets the
+//! same margin from the previous cycle's weakest direction with one
+//! factorisation and a certificate ([`MarginTracker`]), at about a quarter of
+//! the cost; [`Controller::step`](crate::controller::Controller::step) does.
 //!
 //! # Forward kinematics
 //! Newton's method on the six constraints `f_j = (|A_i - B_j|^2 - l_j^2) / (2 l_j)`
@@ -125,6 +127,10 @@ use crate::error::{Error, ParallelSingularity, check_finite};
 use crate::frame::{PlatformFrame, PlatformState, Pose};
 use crate::instrument::{Interval, check_vector};
 use crate::real::{Real, deg};
+
+mod margin;
+
+pub use margin::MarginTracker;
 
 /// Names `[p0, ..., p5]` of a per-actuator parameter for error reports.
 macro_rules! per_guide {
@@ -852,7 +858,13 @@ impl<T: Real> ParallelRobot<T> {
         Matrix6::from_rows(&self.scaled_jacobian_rows(rho, e).map(|r| r.transpose()))
     }
 
-    fn margins_of(&self, legs: &Legs<T>) -> ParallelMargins<T> {
+    /// The margins at the legs' pose; the parallel one by `tracker` if given,
+    /// else by the full decomposition.
+    fn margins_of(
+        &self,
+        legs: &Legs<T>,
+        tracker: Option<&mut MarginTracker<T>>,
+    ) -> ParallelMargins<T> {
         let mut serial = [T::zero(); 6];
         let mut stroke = [T::zero(); 6];
         for (j, g) in self.geometry.guides.iter().enumerate() {
@@ -860,10 +872,13 @@ impl<T: Real> ParallelRobot<T> {
             stroke[j] = g.stroke.margin(legs.q[j]);
         }
         let serial_min = serial.iter().fold(T::one(), |m, &s| m.min(s));
-        // The singular values of J are those of J^T: the rows serve as the
-        // columns of the one-sided Jacobi, without a transposed copy.
-        let parallel =
-            Svd6::of_columns::<false>(self.scaled_jacobian_rows(&legs.rho, &legs.e)).smallest();
+        let rows = self.scaled_jacobian_rows(&legs.rho, &legs.e);
+        let parallel = match tracker {
+            Some(tracker) => tracker.margin(&rows),
+            // The singular values of J are those of J^T: the rows serve as
+            // the columns of the one-sided Jacobi, without a transposed copy.
+            None => Svd6::of_columns::<false>(rows).smallest(),
+        };
         ParallelMargins {
             serial,
             serial_min,
@@ -879,7 +894,7 @@ impl<T: Real> ParallelRobot<T> {
     /// Cost: the IK and one 6x6 singular value decomposition.
     pub fn margins(&self, pose: &Pose<T>) -> Result<ParallelMargins<T>, Error> {
         pose.check_finite()?;
-        Ok(self.margins_of(&self.legs(&pose.rotation(), &pose.position())?))
+        Ok(self.margins_of(&self.legs(&pose.rotation(), &pose.position())?, None))
     }
 
     /// The dimensionless Jacobian whose smallest singular value is the
@@ -903,12 +918,37 @@ impl<T: Real> ParallelRobot<T> {
     /// NaN or an infinity is [`Error::NonFinite`] (`"frame"`; build frames
     /// with [`PlatformState::frame`], which names the input).
     pub fn solve(&self, frame: &PlatformFrame<T>) -> Result<ParallelSolution<T>, Error> {
+        self.solve_with(frame, None)
+    }
+
+    /// [`ParallelRobot::solve`] in a control loop: the parallel margin from
+    /// the previous cycle's weakest direction, kept in `tracker`, at a tenth
+    /// of the cost of the full decomposition when it certifies (see
+    /// [`MarginTracker`]). The margin agrees with [`ParallelRobot::solve`]'s
+    /// within [`MarginTracker::TOLERANCE_F64`] / 2 relative (`f32`:
+    /// [`MarginTracker::TOLERANCE_F32`] / 2), guaranteed, and to rounding in
+    /// practice; everything else is the same. Use one tracker per robot and
+    /// per motion: a tracker fed poses from elsewhere only falls back to the
+    /// full decomposition more often.
+    pub fn solve_tracking(
+        &self,
+        frame: &PlatformFrame<T>,
+        tracker: &mut MarginTracker<T>,
+    ) -> Result<ParallelSolution<T>, Error> {
+        self.solve_with(frame, Some(tracker))
+    }
+
+    fn solve_with(
+        &self,
+        frame: &PlatformFrame<T>,
+        tracker: Option<&mut MarginTracker<T>>,
+    ) -> Result<ParallelSolution<T>, Error> {
         check_frame(frame)?;
         let legs = self.legs(&frame.rotation, &frame.position)?;
         self.check_serial(&legs.eu)?;
         let q = Actuators(legs.q);
         self.check_strokes(&q)?;
-        let margins = self.margins_of(&legs);
+        let margins = self.margins_of(&legs, tracker);
         let threshold = self.geometry.thresholds.parallel_command;
         if !(margins.parallel >= threshold) {
             return Err(Error::ParallelSingular {
@@ -1266,15 +1306,36 @@ impl<T: Real> Stage<T> {
 /// `Err(Error::NonFinite)` (`what = "frame"`) if any number of the frame is
 /// NaN or infinite.
 fn check_frame<T: Real>(frame: &PlatformFrame<T>) -> Result<(), Error> {
-    let numbers = frame
-        .rotation
-        .iter()
-        .chain(frame.position.iter())
-        .chain(frame.velocity.iter())
-        .chain(frame.acceleration.iter())
-        .chain(frame.omega.iter())
-        .chain(frame.alpha.iter());
-    for &v in numbers {
+    let numbers = || {
+        frame
+            .rotation
+            .as_slice()
+            .iter()
+            .chain(frame.position.as_slice())
+            .chain(frame.velocity.as_slice())
+            .chain(frame.acceleration.as_slice())
+            .chain(frame.omega.as_slice())
+            .chain(frame.alpha.as_slice())
+    };
+    // `v * 0` is 0 for a finite `v` and NaN for NaN or an infinity: one sum
+    // over the 24 numbers, without a branch each, tells whether all are finite.
+    let mut probe = T::zero();
+    for &v in frame.rotation.as_slice() {
+        probe += v * T::zero();
+    }
+    for v in [
+        &frame.position,
+        &frame.velocity,
+        &frame.acceleration,
+        &frame.omega,
+        &frame.alpha,
+    ] {
+        probe += v.x * T::zero() + v.y * T::zero() + v.z * T::zero();
+    }
+    if probe == T::zero() {
+        return Ok(());
+    }
+    for &v in numbers() {
         check_finite(v, "frame")?;
     }
     Ok(())
@@ -1414,6 +1475,24 @@ impl<T: Real> Svd6<T> {
         self.w
             .iter()
             .fold(T::lit(f64::INFINITY), |m, col| m.min(col.norm()))
+    }
+
+    /// The smallest singular value and, for a decomposition of `M = J^T`,
+    /// the unit right singular vector of `J` that goes with it (the column
+    /// of `W` divided by its norm; `None` if that norm is 0).
+    fn smallest_with_direction(&self) -> (T, Option<[T; 6]>) {
+        let mut best = (T::lit(f64::INFINITY), None);
+        for col in &self.w {
+            let n = col.norm();
+            if n < best.0 {
+                best = (n, Some(col));
+            }
+        }
+        let (sigma, col) = best;
+        let x = col
+            .filter(|_| sigma > T::zero())
+            .map(|col| (col / sigma).into());
+        (sigma, x)
     }
 
     /// `M^-1 b` (`V` must have been accumulated); the components along a zero

@@ -10,7 +10,7 @@ use common::reorientation;
 
 /// The largest tip drift (mm) over 4501 samples at 1 kHz, both modules.
 fn largest_drift<T: Real>() -> f64 {
-    let controller = Controller::<T>::paper();
+    let mut controller = Controller::<T>::paper();
     let tips = TipTargets::<T>::paper();
     let mut worst = 0.0f64;
     for k in 0..=4500 {
@@ -46,7 +46,7 @@ fn tips_do_not_drift_in_f32() {
 
 #[test]
 fn end_of_the_motion_matches_the_check_values() {
-    let controller = Controller::<f64>::paper();
+    let mut controller = Controller::<f64>::paper();
     let out = controller
         .step(&reorientation(4.5), &TipTargets::paper())
         .expect("regular");

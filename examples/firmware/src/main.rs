@@ -113,7 +113,7 @@ pub fn parasils_control_step(rt: &mut Runtime) -> Option<Result<Cycle, Fault>> {
 }
 
 #[inline(always)]
-fn cycle(rt: &Runtime, sample: &Sample<f32, [State<f32>; 2]>) -> Result<Cycle, Fault> {
+fn cycle(rt: &mut Runtime, sample: &Sample<f32, [State<f32>; 2]>) -> Result<Cycle, Fault> {
     let [psi, theta] = sample.state;
     let mut pose = rt.start;
     pose.psi = psi.position;
@@ -523,6 +523,8 @@ fn report_fault(out: &mut Out, cycle: usize, fault: &Fault) {
 fn breakdown(out: &mut Out, rt: &Runtime, calibration: u32) {
     let motion = rt.samples.motion();
     let c = &rt.controller;
+    // Module 1's margin tracked from cycle to cycle, as `Controller::step` does.
+    let mut tracker = parasils_kin::MarginTracker::new();
     let mut parts = [
         Cost::new(),
         Cost::new(),
@@ -556,7 +558,7 @@ fn breakdown(out: &mut Out, rt: &Runtime, calibration: u32) {
         frame_cost.add(elapsed(t0, t1));
         let Ok(frame) = frame else { return };
         let t0 = systick();
-        let _ = black_box(c.module1.solve(black_box(&frame)));
+        let _ = black_box(c.module1.solve_tracking(black_box(&frame), &mut tracker));
         let t1 = systick();
         module1.add(elapsed(t0, t1));
         let t0 = systick();
@@ -585,7 +587,7 @@ fn breakdown(out: &mut Out, rt: &Runtime, calibration: u32) {
     for (label, part) in [
         (" trajectory ", &parts[0]),
         (", frame ", &parts[1]),
-        (", module 1 (IK, rates, margins incl. 6x6 SVD) ", &parts[2]),
+        (", module 1 (IK, rates, margins, the parallel one tracked) ", &parts[2]),
         (", both instrument modules ", &parts[3]),
         (", both tips FK ", &parts[4]),
         ("; one f32 sin_cos (libm) ", &parts[5]),

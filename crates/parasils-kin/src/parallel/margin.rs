@@ -1,0 +1,365 @@
+//! The parallel margin from one control cycle to the next.
+//!
+//! The margin is `sigma_min(J)`, the smallest singular value of module 1's
+//! dimensionless 6x6 Jacobian `J` (see the [parent module](super)). From
+//! scratch it takes a full singular value decomposition (one-sided Jacobi:
+//! about 25 rounds of square roots and divisions). Between two cycles of a
+//! control loop the platform barely moves, and neither does the weakest
+//! direction `x`, the unit twist with `|J x| = sigma_min` (the eigenvector of
+//! `A = J^T J` for its smallest eigenvalue `lambda = sigma_min^2`). With last
+//! cycle's `x`, a [`MarginTracker`] gets this cycle's margin from one
+//! factorisation:
+//!
+//! 1. `rho0 = x^T A x`, an upper bound of `lambda` (a Rayleigh quotient);
+//! 2. the shift `mu = rho0 (1 - delta) - g`, with `delta` the certified
+//!    tolerance ([`MarginTracker::TOLERANCE_F64`], [`MarginTracker::TOLERANCE_F32`])
+//!    and `g = 16 eps trace(A)` the rounding of forming `A` and factorising it;
+//! 3. `A - mu I = L D L^T`: if every pivot of `D` is positive, `A - mu I` is
+//!    positive definite, so `lambda > mu + g` up to rounding: a **certified**
+//!    lower bound (the test of Sturm's theorem, made without pivoting, which
+//!    needs none for a positive definite matrix);
+//! 4. two steps of inverse iteration with that shift,
+//!    `y = (A - mu I)^-2 x`, and `rho1 = y^T A y / y^T y`, the margin's
+//!    square: between `mu` and `rho0`, and in practice equal to `lambda` to
+//!    rounding, since each step shrinks every component of `y` off the
+//!    weakest direction by `(lambda - mu) / (lambda_k - mu)` (the second step
+//!    matters where the two smallest singular values nearly cross and the
+//!    weakest direction turns quickly).
+//!
+//! The margin returned is `sqrt(rho1)`, certified to within `delta / 2 +
+//! g / (2 rho1)` (relative) of the exact `sigma_min`, and equal to the full
+//! decomposition's value to about `1e-14` in `f64` along the paper's motion at
+//! 1 kHz. When the test of step 3 fails (the platform jumped, two singular
+//! values crossed, or the first cycle: no `x` yet), or when rounding could
+//! not certify the tolerance (a margin so small that `g` is more than a
+//! quarter of `delta rho0`: near a singularity, where the squared `J^T J`
+//! loses the small values' relative accuracy), the margin comes from the full
+//! decomposition, which also gives the next cycle's `x`. The result is then
+//! the exact value, so a tracker never returns a margin worse than the
+//! certified tolerance, whatever the motion.
+
+use nalgebra::Vector6;
+
+use super::Svd6;
+use crate::real::Real;
+
+/// The weakest direction of module 1 from the previous control cycle, so
+/// that the next parallel margin costs one factorisation instead of a full
+/// singular value decomposition (see the [module docs](self)).
+///
+/// A [`Controller`](crate::controller::Controller) holds one; a loop that
+/// calls [`ParallelRobot::solve_tracking`](super::ParallelRobot::solve_tracking)
+/// itself keeps one per module 1. A new tracker knows nothing yet: its first
+/// margin is the full decomposition.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MarginTracker<T> {
+    /// The unit eigenvector of `J^T J` for the smallest eigenvalue last cycle
+    /// (scaled twist `(Pdot, L omega_F)`), if any.
+    weakest: Option<[T; 6]>,
+    /// Margins computed, and how many by the full decomposition.
+    margins: u64,
+    full: u64,
+}
+
+impl<T: Real> Default for MarginTracker<T> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<T: Real> MarginTracker<T> {
+    /// The certified relative tolerance `delta` of a tracked margin in `f64`
+    /// (about `6e-5`); see the [module docs](self).
+    pub const TOLERANCE_F64: f64 = 1.0 / 16_384.0;
+    /// The certified relative tolerance `delta` of a tracked margin in `f32`
+    /// (about `2e-3`): `f32` rounding alone makes `g` about `2e-5` of the
+    /// paper's margins' squares.
+    pub const TOLERANCE_F32: f64 = 1.0 / 512.0;
+
+    /// A tracker with no direction yet (its first margin is the full
+    /// decomposition).
+    pub const fn new() -> Self {
+        Self {
+            weakest: None,
+            margins: 0,
+            full: 0,
+        }
+    }
+
+    /// The weakest direction found last: the unit scaled twist
+    /// `(Pdot, L omega_F)` (dimensionless) that module 1's links resist least,
+    /// `|J x| = sigma_min`. `None` before the first margin, and after a margin
+    /// of exactly 0. Its sign is arbitrary.
+    pub fn weakest(&self) -> Option<[T; 6]> {
+        self.weakest
+    }
+
+    /// How many margins this tracker has computed, and how many of those took
+    /// the full singular value decomposition (the first one, and any cycle
+    /// whose margin could not be certified from the previous direction).
+    pub fn counts(&self) -> (u64, u64) {
+        (self.margins, self.full)
+    }
+
+    /// The smallest singular value of the matrix whose rows are `rows`
+    /// (module 1's scaled Jacobian), from the previous direction when it
+    /// certifies, else from the full decomposition.
+    pub(super) fn margin(&mut self, rows: &[Vector6<T>; 6]) -> T {
+        self.margins = self.margins.saturating_add(1);
+        let rows: [[T; 6]; 6] = rows.map(Into::into);
+        if let Some(x) = self.weakest
+            && let Some((sigma, y)) = refine(&gram(&rows), &x)
+        {
+            self.weakest = Some(y);
+            return sigma;
+        }
+        self.full = self.full.saturating_add(1);
+        let svd = Svd6::of_columns::<false>(rows.map(Vector6::from));
+        let (sigma, x) = svd.smallest_with_direction();
+        self.weakest = x;
+        sigma
+    }
+}
+
+/// The relative tolerance `delta` of the type.
+fn tolerance<T: Real>() -> T {
+    if T::EPSILON.to_f64() < 1e-10 {
+        T::lit(MarginTracker::<T>::TOLERANCE_F64)
+    } else {
+        T::lit(MarginTracker::<T>::TOLERANCE_F32)
+    }
+}
+
+/// `A = J^T J` (both triangles) of the rows `r_j` of `J`: `sum_j r_j r_j^T`,
+/// the lower triangle summed and mirrored.
+#[allow(clippy::needless_range_loop)]
+fn gram<T: Real>(rows: &[[T; 6]; 6]) -> [[T; 6]; 6] {
+    let mut a = [[T::zero(); 6]; 6];
+    for r in rows {
+        for i in 0..6 {
+            for k in 0..=i {
+                a[i][k] += r[i] * r[k];
+            }
+        }
+    }
+    for i in 0..6 {
+        for k in 0..i {
+            a[k][i] = a[i][k];
+        }
+    }
+    a
+}
+
+/// `A v`.
+fn mul<T: Real>(a: &[[T; 6]; 6], v: &[T; 6]) -> [T; 6] {
+    a.map(|row| dot(&row, v))
+}
+
+fn dot<T: Real>(u: &[T; 6], v: &[T; 6]) -> T {
+    u.iter().zip(v).fold(T::zero(), |s, (&a, &b)| s + a * b)
+}
+
+/// Steps 1 to 4 of the [module docs](self): the certified margin and the new
+/// weakest direction (unit), or `None` when the previous direction `x` does
+/// not certify.
+fn refine<T: Real>(a: &[[T; 6]; 6], x: &[T; 6]) -> Option<(T, [T; 6])> {
+    let delta = tolerance::<T>();
+    let mut trace = T::zero();
+    for (k, row) in a.iter().enumerate() {
+        if let Some(&akk) = row.get(k) {
+            trace += akk;
+        }
+    }
+    let g = T::lit(16.0) * T::EPSILON * trace;
+    let rho0 = dot(x, &mul(a, x)) / dot(x, x);
+    // Near a singularity the rounding of J^T J is a large part of the
+    // margin's square: certify only what rounding leaves resolvable.
+    if !(g * T::lit(4.0) < delta * rho0) {
+        return None;
+    }
+    let mu = rho0 * (T::one() - delta) - g;
+    let mut l = [[T::zero(); 6]; 6];
+    let mut d_inv = [T::zero(); 6];
+    if !ldl_shifted(a, mu, &mut l, &mut d_inv) {
+        return None;
+    }
+    // Two steps: near a crossing of the two smallest singular values the
+    // weakest direction turns quickly, and one step leaves it lagging.
+    let y = solve(&l, &d_inv, &solve(&l, &d_inv, x));
+    let yy = dot(&y, &y);
+    let rho1 = dot(&y, &mul(a, &y)) / yy;
+    // rho1 is a Rayleigh quotient: at least lambda > mu, at most rho0 up to
+    // rounding. Anything else is rounding gone wrong: decline.
+    if !(rho1 > mu && rho1 <= rho0 * (T::one() + delta) && rho1.finite()) {
+        return None;
+    }
+    let inv = T::one() / yy.sqrt();
+    Some((rho1.sqrt(), y.map(|v| v * inv)))
+}
+
+/// `A - mu I = L D L^T` (`L` unit lower triangular, `D` diagonal) into `l`
+/// (below the diagonal) and `d_inv` (`D^-1`); `false` as soon as a pivot is
+/// not positive (then `A - mu I` is not positive definite: some eigenvalue of
+/// `A` is at most `mu`, up to rounding).
+#[allow(clippy::needless_range_loop)]
+fn ldl_shifted<T: Real>(a: &[[T; 6]; 6], mu: T, l: &mut [[T; 6]; 6], d_inv: &mut [T; 6]) -> bool {
+    let mut d = [T::zero(); 6];
+    for j in 0..6 {
+        // w_k = L_jk D_k for k < j, reused by every row below.
+        let mut w = [T::zero(); 6];
+        let mut dj = a[j][j] - mu;
+        for k in 0..j {
+            w[k] = l[j][k] * d[k];
+            dj -= w[k] * l[j][k];
+        }
+        if !(dj > T::zero()) {
+            return false;
+        }
+        d[j] = dj;
+        let inv = T::one() / dj;
+        d_inv[j] = inv;
+        for i in j + 1..6 {
+            let mut s = a[i][j];
+            for k in 0..j {
+                s -= l[i][k] * w[k];
+            }
+            l[i][j] = s * inv;
+        }
+    }
+    true
+}
+
+/// `(L D L^T)^-1 b`, from `L` and `D^-1`.
+#[allow(clippy::needless_range_loop)]
+fn solve<T: Real>(l: &[[T; 6]; 6], d_inv: &[T; 6], b: &[T; 6]) -> [T; 6] {
+    let mut z = *b;
+    for i in 0..6 {
+        for k in 0..i {
+            z[i] -= l[i][k] * z[k];
+        }
+    }
+    for i in 0..6 {
+        z[i] *= d_inv[i];
+    }
+    for i in (0..6).rev() {
+        for k in i + 1..6 {
+            z[i] -= l[k][i] * z[k];
+        }
+    }
+    z
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::{Matrix6, SymmetricEigen};
+
+    use super::*;
+
+    /// A deterministic pseudo-random number in `[-1, 1]`.
+    fn next(x: &mut u64) -> f64 {
+        *x = x
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (*x >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+
+    fn rows(seed: u64) -> [[f64; 6]; 6] {
+        let mut x = seed;
+        core::array::from_fn(|_| core::array::from_fn(|_| next(&mut x)))
+    }
+
+    fn eigenvalues(a: &[[f64; 6]; 6]) -> [f64; 6] {
+        let m = Matrix6::from_fn(|i, k| a[i][k]);
+        let mut e: [f64; 6] = SymmetricEigen::new(m).eigenvalues.into();
+        e.sort_by(f64::total_cmp);
+        e
+    }
+
+    #[test]
+    fn gram_is_j_transpose_j() {
+        for seed in 0..50 {
+            let r = rows(seed);
+            let j = Matrix6::from_fn(|i, k| r[i][k]);
+            let a = gram(&r);
+            let want = j.transpose() * j;
+            for i in 0..6 {
+                for k in 0..6 {
+                    assert!((a[i][k] - want[(i, k)]).abs() < 1e-14);
+                }
+            }
+        }
+    }
+
+    /// The factorisation says "positive definite" exactly when the shift is
+    /// below the smallest eigenvalue (away from it by more than rounding),
+    /// and then solves the shifted system.
+    #[test]
+    fn shifted_factorisation_tests_the_smallest_eigenvalue() {
+        let mut s = 7u64;
+        for seed in 0..500 {
+            let a = gram(&rows(seed));
+            let lambda = eigenvalues(&a)[0];
+            for f in [0.0, 0.5, 0.99, 0.999_999, 1.000_001, 1.01, 2.0] {
+                let mu = lambda * f;
+                let (mut l, mut d_inv) = ([[0.0; 6]; 6], [0.0; 6]);
+                let positive = ldl_shifted(&a, mu, &mut l, &mut d_inv);
+                assert_eq!(positive, f < 1.0, "seed {seed}, mu = {f} lambda");
+                if positive {
+                    let b: [f64; 6] = core::array::from_fn(|_| next(&mut s));
+                    let y = solve(&l, &d_inv, &b);
+                    let ay = mul(&a, &y);
+                    for k in 0..6 {
+                        let r = ay[k] - mu * y[k] - b[k];
+                        assert!(r.abs() < 1e-9 * (1.0 + y[k].abs()), "seed {seed}");
+                    }
+                }
+            }
+        }
+    }
+
+    /// From a direction near the weakest one, the refined margin is the
+    /// exact one; from a direction near another eigenvector, it declines.
+    #[test]
+    fn refine_certifies_or_declines() {
+        let mut s = 11u64;
+        let mut certified = 0;
+        for seed in 0..500 {
+            let a = gram(&rows(seed));
+            let m = Matrix6::from_fn(|i, k| a[i][k]);
+            let eig = SymmetricEigen::new(m);
+            let mut order: [usize; 6] = core::array::from_fn(|k| k);
+            order.sort_by(|&p, &q| eig.eigenvalues[p].total_cmp(&eig.eigenvalues[q]));
+            let (l0, l1) = (eig.eigenvalues[order[0]], eig.eigenvalues[order[1]]);
+            let v0: [f64; 6] = eig.eigenvectors.column(order[0]).into_owned().into();
+            let v1: [f64; 6] = eig.eigenvectors.column(order[1]).into_owned().into();
+            // Slightly off the weakest direction.
+            let x: [f64; 6] = core::array::from_fn(|k| v0[k] + 1e-5 * next(&mut s));
+            let trace: f64 = (0..6).map(|k| a[k][k]).sum();
+            let rho0 = dot(&x, &mul(&a, &x)) / dot(&x, &x);
+            let delta = MarginTracker::<f64>::TOLERANCE_F64;
+            let certifiable =
+                rho0 - l0 < 0.5 * delta * l0 && 64.0 * f64::EPSILON * trace < 0.5 * delta * l0;
+            match refine(&a, &x) {
+                Some((sigma, y)) => {
+                    certified += 1;
+                    let err = (sigma * sigma - l0).abs();
+                    assert!(
+                        err <= 8.0 * f64::EPSILON * trace + 1e-12 * l0,
+                        "seed {seed}: {err:e}"
+                    );
+                    assert!((dot(&y, &y) - 1.0).abs() < 1e-14);
+                }
+                None => assert!(!certifiable, "seed {seed}: {l0} {rho0}"),
+            }
+            // The second eigenvector is a Rayleigh quotient l1 > l0: certified
+            // only if l0 is within the tolerance of l1, and then the value
+            // is still within the tolerance.
+            if let Some((sigma, _)) = refine(&a, &v1) {
+                assert!(l1 <= l0 * (1.0 + 1e-4), "seed {seed}: {l0} {l1}");
+                assert!((sigma - l0.sqrt()).abs() <= 1e-4 * l0.sqrt());
+            }
+        }
+        // Random matrices are often nearly singular; most still certify.
+        assert!(certified > 400, "{certified}");
+    }
+}
