@@ -306,9 +306,9 @@ impl<T: Real> PlatformFrame<T> {
     pub fn new(state: &PlatformState<T>) -> Self {
         let p = &state.pose;
         let (v, a) = (&state.velocity, &state.acceleration);
-        let (s1, c1) = p.psi.sin_cos();
-        let (s2, c2) = p.theta.sin_cos();
-        let (s3, c3) = p.phi.sin_cos();
+        let (s1, c1) = p.psi.sincos();
+        let (s2, c2) = p.theta.sincos();
+        let (s3, c3) = p.phi.sincos();
         let rotation = rotation_from_sin_cos(s1, c1, s2, c2, s3, c3);
         let omega = Vector3::new(
             c2 * c3 * v.psi + s3 * v.theta,
@@ -373,9 +373,9 @@ impl<T: Real> PlatformFrame<T> {
 
 /// `R = R_X(psi) R_Y(theta) R_Z(phi)` for angles in rad (see the [module docs](self)).
 pub fn rotation<T: Real>(psi: T, theta: T, phi: T) -> Matrix3<T> {
-    let (s1, c1) = psi.sin_cos();
-    let (s2, c2) = theta.sin_cos();
-    let (s3, c3) = phi.sin_cos();
+    let (s1, c1) = psi.sincos();
+    let (s2, c2) = theta.sincos();
+    let (s3, c3) = phi.sincos();
     rotation_from_sin_cos(s1, c1, s2, c2, s3, c3)
 }
 

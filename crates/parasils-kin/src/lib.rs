@@ -6,11 +6,13 @@
 //! with a remote centre of motion (RCM) at a port of the platform. When the
 //! surgeon reorients the camera, the platform turns about the endoscope's RCM
 //! and both instrument modules must move so that the instrument tips stay
-//! exactly where they are. This crate computes that motion in closed form
-//! (the per-cycle call [`Controller::step`] has no iteration and a fixed
-//! cost), without allocation, `#![no_std]`, in `f32` or `f64`. Only module 1's
-//! forward kinematics, which the control cycle does not need, iterates
-//! (Newton's method, bounded).
+//! exactly where they are. This crate computes that motion in closed form,
+//! without allocation, `#![no_std]`, in `f32` or `f64`. The per-cycle call
+//! [`Controller::step`] is closed-form but for module 1's parallel margin (a
+//! smallest singular value): one factorisation from the previous cycle's
+//! weakest direction, or, when that cannot be certified, a Jacobi SVD of at
+//! most 30 sweeps. Module 1's forward kinematics, which the control cycle
+//! does not need, iterates (Newton's method, bounded).
 //!
 //! The paper's start pose to the left module's joints:
 //!
@@ -70,6 +72,7 @@ pub mod frame;
 pub mod instrument;
 pub mod parallel;
 pub mod real;
+mod trig;
 
 pub use controller::{ControlStep, Controller, RobotGeometry, TipTargets};
 pub use error::Error;

@@ -128,7 +128,7 @@ use crate::frame::{PlatformFrame, PlatformState, Pose};
 use crate::instrument::{Interval, check_vector};
 use crate::real::{Real, deg};
 
-mod margin;
+pub mod margin;
 
 pub use margin::MarginTracker;
 
