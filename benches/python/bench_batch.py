@@ -3,12 +3,19 @@ on (N, 6) poses and (N, 3) tips, and the same closed-form equations written
 here in vectorised NumPy (SPEC section 3), for N = 10^3 to 10^6 rows.
 
     python -m venv /tmp/venv && /tmp/venv/bin/pip install numpy ./crates/parasils-py
-    /tmp/venv/bin/python benches/python/bench_batch.py [--max-rows 1000000] [--repeat 7]
+    /tmp/venv/bin/python benches/python/bench_batch.py [--max-rows 1000000] [--repeat 7] [--threads T]
 
-For each N it prints the median time of each (best of `--repeat` runs, after
-one warm-up run), the ratio NumPy / parasils, and the largest difference of
-the joints between the two (rad and mm): they solve the same equations, so
-they agree to rounding. Results are logged in BENCHMARKS.md.
+For each N it prints the median time of each (of `--repeat` runs, after one
+warm-up run; the two alternate, so that a change of the machine's load hits
+both alike), the ratio NumPy / parasils, and the largest difference of the
+joints between the two (rad and mm): they solve the same equations, so they
+agree to rounding. Results are logged in BENCHMARKS.md.
+
+parasils splits a batch of 4096 rows or more across `parasils.batch_threads()`
+threads (`--threads` sets PARASILS_NUM_THREADS; default: every CPU this
+process may use); NumPy runs on one thread (its element-wise functions do
+not use threads). The load average before and after is printed: on a busy
+machine the threads have fewer cores to run on.
 
 The rows are the paper's reorientation (SPEC section 7): poses along the
 motion from P0 (psi and theta spread over their ranges, position and phi
@@ -22,6 +29,7 @@ as `errors="nan"` would).
 from __future__ import annotations
 
 import argparse
+import os
 import platform
 import statistics
 import time
@@ -94,27 +102,46 @@ def rows(n: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
     return pose, tip
 
 
-def best_of(repeat: int, f) -> float:
-    f()  # warm-up: page faults, caches, lazy imports
-    times = []
+def medians(repeat: int, *fs) -> list[float]:
+    """The median time of each function over `repeat` runs, the runs of the
+    functions alternating, after one warm-up run of each."""
+    for f in fs:
+        f()  # warm-up: page faults, caches, lazy imports
+    times = [[] for _ in fs]
     for _ in range(repeat):
-        t = time.perf_counter()
-        f()
-        times.append(time.perf_counter() - t)
-    return statistics.median(times)
+        for f, ts in zip(fs, times):
+            t = time.perf_counter()
+            f()
+            ts.append(time.perf_counter() - t)
+    return [statistics.median(ts) for ts in times]
+
+
+def load() -> str:
+    return "load average " + ", ".join(f"{x:.2f}" for x in os.getloadavg())
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--max-rows", type=int, default=1_000_000)
     ap.add_argument("--repeat", type=int, default=7)
+    ap.add_argument(
+        "--threads", type=int, default=None, help="parasils' threads (PARASILS_NUM_THREADS)"
+    )
     args = ap.parse_args()
+    if args.threads is not None:
+        os.environ["PARASILS_NUM_THREADS"] = str(args.threads)
 
     robot = parasils.Robot()
     rng = np.random.default_rng(2024)
     print(
         f"parasils {parasils.__version__}, numpy {np.__version__}, "
         f"Python {platform.python_version()}, {platform.machine()}"
+    )
+    # batch_threads() is missing from parasils before the threaded batches.
+    threads = getattr(parasils, "batch_threads", lambda: 1)()
+    print(
+        f"parasils threads: {threads} (from 4096 rows), CPUs: {os.cpu_count()}, "
+        f"{load()}"
     )
     print(f"{'rows':>9} {'parasils':>12} {'numpy':>12} {'numpy/parasils':>15} {'max |diff|':>11}")
     n = 1000
@@ -125,15 +152,18 @@ def main() -> None:
         if np.isnan(theirs).any() or np.isnan(ours).any():
             raise SystemExit("a row failed: the rows are meant to be all regular")
         diff = float(np.max(np.abs(ours - theirs)))
-        t_ours = best_of(args.repeat, lambda: robot.instrument_ik("left", pose, tip))
-        t_numpy = best_of(args.repeat, lambda: numpy_instrument_ik(pose, tip))
+        t_ours, t_numpy = medians(
+            args.repeat,
+            lambda: robot.instrument_ik("left", pose, tip),
+            lambda: numpy_instrument_ik(pose, tip),
+        )
         print(
             f"{n:>9} {t_ours * 1e3:>9.3f} ms {t_numpy * 1e3:>9.3f} ms "
             f"{t_numpy / t_ours:>14.2f}x {diff:>11.1e}"
         )
         n *= 10
     per_row = t_ours / (n // 10) * 1e9
-    print(f"parasils at the largest batch: {per_row:.0f} ns per row")
+    print(f"parasils at the largest batch: {per_row:.0f} ns per row; {load()}")
 
 
 if __name__ == "__main__":

@@ -13,7 +13,8 @@
 //!   CSV table as NumPy columns;
 //! - [`errors`]: the exception hierarchy (`KinematicsError` and its
 //!   subclasses, `TrajectoryError`, `RobotFileError`);
-//! - [`batch`]: shapes, broadcasting, the loop and the `errors="nan"` mask.
+//! - [`batch`]: shapes, broadcasting, the loop (split across threads for
+//!   large batches, `parasils.batch_threads()`) and the `errors="nan"` mask.
 //!
 //! Built by maturin (`pyproject.toml`); its tests are in Python (`tests/`,
 //! run by `scripts/python-tests`).
@@ -36,6 +37,7 @@ fn _parasils(m: &Bound<'_, PyModule>) -> PyResult<()> {
     )?;
     m.add_class::<robot::Robot>()?;
     m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::batch_threads, m)?)?;
     errors::register(m)?;
     Ok(())
 }

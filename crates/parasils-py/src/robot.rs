@@ -32,9 +32,12 @@ use crate::errors;
 /// Every method takes one sample (pose of shape (6,), tip of shape (3,), ...)
 /// or a batch ((N, 6), (N, 3), ...) and returns the same leading shape; a
 /// single row goes with every row of a batch. Batches run in Rust without
-/// the GIL. errors="raise" (default) raises the first failing row's
-/// KinematicsError (its .row is the index); errors="nan" returns NaN rows and
-/// appends a boolean mask (True where the row succeeded) to the result.
+/// the GIL, on parasils.batch_threads() threads from 4096 rows (the
+/// environment variable PARASILS_NUM_THREADS sets it), with the same result
+/// to the bit whatever the number of threads. errors="raise" (default)
+/// raises the first failing row's KinematicsError (its .row is the index);
+/// errors="nan" returns NaN rows and appends a boolean mask (True where the
+/// row succeeded) to the result.
 #[pyclass(frozen, module = "parasils")]
 #[derive(Debug)]
 pub struct Robot {
@@ -162,11 +165,10 @@ impl Robot {
         let pose = Rows::new(&pose, "pose", 6)?;
         let tip = Rows::new(&tip, "tip", 3)?;
         let n = batch::batch_size(&[("pose", &pose), ("tip", &tip)])?;
-        let (values, ok) = batch::run::<3, _>(py, n, on_error, |i| {
+        batch::solve::<3, _>(py, n, on_error, &[3], |i| {
             let q = m.ik(&pose_of(pose.get(i)), &Vector3::from(tip.get::<3>(i)), mode)?;
             Ok(q.to_array())
-        })?;
-        batch::output(py, values, ok, &[3], n, on_error)
+        })
     }
 
     /// Forward kinematics of an instrument module: the tip in the fixed
@@ -195,12 +197,11 @@ impl Robot {
         let pose = Rows::new(&pose, "pose", 6)?;
         let qs = Rows::new(&qs, "qs", 3)?;
         let n = batch::batch_size(&[("pose", &pose), ("qs", &qs)])?;
-        let (values, ok) = batch::run::<3, _>(py, n, on_error, |i| {
+        batch::solve::<3, _>(py, n, on_error, &[3], |i| {
             let [a, b, c] = qs.get::<3>(i);
             let tip = m.tip(&pose_of(pose.get(i)), &Joints::new(a, b, c))?;
             Ok([tip.x, tip.y, tip.z])
-        })?;
-        batch::output(py, values, ok, &[3], n, on_error)
+        })
     }
 
     /// An instrument module's joints, joint velocities and joint accelerations
@@ -267,7 +268,7 @@ impl Robot {
             ("tip_rate", &tip_rate),
             ("tip_acc", &tip_acc),
         ])?;
-        let (values, ok) = batch::run::<9, _>(py, n, on_error, |i| {
+        batch::solve::<9, _>(py, n, on_error, &[3, 3, 3], |i| {
             let state = PlatformState {
                 pose: pose_of(pose.get(i)),
                 velocity: rate_of(pose_rate.get(i)),
@@ -283,8 +284,7 @@ impl Robot {
             let [d, e, f] = s.q_dot.to_array();
             let [g, h, k] = s.q_ddot.to_array();
             Ok([a, b, c, d, e, f, g, h, k])
-        })?;
-        batch::output(py, values, ok, &[3, 3, 3], n, on_error)
+        })
     }
 
     /// Inverse kinematics of module 1, in closed form: the actuators that put
@@ -308,10 +308,9 @@ impl Robot {
         let pose = Rows::new(&pose, "pose", 6)?;
         let n = batch::batch_size(&[("pose", &pose)])?;
         let robot = &self.controller.module1;
-        let (values, ok) = batch::run::<6, _>(py, n, on_error, |i| {
+        batch::solve::<6, _>(py, n, on_error, &[6], |i| {
             Ok(robot.ik(&pose_of(pose.get(i)))?.to_array())
-        })?;
-        batch::output(py, values, ok, &[6], n, on_error)
+        })
     }
 
     /// Forward kinematics of module 1: the platform pose at which the
@@ -341,11 +340,10 @@ impl Robot {
         let guess = Rows::new(&guess, "guess", 6)?;
         let n = batch::batch_size(&[("q", &q), ("guess", &guess)])?;
         let robot = &self.controller.module1;
-        let (values, ok) = batch::run::<6, _>(py, n, on_error, |i| {
+        batch::solve::<6, _>(py, n, on_error, &[6], |i| {
             let sol = robot.fk(&Actuators::new(q.get(i)), &pose_of(guess.get(i)))?;
             Ok(sol.pose.to_array())
-        })?;
-        batch::output(py, values, ok, &[6], n, on_error)
+        })
     }
 
     /// Module 1's actuators, their velocities and accelerations from the
@@ -378,7 +376,7 @@ impl Robot {
             ("pose_acc", &pose_acc),
         ])?;
         let robot = &self.controller.module1;
-        let (values, ok) = batch::run::<18, _>(py, n, on_error, |i| {
+        batch::solve::<18, _>(py, n, on_error, &[6, 6, 6], |i| {
             let state = PlatformState {
                 pose: pose_of(pose.get(i)),
                 velocity: rate_of(pose_rate.get(i)),
@@ -390,7 +388,6 @@ impl Robot {
             out[6..12].copy_from_slice(&s.q_dot.to_array());
             out[12..].copy_from_slice(&s.q_ddot.to_array());
             Ok(out)
-        })?;
-        batch::output(py, values, ok, &[6, 6, 6], n, on_error)
+        })
     }
 }

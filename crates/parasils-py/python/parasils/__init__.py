@@ -12,6 +12,8 @@ CLI's units, which its argument names and column names carry).
   as a dict of NumPy columns (``pandas.DataFrame(parasils.simulate())``), and
   writing CSV or MCAP with ``out=``.
 - :data:`COLUMNS`: the names of those columns, each with its unit.
+- :func:`batch_threads`: the number of threads a large batch runs on
+  (``PARASILS_NUM_THREADS``, else the CPUs available).
 - Errors: :class:`KinematicsError` (a ``ValueError``) and one subclass per
   kind of failure, carrying the Rust error's fields; :class:`TrajectoryError`,
   :class:`RobotFileError`.
@@ -43,6 +45,7 @@ from ._parasils import (
     SingularJacobianError,
     TrajectoryError,
     __version__,
+    batch_threads,
     simulate,
 )
 
@@ -65,5 +68,6 @@ __all__ = [
     "SingularJacobianError",
     "TrajectoryError",
     "__version__",
+    "batch_threads",
     "simulate",
 ]

@@ -157,6 +157,11 @@ def simulate(
     """The CLI's ``parasils simulate``: the CSV table as NumPy columns keyed by
     COLUMNS. ``pose`` is (x, y, z mm, psi, theta, phi deg) like the CLI's."""
 
+def batch_threads() -> int:
+    """The number of threads a batch of 4096 rows or more runs on:
+    PARASILS_NUM_THREADS (a positive integer) when set, else the CPUs this
+    process may use. Results do not depend on it."""
+
 class KinematicsError(ValueError):
     """A kinematics solver failed. Values in mm and rad."""
 
@@ -255,5 +260,6 @@ __all__ = [
     "SingularJacobianError",
     "TrajectoryError",
     "__version__",
+    "batch_threads",
     "simulate",
 ]
