@@ -5,11 +5,12 @@ here in vectorised NumPy (SPEC section 3), for N = 10^3 to 10^6 rows.
     python -m venv /tmp/venv && /tmp/venv/bin/pip install numpy ./crates/parasils-py
     /tmp/venv/bin/python benches/python/bench_batch.py [--max-rows 1000000] [--repeat 7] [--threads T]
 
-For each N it prints the median time of each (of `--repeat` runs, after one
-warm-up run; the two alternate, so that a change of the machine's load hits
-both alike), the ratio NumPy / parasils, and the largest difference of the
-joints between the two (rad and mm): they solve the same equations, so they
-agree to rounding. Results are logged in BENCHMARKS.md.
+For each N it prints the median time of each (of at least `--repeat` runs,
+more for the small batches, after one warm-up run; the two alternate, so that
+a change of the machine's load hits both alike), the ratio NumPy / parasils,
+and the largest difference of the joints between the two (rad and mm): they
+solve the same equations, so they agree to rounding. Results are logged in
+BENCHMARKS.md.
 
 parasils splits a batch of 4096 rows or more across `parasils.batch_threads()`
 threads (`--threads` sets PARASILS_NUM_THREADS; default: every CPU this
@@ -103,12 +104,17 @@ def rows(n: int, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
 
 
 def medians(repeat: int, *fs) -> list[float]:
-    """The median time of each function over `repeat` runs, the runs of the
+    """The median time of each function over at least `repeat` runs (more
+    for fast ones: about 0.3 s of runs, at most 200), the runs of the
     functions alternating, after one warm-up run of each."""
+    warm = []
     for f in fs:
+        t = time.perf_counter()
         f()  # warm-up: page faults, caches, lazy imports
+        warm.append(time.perf_counter() - t)
+    runs = max(repeat, min(200, int(0.3 / max(sum(warm), 1e-9))))
     times = [[] for _ in fs]
-    for _ in range(repeat):
+    for _ in range(runs):
         for f, ts in zip(fs, times):
             t = time.perf_counter()
             f()
