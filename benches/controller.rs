@@ -15,9 +15,10 @@ use core::hint::black_box;
 use criterion::Criterion;
 use parasils::kin::{TipMotion, frame::PlatformFrame};
 
-use common::{Float, paper_step_inputs};
+use common::paper_step_inputs;
+use parasils::Real;
 
-fn bench_step<T: Float>(c: &mut Criterion, name: &str) {
+fn bench_step<T: Real>(c: &mut Criterion, name: &str) {
     let (mut controller, tips, states) = paper_step_inputs::<T>();
     let mut k = 0;
     c.bench_function(&format!("controller/step/{name}"), |b| {
@@ -29,7 +30,7 @@ fn bench_step<T: Float>(c: &mut Criterion, name: &str) {
     });
 }
 
-fn bench_parts<T: Float>(c: &mut Criterion, name: &str) {
+fn bench_parts<T: Real>(c: &mut Criterion, name: &str) {
     let (controller, tips, states) = paper_step_inputs::<T>();
     let state = states[1];
     let frame = state.frame().expect("finite");

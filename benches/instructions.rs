@@ -14,16 +14,17 @@ mod common;
 use core::hint::black_box;
 use std::process::Command;
 
+use parasils::Reorientation;
 use parasils::kin::{
     Actuators, AssemblyMode, ControlStep, Controller, FkSolution, InstrumentSolution, Joints,
     MarginTracker, ParallelSolution, PlatformFrame, PlatformState, Pose, TipMotion, TipTargets,
 };
 use parasils::traj::{Multi, State};
 
-use common::{paper_motion, paper_step_inputs, state_at};
+use common::{paper_motion, paper_step_inputs};
 
 /// The kernels, by name: what each call does.
-const KERNELS: [(&str, &str); 10] = [
+const KERNELS: [(&str, &str); 11] = [
     (
         "step_f64",
         "Controller::step (from the step 1 ms earlier), f64",
@@ -61,6 +62,10 @@ const KERNELS: [(&str, &str); 10] = [
         "ParallelRobot::fk from the pose 1 ms earlier, f64",
     ),
     ("trajectory_sample_f64", "Multi::sample, 2 trapezoids, f64"),
+    (
+        "reorientation_state_f64",
+        "Reorientation::state_at (the same, on the start pose), f64",
+    ),
 ];
 
 #[inline(never)]
@@ -143,6 +148,11 @@ fn kernel_trajectory_sample_f64(m: &Multi<f64, 2>, t: f64) -> [State<f64>; 2] {
     m.sample(t)
 }
 
+#[inline(never)]
+fn kernel_reorientation_state_f64(m: &Reorientation<f64>, t: f64) -> PlatformState<f64> {
+    m.state_at(t)
+}
+
 /// Runs kernel `name` `n` times.
 fn run(name: &str, n: usize) {
     let (mut c, tips, states) = paper_step_inputs::<f64>();
@@ -157,7 +167,7 @@ fn run(name: &str, n: usize) {
         .tip_to_local(&state.pose, &tips.left)
         .expect("finite");
     let motion = paper_motion::<f64>();
-    let previous = state_at(&motion, 0.999).pose;
+    let previous = motion.state_at(0.999).pose;
     let q = c.module1.ik(&state.pose).expect("reachable");
     for i in 0..n {
         // The steps alternate t = 1 s and t = 0.999 s (see `paper_step_inputs`).
@@ -203,6 +213,10 @@ fn run(name: &str, n: usize) {
                 black_box(&previous),
             ))),
             "trajectory_sample_f64" => drop(black_box(kernel_trajectory_sample_f64(
+                black_box(motion.profile()),
+                black_box(1.0),
+            ))),
+            "reorientation_state_f64" => drop(black_box(kernel_reorientation_state_f64(
                 black_box(&motion),
                 black_box(1.0),
             ))),

@@ -20,13 +20,15 @@ use criterion::Criterion;
 use k::nalgebra as kna;
 use k::prelude::*;
 use nalgebra::Vector3;
+use parasils::Real;
 use parasils::kin::{AssemblyMode, Instrument, Joints, Pose, Side, TipTargets};
 
-use common::{Float, paper_motion, state_at};
+use common::paper_motion;
 
 /// The left module of the paper as a `k` serial chain rooted at the module's
 /// RCM frame at `pose`:
-/// `M_L = R_Y(alpha) R_X(qs1) R_Y(qs2) R_X(beta) T_Z(-qs3)` (SPEC section 3).
+/// `M_L = R_Y(alpha) R_X(qs1) R_Y(qs2) R_X(beta) T_Z(-qs3)` (see
+/// `docs/model.md`, *Instrument modules*).
 struct KArm {
     root: k::Node<f64>,
     arm: k::SerialChain<f64>,
@@ -143,7 +145,7 @@ fn accuracy(solver: Option<&k::JacobianIkSolver<f64>>) -> (f64, f64, usize) {
     let p0 = Pose::paper_start();
     let mut q = left.ik(&p0, &tip, AssemblyMode::A).expect("regular at P0");
     for k in 0..=450 {
-        let pose = state_at(&motion, f64::from(k) / 100.0).pose;
+        let pose = motion.state_at(f64::from(k) / 100.0).pose;
         q = match solver {
             None => left.ik(&pose, &tip, AssemblyMode::A).expect("regular"),
             Some(s) => {
@@ -155,7 +157,7 @@ fn accuracy(solver: Option<&k::JacobianIkSolver<f64>>) -> (f64, f64, usize) {
                 karm.joints()
             }
         };
-        errors.push((left.tip(&pose, &q).expect("finite") - tip).norm());
+        errors.push((left.fk(&pose, &q).expect("finite") - tip).norm());
     }
     errors.sort_by(f64::total_cmp);
     (errors[errors.len() - 1], errors[errors.len() / 2], failures)
@@ -268,17 +270,17 @@ fn ik_inputs() -> (Instrument<f64>, Pose<f64>, Joints<f64>, Vector3<f64>) {
     let motion = paper_motion::<f64>();
     let left = Instrument::paper(Side::Left);
     let tip = TipTargets::paper().left;
-    let pose = state_at(&motion, 1.0).pose;
-    let before = state_at(&motion, 0.999).pose;
+    let pose = motion.state_at(1.0).pose;
+    let before = motion.state_at(0.999).pose;
     let prev = left.ik(&before, &tip, AssemblyMode::A).expect("regular");
     (left, pose, prev, tip)
 }
 
-fn bench_closed_form<T: Float>(c: &mut Criterion, name: &str) {
+fn bench_closed_form<T: Real>(c: &mut Criterion, name: &str) {
     let motion = paper_motion::<T>();
     let left = Instrument::<T>::paper(Side::Left);
     let tip = TipTargets::<T>::paper().left;
-    let pose = state_at(&motion, <T as parasils::kin::Real>::lit(1.0)).pose;
+    let pose = motion.state_at(<T as parasils::kin::Real>::lit(1.0)).pose;
     c.bench_function(&format!("instrument/ik/{name}"), |b| {
         b.iter(|| left.ik(black_box(&pose), black_box(&tip), AssemblyMode::A))
     });
@@ -302,7 +304,7 @@ fn bench_k(c: &mut Criterion) {
     }
     // From the start pose's joints to the end of the motion (psi +15, theta +25 deg).
     let motion = paper_motion::<f64>();
-    let end = state_at(&motion, 4.5).pose;
+    let end = motion.state_at(4.5).pose;
     let left = Instrument::<f64>::paper(Side::Left);
     let start_q = left
         .ik(&Pose::paper_start(), &tip, AssemblyMode::A)

@@ -11,16 +11,17 @@ mod common;
 use core::hint::black_box;
 
 use criterion::Criterion;
+use parasils::Real;
 use parasils::kin::ParallelRobot;
 
-use common::{Float, paper_motion, state_at};
+use common::paper_motion;
 
-fn bench<T: Float>(c: &mut Criterion, name: &str) {
+fn bench<T: Real>(c: &mut Criterion, name: &str) {
     let lit = <T as parasils::kin::Real>::lit;
     let motion = paper_motion::<T>();
     let robot = ParallelRobot::<T>::assumed();
-    let pose = state_at(&motion, lit(1.0)).pose;
-    let previous = state_at(&motion, lit(0.999)).pose;
+    let pose = motion.state_at(lit(1.0)).pose;
+    let previous = motion.state_at(lit(0.999)).pose;
     let q = robot.ik(&pose).expect("reachable");
     let fk = robot.fk(&q, &previous).expect("converges");
     println!(

@@ -1,11 +1,11 @@
-//! The paper's whole scenario in memory (SPEC section 7: 4.5 s at 1 kHz,
-//! 4501 control cycles):
+//! The paper's whole scenario in memory (4.5 s at 1 kHz, 4501 control
+//! cycles; see `docs/model.md`, *Check values*):
 //! - `loop`: the trajectory sampled at 1 kHz through `Controller::step`, as a
 //!   controller runs it (`f64` and `f32`);
-//! - `simulation`: `parasils simulate`'s engine (`parasils_cli::simulate`),
+//! - `simulation`: `parasils simulate`'s engine (`parasils_sim::engine`),
 //!   which also recomputes both tips by forward kinematics, into a sink that
 //!   discards the samples;
-//! - `csv`, `mcap`: the same into the CLI's writers, in memory (no file
+//! - `csv`, `mcap`: the same into the simulation library's writers, in memory (no file
 //!   system), to separate the writers' cost from the process's.
 //!
 //! `cargo bench -p parasils --bench scenario`; results in `BENCHMARKS.md`.
@@ -17,46 +17,35 @@ use core::hint::black_box;
 use std::io::Cursor;
 
 use criterion::Criterion;
-use parasils::kin::{Controller, PlatformState, Pose, TipTargets};
-use parasils::traj::Motion;
-use parasils_cli::csv::CsvSink;
-use parasils_cli::mcap::McapSink;
-use parasils_cli::sample::{Sample, Sink};
-use parasils_cli::scenario::Scenario;
-use parasils_cli::simulate::Simulation;
+use parasils::Real;
+use parasils::kin::{Controller, TipTargets};
+use parasils_sim::csv::CsvSink;
+use parasils_sim::mcap::McapSink;
+use parasils_sim::{Record, Scenario, Simulation, Sink};
 
-use common::{Float, paper_motion};
+use common::paper_motion;
 
 /// Discards the samples (keeps the last time, so that nothing is optimised away).
 struct Discard(f64);
 
 impl Sink for Discard {
     type Error = Infallible;
-    fn push(&mut self, sample: &Sample) -> Result<(), Infallible> {
-        self.0 = black_box(sample.t);
+    fn push(&mut self, record: &Record) -> Result<(), Infallible> {
+        self.0 = black_box(record.t);
         Ok(())
     }
 }
 
-fn bench_loop<T: Float>(c: &mut Criterion, name: &str) {
+fn bench_loop<T: Real>(c: &mut Criterion, name: &str) {
     let motion = paper_motion::<T>();
     let tips = TipTargets::<T>::paper();
     let lit = <T as parasils::kin::Real>::lit;
-    let start = Pose::<T>::paper_start();
     c.bench_function(&format!("scenario/loop/{name}"), |b| {
         b.iter(|| {
             let mut controller = Controller::<T>::paper();
             let mut n = 0usize;
-            for s in black_box(&motion).sampler(lit(1000.0)).expect("rate") {
-                let [psi, theta] = s.state;
-                let mut pose = start;
-                (pose.psi, pose.theta) = (psi.position, theta.position);
-                let state = PlatformState::reorientation(
-                    pose,
-                    [psi.velocity, theta.velocity],
-                    [psi.acceleration, theta.acceleration],
-                );
-                let out = controller.step(&state, &tips).expect("regular");
+            for s in black_box(motion).sampler(lit(1000.0)).expect("rate") {
+                let out = controller.step(&s.state, &tips).expect("regular");
                 black_box(&out);
                 n += 1;
             }

@@ -1,4 +1,27 @@
-//! parasils: kinematics and motion for PARA-SILSROB.
+#![doc = include_str!("../README.md")]
+//!
+//! # This crate
+//!
+//! `parasils` is the facade over [`parasils_kin`] (as [`kin`]) and
+//! [`parasils_traj`] (as [`traj`]), and the bridge between them:
+//! [`Reorientation`] turns a synchronised profile into the
+//! [`PlatformState`](kin::PlatformState)s the controller steps through, and
+//! [`paper`] states the paper's scenario once. `#![no_std]`, allocation-free,
+//! generic over `f32`/`f64` ([`Real`]). The README above is this crate's
+//! documentation, so its Rust examples run as doc-tests.
 #![no_std]
+
 pub use parasils_kin as kin;
 pub use parasils_traj as traj;
+
+mod error;
+pub mod paper;
+pub mod reorientation;
+
+pub use error::Error;
+pub use reorientation::Reorientation;
+
+/// A float type of both crates, [`f32`] or [`f64`]: what the kinematics
+/// ([`kin::Real`]) and the profiles ([`traj::Real`]) are both generic over.
+pub trait Real: kin::Real + traj::Real {}
+impl<T: kin::Real + traj::Real> Real for T {}

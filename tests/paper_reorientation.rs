@@ -1,53 +1,54 @@
-//! The paper's reorientation end to end, across the crates: the trapezoidal
-//! trajectory of `parasils-traj` drives the controller of `parasils-kin`, and
-//! the instrument tips stay where they are, with nothing integrated.
+//! The paper's reorientation end to end, across the crates: the bridge
+//! ([`parasils::Reorientation`]) turns the synchronised profile of
+//! `parasils-traj` into the platform states that the controller of
+//! `parasils-kin` steps through, and the instrument tips stay where they are,
+//! with nothing integrated. The drift bounds are those of `docs/model.md`,
+//! *Check values*: 1e-9 mm in `f64`, 2e-3 mm in `f32`.
 
-use parasils::kin::{Controller, PlatformState, Pose, Real, TipTargets};
-use parasils::traj::{Limits, Motion, Multi, Synchronization};
+use parasils::kin::{ControlStep, Controller, PlatformState, TipTargets};
+use parasils::{Real, Reorientation, paper};
+
+/// `x` as `T`.
+fn lit<T: Real>(x: f64) -> T {
+    <T as parasils::kin::Real>::lit(x)
+}
+
+/// The larger distance (mm) of the two tips, recomputed from the step's
+/// joints by forward kinematics at the state's pose, to their targets.
+fn tip_drift<T: Real>(
+    controller: &Controller<T>,
+    state: &PlatformState<T>,
+    out: &ControlStep<T>,
+    tips: &TipTargets<T>,
+) -> f64 {
+    let mut worst = 0.0f64;
+    for (m, q, target) in [
+        (&controller.left, &out.left.q, &tips.left),
+        (&controller.right, &out.right.q, &tips.right),
+    ] {
+        let tip = m.fk(&state.pose, q).expect("finite");
+        worst = worst.max(
+            (tip - target)
+                .map(|v| parasils::kin::Real::to_f64(v))
+                .norm(),
+        );
+    }
+    worst
+}
 
 /// The largest tip drift (mm) of both modules over the paper's motion sampled
 /// at 1 kHz, and the number of samples.
-fn drift<T: Real + parasils::traj::Real>() -> (f64, usize) {
-    let start = Pose::<T>::paper_start();
-    let deg = |x: f64| <T as parasils::kin::Real>::lit(x.to_radians());
-    let motion = Multi::new(
-        [start.psi, start.theta],
-        [start.psi + deg(15.0), start.theta + deg(25.0)],
-        [Limits::new(deg(10.0), deg(5.0)); 2],
-        Synchronization::Phase,
-    )
-    .expect("valid limits");
+fn drift<T: Real>() -> (f64, usize) {
+    let motion = Reorientation::<T>::paper().expect("valid limits");
     let mut controller = Controller::<T>::paper();
     let tips = TipTargets::<T>::paper();
     let mut worst = 0.0f64;
     let mut n = 0;
-    for s in motion
-        .sampler(<T as parasils::kin::Real>::lit(1000.0))
-        .expect("valid rate")
-    {
-        let [psi, theta] = s.state;
-        let mut pose = start;
-        pose.psi = psi.position;
-        pose.theta = theta.position;
-        let state = PlatformState::reorientation(
-            pose,
-            [psi.velocity, theta.velocity],
-            [psi.acceleration, theta.acceleration],
-        );
+    for s in motion.sampler(lit(paper::RATE_HZ)).expect("valid rate") {
         let out = controller
-            .step(&state, &tips)
+            .step(&s.state, &tips)
             .expect("regular along the paper's motion");
-        for (m, q, target) in [
-            (&controller.left, &out.left.q, &tips.left),
-            (&controller.right, &out.right.q, &tips.right),
-        ] {
-            let tip = m.tip(&pose, q).expect("finite");
-            worst = worst.max(
-                (tip - target)
-                    .map(|v| parasils::kin::Real::to_f64(v))
-                    .norm(),
-            );
-        }
+        worst = worst.max(tip_drift(&controller, &s.state, &out, &tips));
         n += 1;
     }
     (worst, n)
@@ -65,4 +66,83 @@ fn tips_stay_put_in_f32() {
     let (d, n) = drift::<f32>();
     assert_eq!(n, 4501);
     assert!(d < 2e-3, "largest drift {d} mm");
+}
+
+/// Checks that every sample of the bridge at 1 kHz is the profile's
+/// `(psi, theta)` on the start pose at `t_k = k / rate`, and that the
+/// controller stepped with these states, and with [`Reorientation::state_at`]
+/// half-way between them, holds both tips within `bound` mm. Returns the
+/// number of samples.
+fn bridge_drives_the_controller<T: Real>(bound: f64) -> usize {
+    let motion = Reorientation::<T>::paper().expect("valid limits");
+    let start = *motion.start();
+    let rate = lit::<T>(paper::RATE_HZ);
+    let tips = TipTargets::<T>::paper();
+    let mut on_samples = Controller::<T>::paper();
+    let mut between = Controller::<T>::paper();
+    let mut n = 0;
+    for s in motion.sampler(rate).expect("valid rate") {
+        let k = s.index;
+        assert_eq!(k, n, "indices count up from 0");
+        let t = lit::<T>(k as f64) / rate;
+        assert_eq!(s.time, t, "sample {k} at t = k / rate");
+        assert_eq!(s.state, motion.state_at(t), "sample {k} is state_at(t_k)");
+
+        // The profile on the start pose: psi and theta move, nothing else.
+        let [psi, theta] = motion.profile().sample(t);
+        let (pose, v, a) = (&s.state.pose, &s.state.velocity, &s.state.acceleration);
+        assert_eq!(
+            (pose.psi, pose.theta),
+            (psi.position, theta.position),
+            "sample {k}: angles"
+        );
+        assert_eq!(
+            (v.psi, v.theta, a.psi, a.theta),
+            (
+                psi.velocity,
+                theta.velocity,
+                psi.acceleration,
+                theta.acceleration
+            ),
+            "sample {k}: Euler rates and accelerations"
+        );
+        assert_eq!(
+            (pose.x, pose.y, pose.z, pose.phi),
+            (start.x, start.y, start.z, start.phi),
+            "sample {k}: P and phi stay at the start"
+        );
+        assert_eq!(
+            [v.x, v.y, v.z, v.phi, a.x, a.y, a.z, a.phi],
+            [lit::<T>(0.0); 8],
+            "sample {k}: P and phi at rest"
+        );
+
+        let out = on_samples.step(&s.state, &tips).expect("regular");
+        let d = tip_drift(&on_samples, &s.state, &out, &tips);
+        assert!(d < bound, "sample {k}: drift {d} mm");
+
+        let mid = motion.state_at(t + lit::<T>(0.5) / rate);
+        let out = between.step(&mid, &tips).expect("regular");
+        let d = tip_drift(&between, &mid, &out, &tips);
+        assert!(d < bound, "half-way after sample {k}: drift {d} mm");
+        n += 1;
+    }
+    let goal = motion.goal();
+    let end = motion.state_at(motion.duration());
+    assert_eq!(
+        [end.pose.psi, end.pose.theta],
+        goal,
+        "the motion ends on its goal"
+    );
+    n
+}
+
+#[test]
+fn bridge_drives_the_controller_in_f64() {
+    assert_eq!(bridge_drives_the_controller::<f64>(1e-9), 4501);
+}
+
+#[test]
+fn bridge_drives_the_controller_in_f32() {
+    assert_eq!(bridge_drives_the_controller::<f32>(2e-3), 4501);
 }

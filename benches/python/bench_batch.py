@@ -1,6 +1,7 @@
 """The Python bindings' batch API against NumPy: `parasils.Robot().instrument_ik`
 on (N, 6) poses and (N, 3) tips, and the same closed-form equations written
-here in vectorised NumPy (SPEC section 3), for N = 10^3 to 10^6 rows.
+here in vectorised NumPy (see `docs/model.md`, *Instrument modules*), for
+N = 10^3 to 10^6 rows.
 
     python -m venv /tmp/venv && /tmp/venv/bin/pip install numpy ./crates/parasils-py
     /tmp/venv/bin/python benches/python/bench_batch.py [--max-rows 1000000] [--repeat 7] [--threads T]
@@ -18,13 +19,13 @@ process may use); NumPy runs on one thread (its element-wise functions do
 not use threads). The load average before and after is printed: on a busy
 machine the threads have fewer cores to run on.
 
-The rows are the paper's reorientation (SPEC section 7): poses along the
-motion from P0 (psi and theta spread over their ranges, position and phi
-fixed) with the left tip held at (50, -50, -620) mm, shuffled; every row is
-reachable and within the joint limits, so `errors="raise"` never raises and
-the NumPy code needs no masking beyond what the binding does (it computes
-the same reach, singularity and limit tests and returns NaN rows for them,
-as `errors="nan"` would).
+The rows are the paper's reorientation (see `docs/model.md`, *Check
+values*): poses along the motion from P0 (psi and theta spread over their
+ranges, position and phi fixed) with the left tip held at (50, -50, -620)
+mm, shuffled; every row is reachable and within the joint limits, so
+`errors="raise"` never raises and the NumPy code needs no masking beyond
+what the binding does (it computes the same reach, singularity and limit
+tests and returns NaN rows for them, as `errors="nan"` would).
 """
 
 from __future__ import annotations
@@ -42,7 +43,9 @@ import parasils
 DEG = np.pi / 180.0
 ALPHA = BETA = 10.0 * DEG  # the paper's spherical modules
 RCM_LEFT = np.array([-10.0, 0.0, 0.0])  # mm, platform frame
-LIMITS = (  # assumed defaults (SPEC section 3): qs1, qs2 rad, qs3 mm
+# The assumed default joint limits (see `docs/model.md`, *Singularities and
+# thresholds*): qs1, qs2 rad, qs3 mm.
+LIMITS = (
     (-120.0 * DEG, 120.0 * DEG),
     (-80.0 * DEG, 80.0 * DEG),
     (10.0, 300.0),
@@ -50,7 +53,9 @@ LIMITS = (  # assumed defaults (SPEC section 3): qs1, qs2 rad, qs3 mm
 
 
 def numpy_instrument_ik(pose: np.ndarray, tip: np.ndarray) -> np.ndarray:
-    """The left module's closed-form IK in mode A, vectorised (SPEC section 3).
+    """The left module's closed-form IK in mode A, vectorised.
+
+    See `docs/model.md`, *Instrument modules* (inverse kinematics).
 
     pose: (N, 6) x, y, z mm, psi, theta, phi rad; tip: (N, 3) mm, fixed frame.
     Returns (N, 3) qs1, qs2 rad, qs3 mm; NaN rows where the tip is out of

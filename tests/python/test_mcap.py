@@ -7,14 +7,16 @@ checks that:
 - the summary has statistics, chunk indexes and message indexes, and the
   reader can seek with them;
 - every message validates against its channel's JSON Schema (``jsonschema``);
-  ``/tf`` and ``/scene`` also against Foxglove's official schemas in
-  ``../shared/foxglove-schemas`` (beside the repository), which the embedded
-  ones must equal;
+  ``/tf`` and ``/scene`` also against Foxglove's official schemas, kept in
+  ``tests/python/foxglove-schemas`` and pinned by their SHA-256 (see the README
+  there), which the embedded ones must equal;
 - each data channel has one message per sample: as many as the rows of the
   CSV named by ``PARASILS_CSV`` when set (the same run written as CSV), else
   the ``samples`` of the ``parasils.run`` metadata record;
 - log times increase strictly on each channel and equal ``t_s`` in ns;
 - with ``PARASILS_CSV``, every field equals its CSV column to the last bit.
+
+The pinned copies of the official schemas are checked even without a file.
 
 Run: ``pip install -r tests/python/requirements.txt``, then
 ``PARASILS_MCAP=run.mcap PARASILS_CSV=run.csv pytest tests/python``.
@@ -23,6 +25,7 @@ Run: ``pip install -r tests/python/requirements.txt``, then
 from __future__ import annotations
 
 import csv
+import hashlib
 import json
 import os
 from collections import defaultdict
@@ -33,9 +36,7 @@ import pytest
 from mcap.reader import make_reader
 from mcap.stream_reader import StreamReader
 
-REPO = Path(__file__).resolve().parents[2]
-OFFICIAL_SCHEMAS = REPO.parent / "shared" / "foxglove-schemas"
-EMBEDDED_SCHEMAS = REPO / "crates" / "parasils-cli" / "schemas"
+OFFICIAL_SCHEMAS = Path(__file__).resolve().parent / "foxglove-schemas"
 
 DATA_TOPICS = ["/platform", "/module1", "/left", "/right", "/tips", "/margins"]
 FOXGLOVE = {"/tf": "foxglove.FrameTransforms", "/scene": "foxglove.SceneUpdate"}
@@ -43,14 +44,38 @@ OFFICIAL_FILES = {
     "foxglove.FrameTransforms": "FrameTransforms.json",
     "foxglove.SceneUpdate": "SceneUpdate.json",
 }
+#: The SHA-256 of each file of ``foxglove-schemas``: the copies are used only
+#: if they are byte for byte the ones that were pinned (see the README there).
+PINNED_SHA256 = {
+    "FrameTransforms.json": "95a598789fd7e5a588448cd527fce6a90830a64613ed0daa514a954f7c597099",
+    "SceneUpdate.json": "d06db9b671fee79f44bade5853a76e4ac3dce1902b6f619a241c802b7d06d138",
+    "LICENSE": "da11235665c17d4c1634072dae92b8ba1b38d6fdde2ccf19a6bbede33253f58d",
+}
 
 MCAP_PATH = os.environ.get("PARASILS_MCAP")
 CSV_PATH = os.environ.get("PARASILS_CSV")
 
-pytestmark = pytest.mark.skipif(
-    not MCAP_PATH,
-    reason="set PARASILS_MCAP to a file written by `parasils simulate -o FILE.mcap`",
-)
+
+def pinned(name: str) -> bytes:
+    """The bytes of ``foxglove-schemas/<name>``, after checking its SHA-256 pin."""
+    path = OFFICIAL_SCHEMAS / name
+    if not path.is_file():
+        pytest.fail(f"{path} is missing: the official schemas live in the repository")
+    data = path.read_bytes()
+    got = hashlib.sha256(data).hexdigest()
+    want = PINNED_SHA256[name]
+    if got != want:
+        pytest.fail(
+            f"{path} has SHA-256 {got}, but {want} is pinned: it is not the "
+            "reviewed copy of Foxglove's file. Restore it, or update it as "
+            "tests/python/foxglove-schemas/README.md says (pin included)."
+        )
+    return data
+
+
+def official_schema(name: str) -> dict:
+    """Foxglove's official schema of a message type (``foxglove.SceneUpdate``, ...)."""
+    return json.loads(pinned(OFFICIAL_FILES[name]))
 
 
 def validator(schema: dict) -> jsonschema.protocols.Validator:
@@ -65,7 +90,10 @@ def validator(schema: dict) -> jsonschema.protocols.Validator:
 @pytest.fixture(scope="module")
 def recording():
     """Everything in the file, read once: summary, metadata, channels, messages."""
-    assert MCAP_PATH is not None
+    if not MCAP_PATH:
+        pytest.skip(
+            "set PARASILS_MCAP to a file written by `parasils simulate -o FILE.mcap`"
+        )
     with open(MCAP_PATH, "rb") as f:
         reader = make_reader(f, validate_crcs=True)
         summary = reader.get_summary()
@@ -91,6 +119,18 @@ def sample_count(recording) -> int:
         )
         return n_csv
     return n_meta
+
+
+def test_the_official_schemas_are_the_pinned_copies():
+    assert set(PINNED_SHA256) == {
+        p.name for p in OFFICIAL_SCHEMAS.iterdir() if p.name != "README.md"
+    }, "every file of foxglove-schemas (but its README) is pinned, and only those"
+    for name in PINNED_SHA256:
+        pinned(name)
+    for name, file in OFFICIAL_FILES.items():
+        schema = official_schema(name)
+        assert schema["title"] == name, file
+        validator(schema)
 
 
 def test_summary_has_statistics_and_indexes(recording):
@@ -152,9 +192,7 @@ def test_every_message_validates_against_its_schema(recording):
         validators = [validator(embedded)]
         if topic in FOXGLOVE:
             assert schema.name == FOXGLOVE[topic]
-            official = json.loads(
-                (OFFICIAL_SCHEMAS / OFFICIAL_FILES[schema.name]).read_text()
-            )
+            official = official_schema(schema.name)
             assert embedded == official, (
                 f"{topic}: the embedded schema is not the official one"
             )

@@ -1,208 +1,139 @@
-//! The simulation engine: the trajectory, sampled at a fixed rate, through the
-//! controller's per-cycle call, one [`Sample`] at a time.
-//!
-//! Nothing is integrated: every sample is computed from the trajectory's
-//! analytic state at its time, so the tips' drift is the kinematics' rounding
-//! only. Samples stream to a [`Sink`]; memory stays flat however long the run.
+//! `parasils simulate`: the scenario from the arguments, the library's run
+//! loop into the sinks asked for (summary, CSV to standard output, an output
+//! file, a plot, a progress bar), then the files renamed into place.
 
-use parasils_kin::{AssemblyMode, Controller, Instrument, PlatformState, Pose, TipTargets};
-use parasils_traj::{Limits, Multi, Sampler};
+use core::convert::Infallible;
+use std::io::{BufWriter, IsTerminal, Write};
 
-use crate::sample::{ModuleSample, Sample, Sink};
-use crate::scenario::Scenario;
+use anyhow::{Context, Result, bail};
+use parasils_sim::csv::CsvSink;
+use parasils_sim::numbers::Fixed;
+use parasils_sim::output::{self, OutputFile};
+use parasils_sim::plot::PlotSink;
+use parasils_sim::summary::Summary;
+use parasils_sim::{Record, Simulation, Sink, Tee};
 
-/// What can stop a simulation.
-#[derive(Debug, thiserror::Error)]
-pub enum SimulationError {
-    /// The robot's geometry is invalid.
-    #[error("robot geometry: {0}")]
-    Geometry(parasils_kin::Error),
-    /// The trajectory cannot be built (limits, angles or rate invalid).
-    #[error("trajectory: {0}")]
-    Trajectory(parasils_traj::Error),
-    /// The kinematics failed at a sample: unreachable tip, singularity, limit.
-    #[error("at t = {t:.3} s: {error}")]
-    Kinematics {
-        /// The sample's time, s.
-        t: f64,
-        /// What failed.
-        error: parasils_kin::Error,
-    },
+use crate::args::{FormatArg, SimulateArgs};
+use crate::stdout::{self, Stdout};
+
+/// CSV rows to standard output (`-o -`).
+struct StdoutCsv(CsvSink<BufWriter<Stdout>>);
+
+/// An error writing to standard output.
+#[derive(Debug)]
+struct StdoutError(String);
+
+impl core::fmt::Display for StdoutError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "writing to standard output: {}", self.0)
+    }
 }
 
-/// A simulation's failure: the engine's, or the sink's.
-#[derive(Debug, thiserror::Error)]
-pub enum RunError<E> {
-    /// The engine failed.
-    #[error(transparent)]
-    Simulation(#[from] SimulationError),
-    /// The sink failed (for instance, an I/O error while writing).
-    #[error("writing the output: {0}")]
-    Sink(E),
+impl core::error::Error for StdoutError {}
+
+impl Sink for StdoutCsv {
+    type Error = StdoutError;
+
+    fn push(&mut self, record: &Record) -> Result<(), StdoutError> {
+        self.0.push(record).map_err(|e| StdoutError(e.to_string()))
+    }
 }
 
-/// A scenario, ready to run.
-#[derive(Debug, Clone)]
-pub struct Simulation {
-    scenario: Scenario,
-    controller: Controller<f64>,
-    tips: TipTargets<f64>,
-    sampler: Sampler<f64, Multi<f64, 2>>,
-}
+/// A progress bar on the terminal, for long runs only.
+struct Progress(indicatif::ProgressBar);
 
-impl Simulation {
-    /// Validates the scenario and plans the trajectory.
-    pub fn new(scenario: Scenario) -> Result<Self, SimulationError> {
-        let controller =
-            Controller::from_geometry(&scenario.robot).map_err(SimulationError::Geometry)?;
-        let limits = Limits::new(scenario.omega_max, scenario.eps_max);
-        let motion = Multi::new(
-            [scenario.start.psi, scenario.start.theta],
-            scenario.goal(),
-            [limits; 2],
-            scenario.sync,
-        )
-        .map_err(SimulationError::Trajectory)?;
-        let sampler =
-            Sampler::new(motion, scenario.rate_hz).map_err(SimulationError::Trajectory)?;
-        let tips = scenario.tips();
-        for (what, v) in [("left tip", tips.left), ("right tip", tips.right)] {
-            if !v.iter().all(|x| x.is_finite()) {
-                return Err(SimulationError::Kinematics {
-                    t: 0.0,
-                    error: parasils_kin::Error::NonFinite {
-                        what,
-                        value: v
-                            .iter()
-                            .copied()
-                            .find(|x| !x.is_finite())
-                            .unwrap_or(f64::NAN),
-                    },
-                });
-            }
+impl Progress {
+    fn new(len: usize) -> Option<Self> {
+        // Only worth it on a terminal and for long runs.
+        if !std::io::stderr().is_terminal() || len < 200_000 {
+            return None;
         }
-        Ok(Self {
-            scenario,
-            controller,
-            tips,
-            sampler,
-        })
+        let bar = indicatif::ProgressBar::new(len as u64);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{spinner} simulating {bar:40} {percent:>3}% {pos}/{len} samples, eta {eta}",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        Some(Self(bar))
     }
+}
 
-    /// The scenario.
-    pub fn scenario(&self) -> &Scenario {
-        &self.scenario
-    }
+impl Sink for Progress {
+    type Error = Infallible;
 
-    /// The tips held still, mm, fixed frame.
-    pub fn tips(&self) -> &TipTargets<f64> {
-        &self.tips
-    }
-
-    /// The controller (geometry of every module).
-    pub fn controller(&self) -> &Controller<f64> {
-        &self.controller
-    }
-
-    /// The motion's duration, s.
-    pub fn duration(&self) -> f64 {
-        self.sampler.motion().duration()
-    }
-
-    /// The number of samples: `t = k / rate` for `k = 0..n`, the last one at
-    /// the end of the motion (see `parasils_traj::sampler`).
-    pub fn sample_count(&self) -> usize {
-        self.sampler.sample_count()
-    }
-
-    /// The samples, computed one at a time. Each call starts the
-    /// controller afresh (module 1's margin tracked from the first sample).
-    pub fn samples(&self) -> impl Iterator<Item = Result<Sample, SimulationError>> + '_ {
-        let mut controller = self.controller;
-        self.sampler.clone().map(move |s| {
-            let [psi, theta] = s.state;
-            let mut pose = self.scenario.start;
-            pose.psi = psi.position;
-            pose.theta = theta.position;
-            let state = PlatformState::reorientation(
-                pose,
-                [psi.velocity, theta.velocity],
-                [psi.acceleration, theta.acceleration],
-            );
-            self.sample_at(&mut controller, s.time, &state)
-        })
-    }
-
-    fn sample_at(
-        &self,
-        controller: &mut Controller<f64>,
-        t: f64,
-        state: &PlatformState<f64>,
-    ) -> Result<Sample, SimulationError> {
-        let out = controller
-            .step(state, &self.tips)
-            .map_err(|error| SimulationError::Kinematics { t, error })?;
-        let module = |m: &Instrument<f64>,
-                      sol: &parasils_kin::InstrumentSolution<f64>,
-                      mode: AssemblyMode,
-                      target: nalgebra::Vector3<f64>| {
-            // The tip by forward kinematics from the joints, placed with the
-            // step's own platform frame (the rotation `Instrument::tip` would
-            // evaluate again from the Euler angles, the same numbers): `q`
-            // and the frame are finite, the step checked them.
-            let tip = out.frame.to_fixed(&m.tip_platform(&sol.q));
-            // `cos qs2` signed: `|cos qs2|` from the step's margins, positive
-            // in mode A and negative in mode B (the IK keeps the mode).
-            let cos_qs2 = match mode {
-                AssemblyMode::A => sol.margins.cos_qs2,
-                AssemblyMode::B => -sol.margins.cos_qs2,
-            };
-            ModuleSample {
-                q: sol.q.to_array(),
-                q_dot: sol.q_dot.to_array(),
-                q_ddot: sol.q_ddot.to_array(),
-                cos_qs2,
-                tip,
-                tip_err: (tip - target).norm(),
-            }
-        };
-        let p: &Pose<f64> = &state.pose;
-        let m1 = &out.module1;
-        Ok(Sample {
-            t,
-            pose: p.to_array(),
-            euler_rate: [state.velocity.psi, state.velocity.theta, state.velocity.phi],
-            euler_acc: [
-                state.acceleration.psi,
-                state.acceleration.theta,
-                state.acceleration.phi,
-            ],
-            q: m1.q.to_array(),
-            q_dot: m1.q_dot.to_array(),
-            q_ddot: m1.q_ddot.to_array(),
-            serial_margin: m1.margins.serial_min,
-            parallel_margin: m1.margins.parallel,
-            left: module(
-                &self.controller.left,
-                &out.left,
-                self.controller.modes[0],
-                self.tips.left,
-            ),
-            right: module(
-                &self.controller.right,
-                &out.right,
-                self.controller.modes[1],
-                self.tips.right,
-            ),
-        })
-    }
-
-    /// Runs the whole motion into `sink`, sample by sample; stops at the first
-    /// failure.
-    pub fn run<S: Sink>(&self, sink: &mut S) -> Result<(), RunError<S::Error>> {
-        for sample in self.samples() {
-            sink.push(&sample?).map_err(RunError::Sink)?;
+    fn push(&mut self, record: &Record) -> Result<(), Infallible> {
+        if record.index.is_multiple_of(4096) {
+            self.0.set_position(record.index as u64);
         }
         Ok(())
     }
+}
+
+/// `parasils simulate`.
+pub fn simulate(args: &SimulateArgs) -> Result<()> {
+    let sim = Simulation::new(args.scenario()?)?;
+    let assumed = sim.module1_assumed();
+    let mut summary = Summary::new(assumed);
+    // Files are written to a temporary file beside the target and renamed
+    // on success: a failed run leaves nothing behind.
+    let mut to_stdout = None;
+    let mut file = None;
+    match &args.output {
+        None => {}
+        Some(p) if p.as_os_str() == "-" => {
+            if args.format == Some(FormatArg::Mcap) {
+                bail!("MCAP cannot go to standard output: give a file name");
+            }
+            let sink = CsvSink::new(BufWriter::new(stdout::stdout()))
+                .map_err(|e| StdoutError(e.to_string()))?;
+            to_stdout = Some(StdoutCsv(sink));
+        }
+        Some(p) => file = Some(OutputFile::create(p, args.format(p)?, sim.scenario())?),
+    }
+    let mut plot = args
+        .plot
+        .as_ref()
+        .map(|_| PlotSink::new(sim.sample_count(), assumed));
+    let mut progress = Progress::new(sim.sample_count());
+
+    sim.run(
+        &mut Tee::new()
+            .with(&mut summary)
+            .with_some(to_stdout.as_mut())
+            .with_some(file.as_mut())
+            .with_some(plot.as_mut())
+            .with_some(progress.as_mut()),
+    )?;
+    if let Some(p) = progress {
+        p.0.finish_and_clear();
+    }
+
+    if let Some(StdoutCsv(sink)) = to_stdout {
+        sink.finish()
+            .and_then(|mut w| w.flush())
+            .map_err(|e| StdoutError(e.to_string()))?;
+    }
+    let file = file.map(OutputFile::flush).transpose()?;
+    if let (Some(p), Some(path)) = (plot, &args.plot) {
+        let tmp = output::temp_beside(path)?;
+        p.finish(tmp.path(), path)?;
+        output::persist(tmp, path)?;
+    }
+    if let Some(f) = file {
+        let path = f.persist()?;
+        eprintln!(
+            "parasils: wrote {} samples ({} s) to {}",
+            summary.count(),
+            Fixed(sim.duration(), 3),
+            path.display()
+        );
+    }
+    if args.output.is_none() {
+        let mut out = stdout::stdout();
+        writeln!(out, "{summary}")
+            .and_then(|()| out.flush())
+            .context("writing to standard output")?;
+    }
+    Ok(())
 }

@@ -26,14 +26,16 @@ fn num(v: &serde_json::Value) -> f64 {
 #[test]
 fn ik_at_p0_gives_the_check_values() {
     let v = json(&["ik", "--json"]);
-    // PARALLEL_ROBOT.md's check values at P0 (assumed geometry).
+    // Module 1's check values at P0 (assumed geometry; see docs/model.md,
+    // *Check values*).
     let want = [117.942, 151.459, 56.937, 89.428, 132.193, 77.441];
     let q = v["module1"]["q_mm"].as_array().expect("q_mm");
     for (got, want) in q.iter().zip(want) {
         assert!((num(got) - want).abs() < 5e-4, "{got} vs {want}");
     }
     assert_eq!(v["module1"]["assumed_geometry"], serde_json::json!(true));
-    // SPEC section 7: both modules, mode A, and the left's mode B.
+    // The paper's joints at P0 (docs/model.md, *Check values*): both modules,
+    // mode A, and the left's mode B.
     for side in ["left", "right"] {
         let a = &v[side]["mode_a"];
         assert!((num(&a["qs1_deg"]) - 3.0889).abs() < 5e-5);
@@ -128,4 +130,35 @@ fn robot_prints_the_committed_default_file() {
     ))
     .expect("robots/default.toml");
     assert_eq!(String::from_utf8(out.stdout).expect("utf8"), committed);
+}
+
+/// Runs a command expected to fail: its whole standard error.
+fn error_of(args: &[&str]) -> String {
+    let out = parasils(args);
+    assert!(!out.status.success(), "{args:?} succeeded");
+    assert!(out.stdout.is_empty(), "{args:?} printed {:?}", out.stdout);
+    String::from_utf8(out.stderr).expect("utf8")
+}
+
+#[test]
+fn errors_name_their_subject_once() {
+    // Module 1 out of stroke: one `module 1:`, numbers to 6 digits.
+    assert_eq!(
+        error_of(&["ik", "--pose", "15,20,-300,-15,10,-60"]),
+        "parasils: error: module 1: actuator q1 = -82.0578 mm is outside [0, 320] mm\n"
+    );
+    assert_eq!(
+        error_of(&["ik", "--pose", "15,20,-900,-15,10,-60"]),
+        "parasils: error: module 1: actuator q1 = 517.942 mm is outside [0, 320] mm\n"
+    );
+    // The left tip on its port: one `left instrument:`.
+    assert_eq!(
+        error_of(&["ik", "--pose", "0,0,-500,0,0,0", "--tip-left", "-10,0,-500"]),
+        "parasils: error: left instrument: singular configuration: qs3 (mm) = 0 is below 1e-6\n"
+    );
+    // A missing robot file: the path once, then the system's words.
+    assert_eq!(
+        error_of(&["fk", "--q", "1,2,3,4,5,6", "--robot", "/no/such/robot.toml"]),
+        "parasils: error: /no/such/robot.toml: No such file or directory (os error 2)\n"
+    );
 }

@@ -128,7 +128,8 @@ fn the_paper_scenario() {
     let (psi, theta) = (t.col("psi_deg"), t.col("theta_deg"));
     assert!((psi[0] + 15.0).abs() < 1e-12 && psi[4500].abs() < 1e-12);
     assert!((theta[0] - 10.0).abs() < 1e-12 && (theta[4500] - 35.0).abs() < 1e-12);
-    // The joints of SPEC section 7 at the start and the end.
+    // The paper's joints at the start and the end (docs/model.md, *Check
+    // values*).
     let check = |side: &str, k: usize, want: [f64; 3]| {
         let got = [
             t.col(&format!("{side}_qs1_deg"))[k],
@@ -146,7 +147,7 @@ fn the_paper_scenario() {
     check("right", 0, [3.0889, -38.8695, 147.7687]);
     check("left", 4500, [20.7942, -61.8435, 151.0378]);
     check("right", 4500, [18.5977, -13.0799, 143.6301]);
-    // Module 1 at P0 (PARALLEL_ROBOT.md's check values, assumed geometry).
+    // Module 1 at P0 (docs/model.md, *Check values*; assumed geometry).
     let p0 = [117.942, 151.459, 56.937, 89.428, 132.193, 77.441];
     for (j, want) in p0.iter().enumerate() {
         let got = t.col(&format!("q{}_mm", j + 1))[0];
@@ -342,7 +343,7 @@ fn trajectory_through_a_joint_limit() {
     // A larger reorientation drives the left module's qs2 past -80 deg at 4.444 s.
     fails_cleanly(
         &["simulate", "--psi", "40", "--theta", "25", "-o", "x.mcap"],
-        "error: at t = 4.444 s: left instrument: joint qs2 = -80.007867 deg is outside [-80.000000, 80.000000] deg\n",
+        "error: at t = 4.444 s: left instrument: joint qs2 = -80.0079 deg is outside [-80, 80] deg\n",
         |_| {},
     );
     fails_cleanly(
@@ -356,13 +357,112 @@ fn trajectory_through_a_joint_limit() {
     // theta = 49.7 deg.
     fails_cleanly(
         &["simulate", "--psi", "0", "--theta", "60", "-o", "x.csv"],
-        "at t = 4.927 s: module 1: parallel singularity: margin 9.945e-3 is below 1e-2",
+        "at t = 4.927 s: module 1: parallel singularity: margin 0.0099445 is below 0.01",
         |_| {},
     );
     // Module 1 runs out of stroke.
     fails_cleanly(
         &["simulate", "--psi", "-60", "--theta", "0", "-o", "x.csv"],
-        "at t = 6.391 s: module 1: actuator q4 = 320.083507 mm is outside [0.000000, 320.000000] mm",
+        "at t = 6.391 s: module 1: actuator q4 = 320.084 mm is outside [0, 320] mm",
         |_| {},
+    );
+}
+
+#[test]
+fn the_csv_starts_on_the_user_s_degrees() {
+    let t = paper_csv();
+    assert_eq!(t.col("psi_deg")[0], -15.0);
+    assert_eq!(t.col("theta_deg")[0], 10.0);
+    // phi does not move: the user's -60 on every row, not -59.99999999999999.
+    assert!(t.col("phi_deg").iter().all(|phi| *phi == -60.0));
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = parasils(
+        &[
+            "simulate",
+            "--pose",
+            "15,20,-500,-14.3,10.56,-57.89",
+            "--psi",
+            "1",
+            "--theta",
+            "1",
+            "--rate",
+            "10",
+            "-o",
+            "-",
+        ],
+        dir.path(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let t = Table::parse(&String::from_utf8(out.stdout).expect("utf8"));
+    assert_eq!(
+        [
+            t.col("psi_deg")[0],
+            t.col("theta_deg")[0],
+            t.col("phi_deg")[0]
+        ],
+        [-14.3, 10.56, -57.89]
+    );
+    assert!(t.col("phi_deg").iter().all(|phi| *phi == -57.89));
+}
+
+#[test]
+fn a_closed_pipe_ends_the_run_quietly() {
+    use std::io::Read;
+    use std::process::Stdio;
+
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_parasils"))
+        .args(["simulate", "-o", "-"])
+        .current_dir(dir.path())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    // Read the header only, then close the pipe, as `| head -1` does (the
+    // whole CSV, 4 MB, is far more than the pipe holds).
+    let mut first = [0u8; 64];
+    child
+        .stdout
+        .take()
+        .expect("stdout")
+        .read_exact(&mut first)
+        .expect("a header");
+    assert!(first.starts_with(b"t_s,x_mm"));
+    let out = child.wait_with_output().expect("ends");
+    assert!(out.status.success(), "{:?}", out.status);
+    assert_eq!(String::from_utf8_lossy(&out.stderr), "");
+}
+
+#[test]
+fn messages_write_huge_numbers_with_an_exponent() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    // One sample per 1e300 s: the summary's times are huge.
+    let out = parasils(&["simulate", "--rate", "1e-300"], dir.path());
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).expect("utf8");
+    assert!(
+        text.starts_with("duration 1.000e300 s, 2 samples (0.000 to 1.000e300 s)\n"),
+        "{text}"
+    );
+    assert!(text.lines().all(|l| l.len() < 200), "{text}");
+    fails_cleanly(
+        &["simulate", "--psi", "1e308", "-o", "x.csv"],
+        "error: trajectory: sampling 1e307 s at 1000 Hz needs more samples than usize can count\n",
+        |_| {},
+    );
+}
+
+#[test]
+fn an_unwritable_folder_is_named_once() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = parasils(&["simulate", "-o", "missing/run.csv"], dir.path());
+    assert!(!out.status.success());
+    assert_eq!(
+        String::from_utf8(out.stderr).expect("utf8"),
+        "parasils: error: cannot write in missing: No such file or directory (os error 2)\n"
     );
 }

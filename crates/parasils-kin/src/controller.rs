@@ -5,8 +5,9 @@
 //! returns module 1's actuators, rates, accelerations and margins, and both
 //! instrument modules' joints, rates, accelerations and margins: motion type
 //! 4, the endoscope reorientation with the tips kept where they are. The
-//! platform's motion may be any (the general formula of SPEC section 4 is
-//! used); motion type 4 is `P` still and `phi` constant. The trigonometry of
+//! platform's motion may be any (the general formula is used, see
+//! `docs/model.md`, *Instrument modules*, rates); motion type 4 is `P` still
+//! and `phi` constant. The trigonometry of
 //! the platform is evaluated once ([`PlatformFrame`]) and shared by the three
 //! modules.
 //!
@@ -37,13 +38,16 @@
 
 use nalgebra::Vector3;
 
+use crate::check::check_vector;
 use crate::error::Error;
 use crate::frame::{PlatformFrame, PlatformState, Pose};
 use crate::instrument::{
-    AssemblyMode, Instrument, InstrumentGeometry, InstrumentSolution, Side, TipMotion, check_vector,
+    AssemblyMode, Instrument, InstrumentGeometry, InstrumentSolution, TipMotion,
 };
 use crate::parallel::{MarginTracker, ParallelGeometry, ParallelRobot, ParallelSolution};
+use crate::presets;
 use crate::real::Real;
+use crate::side::Side;
 
 /// The two instrument tips the controller holds still, mm, fixed frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -56,11 +60,13 @@ pub struct TipTargets<T: Real> {
 }
 
 impl<T: Real> TipTargets<T> {
-    /// The paper's tips: left `(50, -50, -620)` mm, and the right one its
-    /// mirror image across the platform's `Y'Z'` plane at `P0`
-    /// (SPEC section 7, about `(-9.6103, 53.9889, -636.9821)` mm).
+    /// The paper's tips: left `(50, -50, -620)` mm
+    /// ([`presets::LEFT_TIP_MM`]), and the right one its mirror image across
+    /// the platform's `Y'Z'` plane at `P0`, about
+    /// `(-9.6103, 53.9889, -636.9821)` mm (see `docs/model.md`, *Check values*).
     pub fn paper() -> Self {
-        let left = Vector3::new(T::lit(50.0), T::lit(-50.0), T::lit(-620.0));
+        let [x, y, z] = presets::LEFT_TIP_MM;
+        let left = Vector3::new(T::lit(x), T::lit(y), T::lit(z));
         Self {
             left,
             right: mirror_across_platform(&Pose::paper_start(), &left),

@@ -2,7 +2,13 @@
 //!
 //! Every solver of the crate returns `Result<_, Error>`; none panics and none
 //! returns a NaN. Values in the variants are `f64` in the crate's units (mm,
-//! rad); the `Display` text converts angles to degrees for people.
+//! rad); the `Display` text converts angles to degrees for people, and writes
+//! every number with up to 6 significant digits: plain decimals from `1e-3`
+//! to `1e6`, exponent form (`1e-6`, `2.5e308`) beyond, `NaN` and `inf` by
+//! name. A value beyond a limit gets as many more digits as it takes to read
+//! differently from the limit. Each message names its subject once, first:
+//! `left instrument: ...`, `module 1: ...`, `module 1 forward kinematics: ...`,
+//! or the input (`non-finite input: pose.psi = NaN`).
 //!
 //! # When this happens, how to handle it
 //! - [`Error::NonFinite`]: a NaN or infinity reached a solver. Upstream bug
@@ -28,8 +34,10 @@
 
 use core::fmt;
 
-use crate::instrument::Side;
+use parasils_num::Num;
+
 use crate::real::Real;
+use crate::side::Side;
 
 /// A joint of a spherical instrument module.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -95,7 +103,7 @@ impl fmt::Display for Margin {
 #[non_exhaustive]
 pub enum Error {
     /// A NaN or infinite input.
-    #[error("non-finite input: {what} = {value}")]
+    #[error("non-finite input: {what} = {}", Num::new(*value))]
     NonFinite {
         /// Which input, e.g. `"pose.psi"`, `"tip.x"`.
         what: &'static str,
@@ -104,7 +112,7 @@ pub enum Error {
     },
 
     /// A geometry parameter out of its valid range.
-    #[error("invalid parameter: {what} = {value}")]
+    #[error("invalid parameter: {what} = {}", Num::new(*value))]
     InvalidParameter {
         /// Which parameter, e.g. `"instrument.beta"`.
         what: &'static str,
@@ -115,7 +123,8 @@ pub enum Error {
     /// The tool direction asked of an instrument module is outside its cone of
     /// reach: `|v_x| > cos(beta)`, i.e. `|sin qs2|` would exceed 1.
     #[error(
-        "{side} instrument: tip out of reach: the tool direction needs |sin qs2| = {sin_qs2:.9} > 1"
+        "{side} instrument: tip out of reach: the tool direction needs |sin qs2| = {} > 1",
+        Num::apart_from(*sin_qs2, 1.0)
     )]
     OutOfReach {
         /// Which module.
@@ -126,7 +135,8 @@ pub enum Error {
 
     /// An instrument module at or next to a singular configuration.
     #[error(
-        "{side} instrument: singular configuration: {margin} = {value:e} is below {threshold:e}"
+        "{side} instrument: singular configuration: {margin} = {} is below {}",
+        Num::apart_from(*value, *threshold), Num::new(*threshold)
     )]
     Singular {
         /// Which module.
@@ -141,8 +151,9 @@ pub enum Error {
 
     /// An instrument joint beyond its limit.
     #[error(
-        "{side} instrument: joint {joint} = {:.6} {unit} is outside [{:.6}, {:.6}] {unit}",
-        joint.display_value(*value), joint.display_value(*min), joint.display_value(*max),
+        "{side} instrument: joint {joint} = {} {unit} is outside [{}, {}] {unit}",
+        Num::outside(joint.display_value(*value), joint.display_value(*min), joint.display_value(*max)),
+        Num::new(joint.display_value(*min)), Num::new(joint.display_value(*max)),
         unit = joint.display_unit()
     )]
     JointLimit {
@@ -161,7 +172,8 @@ pub enum Error {
     /// Module 1: the leg of actuator `q{actuator}` cannot reach its platform
     /// node at this pose (negative square-root argument in the IK).
     #[error(
-        "module 1: actuator q{actuator}: the pose is out of its leg's reach (square-root argument {discriminant:.6e} mm^2 < 0)"
+        "module 1: actuator q{actuator}: the pose is out of its leg's reach (square-root argument {} mm^2 < 0)",
+        Num::new(*discriminant)
     )]
     LegOutOfReach {
         /// The actuator, 1 to 6.
@@ -171,7 +183,10 @@ pub enum Error {
     },
 
     /// Module 1: an actuator beyond its stroke.
-    #[error("module 1: actuator q{actuator} = {value:.6} mm is outside [{min:.6}, {max:.6}] mm")]
+    #[error(
+        "module 1: actuator q{actuator} = {} mm is outside [{}, {}] mm",
+        Num::outside(*value, *min, *max), Num::new(*min), Num::new(*max)
+    )]
     ActuatorLimit {
         /// The actuator, 1 to 6.
         actuator: u8,
@@ -186,7 +201,8 @@ pub enum Error {
     /// Module 1: a link perpendicular (or nearly) to its guide, a serial
     /// singularity where the actuator rate is unbounded.
     #[error(
-        "module 1: actuator q{actuator}: serial singularity: margin |e.u|/l = {margin:e} is below {threshold:e}"
+        "module 1: actuator q{actuator}: serial singularity: margin |e.u|/l = {} is below {}",
+        Num::apart_from(*margin, *threshold), Num::new(*threshold)
     )]
     SerialSingular {
         /// The actuator, 1 to 6.
@@ -199,7 +215,10 @@ pub enum Error {
 
     /// Module 1: the commanded pose is at or next to a parallel (type 2)
     /// singularity, where the platform is not held by the locked actuators.
-    #[error("module 1: parallel singularity: margin {margin:.3e} is below {threshold:e}")]
+    #[error(
+        "module 1: parallel singularity: margin {} is below {}",
+        Num::apart_from(*margin, *threshold), Num::new(*threshold)
+    )]
     ParallelSingular {
         /// The parallel margin (dimensionless, see `parallel`).
         margin: f64,
@@ -209,7 +228,8 @@ pub enum Error {
 
     /// Module 1 forward kinematics: Newton's method did not converge.
     #[error(
-        "module 1 forward kinematics: no convergence after {iterations} iterations (relative residual {residual:e})"
+        "module 1 forward kinematics: no convergence after {iterations} iterations (relative residual {})",
+        Num::new(*residual)
     )]
     NoConvergence {
         /// Iterations run.
@@ -220,7 +240,8 @@ pub enum Error {
 
     /// Module 1 forward kinematics: the Jacobian is singular at an iterate.
     #[error(
-        "module 1 forward kinematics: singular Jacobian ({kind}) at iteration {iteration}: margin {margin:e} is below {threshold:e}"
+        "module 1 forward kinematics: singular Jacobian ({kind}) at iteration {iteration}: margin {} is below {}",
+        Num::apart_from(*margin, *threshold), Num::new(*threshold)
     )]
     SingularJacobian {
         /// Which singularity: the robot's (parallel) or the Euler angles'.
@@ -296,7 +317,29 @@ mod tests {
         };
         assert_eq!(
             e.to_string(),
-            "left instrument: joint qs2 = -85.943669 deg is outside [-80.000000, 80.000000] deg"
+            "left instrument: joint qs2 = -85.9437 deg is outside [-80, 80] deg"
+        );
+    }
+
+    #[test]
+    fn a_value_just_beyond_its_limit_does_not_read_as_the_limit() {
+        let e = Error::ActuatorLimit {
+            actuator: 4,
+            value: 320.000_000_1,
+            min: 0.0,
+            max: 320.0,
+        };
+        assert_eq!(
+            e.to_string(),
+            "module 1: actuator q4 = 320.0000001 mm is outside [0, 320] mm"
+        );
+        let e = Error::OutOfReach {
+            side: Side::Right,
+            sin_qs2: 1.000_000_000_01,
+        };
+        assert_eq!(
+            e.to_string(),
+            "right instrument: tip out of reach: the tool direction needs |sin qs2| = 1.00000000001 > 1"
         );
     }
 

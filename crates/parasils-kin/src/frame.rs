@@ -33,11 +33,13 @@
 //! the angular velocity `omega` and acceleration `alpha` satisfy
 //! `R^T Rdot = [omega]x` and `R^T Rddot = [alpha]x + [omega]x^2`
 //! ([`PlatformFrame`]), which is how every solver of this crate applies
-//! `Rdot` and `Rddot` without forming them.
+//! `Rdot` and `Rddot` without forming them. See `docs/model.md`, *Frames and
+//! conventions* and *The platform pose*.
 
 use nalgebra::{Matrix3, Vector3};
 
 use crate::error::{Error, check_finite};
+use crate::presets;
 use crate::real::Real;
 
 /// The platform pose `(X_P, Y_P, Z_P, psi, theta, phi)`.
@@ -86,9 +88,11 @@ impl<T: Real> Pose<T> {
         }
     }
 
-    /// The paper's initial pose `P0 = (15, 20, -500 mm, -15, 10, -60 deg)` (SPEC section 7).
+    /// The paper's initial pose `P0 = (15, 20, -500 mm, -15, 10, -60 deg)`
+    /// ([`presets::START_POSE_MM_DEG`]; see `docs/model.md`, *Check values*).
     pub fn paper_start() -> Self {
-        Self::from_mm_deg(15.0, 20.0, -500.0, -15.0, 10.0, -60.0)
+        let [x, y, z, psi, theta, phi] = presets::START_POSE_MM_DEG;
+        Self::from_mm_deg(x, y, z, psi, theta, phi)
     }
 
     /// The position of `P` in the fixed frame, mm.

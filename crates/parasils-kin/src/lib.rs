@@ -33,8 +33,8 @@
 //! assert!((q.qs1.to_degrees() - 3.0889).abs() < 5e-5);
 //! assert!((q.qs2.to_degrees() + 38.8695).abs() < 5e-5);
 //! assert!((q.qs3 - 147.7687).abs() < 5e-5);
-//! // And back: the joints put the tip where it was asked.
-//! assert!((left.tip(&p0, &q)? - tip).norm() < 1e-12);
+//! // And back: the forward kinematics puts the tip where it was asked.
+//! assert!((left.fk(&p0, &q)? - tip).norm() < 1e-12);
 //! # Ok::<(), parasils_kin::Error>(())
 //! ```
 //!
@@ -50,11 +50,28 @@
 //!
 //! # Modules
 //! - [`frame`]: the platform pose, its rotation and the rotation's rates;
-//! - [`instrument`]: the spherical module: geometry, FK, IK, Jacobian, rates;
+//! - [`instrument`]: the spherical module: geometry, FK, IK, Jacobian, rates
+//!   (the value types, the geometry and the solver [`Instrument`]);
 //! - [`parallel`]: module 1, the 6-DOF parallel robot: geometry (the default
-//!   one **assumed**), IK, actuator rates, FK by Newton's method, margins;
-//! - [`controller`]: the one call per control cycle;
-//! - [`error`]: what can go wrong, typed.
+//!   one **assumed**), IK, actuator rates, margins and Jacobian, FK by
+//!   Newton's method, and the margin tracker of a control loop
+//!   ([`parallel::margin`]);
+//! - [`controller`]: the one call per control cycle, and the whole robot's
+//!   geometry;
+//! - [`presets`]: the paper's numbers and module 1's assumed geometry, from
+//!   which every named constructor (`paper`, `assumed`, `paper_start`) is built;
+//! - [`error`]: what can go wrong, typed;
+//! - [`Side`] and [`Interval`], shared by the modules; [`real`]: the
+//!   [`Real`] trait (`f32` or `f64`).
+//!
+//! Private: `check` (the finiteness checks on inputs), `linalg` (the
+//! panic-free 6x6 kernels: Jacobi SVD, Gram product, shifted `L D L^T`) and
+//! `trig` (the crate's own sine and cosine). Every public type is also at
+//! the crate root. Imports go one way, from the leaves to the solvers, with
+//! no circle: `presets`, `side`, `real` (and `trig`), then `interval` and
+//! `linalg`, then `error`, `frame`, `check`, then `instrument` and
+//! `parallel` (each split by concept, the `mod.rs` only re-exporting), then
+//! `controller`. The model is described in `docs/model.md`.
 //!
 //! # Features
 //! - `std` (default): nalgebra's std back end. Without it the crate builds for
@@ -66,23 +83,31 @@
 #[cfg(feature = "std")]
 extern crate std;
 
+mod check;
 pub mod controller;
 pub mod error;
 pub mod frame;
 pub mod instrument;
+mod interval;
+mod linalg;
 pub mod parallel;
+pub mod presets;
 pub mod real;
+mod side;
 mod trig;
 
-pub use controller::{ControlStep, Controller, RobotGeometry, TipTargets};
-pub use error::Error;
+pub use controller::{ControlStep, Controller, RobotGeometry, TipTargets, mirror_across_platform};
+pub use error::{Error, Joint, Margin, ParallelSingularity};
 pub use frame::{PlatformFrame, PlatformState, Pose, PoseRate};
 pub use instrument::{
-    AssemblyMode, Instrument, InstrumentGeometry, InstrumentSolution, Joints, Side, TipMotion,
+    AssemblyMode, Instrument, InstrumentGeometry, InstrumentMargins, InstrumentSolution,
+    JointLimits, Joints, Thresholds, TipMotion,
 };
+pub use interval::Interval;
 pub use nalgebra;
 pub use parallel::{
     Actuators, Branch, FkOptions, FkSolution, Guide, MarginTracker, ParallelGeometry,
-    ParallelMargins, ParallelRobot, ParallelSolution, ParallelThresholds,
+    ParallelMargins, ParallelRobot, ParallelSolution, ParallelThresholds, SymmetricLayout,
 };
 pub use real::Real;
+pub use side::Side;

@@ -2,11 +2,12 @@
 //!
 //! Every rotation of the crate starts from the sine and cosine of an angle
 //! (rad). libm computes them one at a time, and its `f32` versions compute in
-//! `f64`, which a Cortex-M4F (single-precision FPU) emulates in software:
-//! about 2,100 instructions per angle there. Here both come out of one range
-//! reduction and two polynomials, `f32` in `f32` arithmetic only and `f64` in
-//! `f64`, without tables and without fused multiply-adds (`core` has none,
-//! and baseline x86-64 lacks the instruction):
+//! `f64`, which a Cortex-M4F (single-precision FPU) emulates in software, at
+//! a cost many times that of the `f32` arithmetic (see `BENCHMARKS.md`).
+//! Here both come out of one range reduction and two polynomials, `f32` in
+//! `f32` arithmetic only and `f64` in `f64`, without tables and without fused
+//! multiply-adds (`core` has none, and baseline x86-64 lacks the
+//! instruction):
 //!
 //! 1. **Range reduction** (Cody and Waite), skipped when `|x| < pi/4`: `k` is
 //!    the integer nearest `x 2/pi` and `r = x - k pi/2`, with `pi/2` split

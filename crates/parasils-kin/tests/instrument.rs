@@ -1,6 +1,6 @@
 //! The spherical instrument modules against independent truths: the check
-//! values of SPEC section 7, round trips, finite differences, mirror symmetry,
-//! and every error path.
+//! values of `docs/model.md` (*Check values*), round trips, finite
+//! differences, mirror symmetry, and every error path.
 
 use nalgebra::{Matrix3, Vector3};
 use parasils_kin::error::{Error, Joint, Margin};
@@ -26,7 +26,7 @@ fn deg3(q: &Joints<f64>) -> [f64; 3] {
 fn assert_joints_deg(q: &Joints<f64>, expected: [f64; 3], what: &str) {
     let got = deg3(q);
     for i in 0..3 {
-        // The SPEC prints four decimals.
+        // The check values have four decimals.
         assert!(
             (got[i] - expected[i]).abs() < 5e-5,
             "{what}: got {got:?}, expected {expected:?}"
@@ -170,10 +170,10 @@ fn round_trips<T: Real>(c: &Case) -> (f64, f64, f64) {
         for mode in [AssemblyMode::A, AssemblyMode::B] {
             let q64 = joints_in_mode(c.q, mode);
             let q = cast_joints::<T>(&q64);
-            let x = m.tip(&pose, &q).expect("finite");
+            let x = m.fk(&pose, &q).expect("finite");
             let back = m.ik(&pose, &x, mode).expect("reachable");
             assert_eq!(AssemblyMode::of(&back), mode);
-            let x2 = m.tip(&pose, &back).expect("finite");
+            let x2 = m.fk(&pose, &back).expect("finite");
             tip_err = tip_err.max((x2 - x).map(|v| v.to_f64()).norm());
             ang_err = ang_err
                 .max(angle_diff(back.qs1.to_f64(), q.qs1.to_f64()).abs())
@@ -250,7 +250,7 @@ impl Motion {
 
     fn tip(&self, m: &Instrument<f64>, mode: AssemblyMode, t: f64) -> TipMotion<f64> {
         let q0 = joints_in_mode(self.case.q, mode);
-        let x0 = m.tip(&self.state(0.0).pose, &q0).expect("finite");
+        let x0 = m.fk(&self.state(0.0).pose, &q0).expect("finite");
         let v = Vector3::from(self.tip_rate);
         let a = Vector3::from(self.tip_acc);
         TipMotion {
@@ -282,8 +282,8 @@ proptest! {
                 for k in 0..3 {
                     let mut dq = Vector3::zeros();
                     dq[k] = h;
-                    let plus = m.tip_local(&Joints::from_vector(&(q + dq)));
-                    let minus = m.tip_local(&Joints::from_vector(&(q - dq)));
+                    let plus = m.fk_local(&Joints::from_vector(&(q + dq)));
+                    let minus = m.fk_local(&Joints::from_vector(&(q - dq)));
                     fd.set_column(k, &((plus - minus) / (2.0 * h)));
                 }
                 let err = (fd - j).amax() / j.amax();
@@ -377,7 +377,7 @@ fn continuing_keeps_the_mode_and_unwraps_qs1() {
     let pose = Pose::paper_start();
     // A mode-B configuration with qs1 just past 180 deg.
     let q = Joints::new(181f64.to_radians(), 120f64.to_radians(), 100.0);
-    let tip = m.tip(&pose, &q).expect("finite");
+    let tip = m.fk(&pose, &q).expect("finite");
     let back = m.ik_continuing(&pose, &tip, &q).expect("reachable");
     assert!((back.qs1 - q.qs1).abs() < 1e-12, "{back:?}");
     assert!((back.qs2 - q.qs2).abs() < 1e-12);
@@ -476,7 +476,7 @@ mod bad_inputs {
         let m = unlimited::<f64>(Side::Left);
         for qs2 in [90.0f64, -90.0, 90.0 - 1e-5, 90.0 + 1e-5] {
             let q = Joints::from_deg_mm(30.0, qs2, 120.0);
-            let p = m.tip_local(&q);
+            let p = m.fk_local(&q);
             match m.ik_local(&p, AssemblyMode::A) {
                 Err(Error::Singular {
                     margin: Margin::CosQs2,
@@ -489,7 +489,7 @@ mod bad_inputs {
         // Just outside the band it solves.
         let q = Joints::from_deg_mm(30.0, 89.9, 120.0);
         let back = m
-            .ik_local(&m.tip_local(&q), AssemblyMode::A)
+            .ik_local(&m.fk_local(&q), AssemblyMode::A)
             .expect("regular");
         assert!((back.qs2 - q.qs2).abs() < 1e-9);
     }
@@ -504,7 +504,7 @@ mod bad_inputs {
             (Joints::from_deg_mm(10.0, 10.0, 5.0), Joint::Qs3),
             (Joints::from_deg_mm(10.0, 10.0, 350.0), Joint::Qs3),
         ] {
-            let tip = m.tip(&pose, &q).expect("finite");
+            let tip = m.fk(&pose, &q).expect("finite");
             match m.ik(&pose, &tip, AssemblyMode::A) {
                 Err(Error::JointLimit {
                     side: Side::Left,

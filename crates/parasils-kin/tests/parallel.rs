@@ -1,5 +1,5 @@
 //! Module 1, the parallel robot, against independent truths: the check values
-//! of `PARALLEL_ROBOT.md`, FK(IK) round trips, finite differences of the
+//! of `docs/model.md` (*Check values*), FK(IK) round trips, finite differences of the
 //! actuators, the reorientation of the paper, the controller, and every error
 //! path.
 
@@ -18,9 +18,9 @@ use proptest::test_runner::TestRunner;
 mod common;
 use common::reorientation;
 
-/// `PARALLEL_ROBOT.md`: the actuators at `P0`, mm.
+/// `docs/model.md`, *Check values*: the actuators at `P0`, mm.
 const Q_P0: [f64; 6] = [117.942, 151.459, 56.937, 89.428, 132.193, 77.441];
-/// `PARALLEL_ROBOT.md`: every actuator at the symmetric pose, mm.
+/// `docs/model.md`, *Check values*: every actuator at the symmetric pose, mm.
 const Q_SYMMETRIC: f64 = 92.754;
 
 fn symmetric_pose<T: Real>() -> Pose<T> {
@@ -405,7 +405,13 @@ proptest! {
         let e3 = rel_err(&qdd_fd, &s0.q_ddot, 1.0);
         prop_assert!(e1 < 1e-8, "qdot vs FD of q: relative error {e1}");
         prop_assert!(e2 < 1e-8, "qddot vs FD of qdot: relative error {e2}");
-        prop_assert!(e3 < 1e-6, "qddot vs second FD of q: relative error {e3}");
+        // The second difference divides rounding of the positions by h^2:
+        // (1 + 16 + 30 + 16 + 1) / 12 eps |q| / h^2 at most, which the
+        // shortened step near a serial singularity makes larger than the
+        // truncation error; the bound adds it to 1e-6.
+        let q_max = s0.q.0.iter().fold(1.0_f64, |m, q| m.max(q.abs()));
+        let rounding = 64.0 / 12.0 * f64::EPSILON * q_max / (h * h);
+        prop_assert!(e3 < 1e-6 + rounding, "qddot vs second FD of q: relative error {e3} (rounding bound {rounding})");
         // rates() from the IK's actuators is the same computation as solve().
         let frame = mo.state(0.0).frame().expect("finite");
         let (qd, qdd) = robot.rates(&frame, &s0.q).expect("regular");
@@ -493,7 +499,8 @@ fn along_the_reorientation_f64() {
          max error {pos_err:.3e} mm, {ang_err:.3e} rad, at most {max_it} iterations; \
          max |dq/dt (1 ms) - mean qdot| = {fd_err:.3e} mm/s"
     );
-    // PARALLEL_ROBOT.md: roughly 50-210 mm, away from both singularities.
+    // `docs/model.md`, *Module 1, the parallel robot*: roughly 50-210 mm,
+    // away from both singularities.
     assert!(q_min > 40.0 && q_max < 220.0);
     assert!(serial_min > 0.5 && parallel_min > 0.1);
     assert!(pos_err < 1e-9 && ang_err < 1e-10);
@@ -771,7 +778,7 @@ mod bad_inputs {
             }
             other => panic!("{other:?}"),
         }
-        assert!(e.to_string().contains("q1 = -7.245830 mm"), "{e}");
+        assert!(e.to_string().contains("q1 = -7.24583 mm"), "{e}");
         // solve() checks the strokes too; ik_unchecked() does not.
         let frame = PlatformState::at_rest(pose).frame().expect("finite");
         assert!(matches!(

@@ -22,7 +22,7 @@ fn largest_drift<T: Real>() -> f64 {
             (&controller.left, &out.left, &tips.left),
             (&controller.right, &out.right, &tips.right),
         ] {
-            let tip = module.tip(&st.pose, &sol.q).expect("finite");
+            let tip = module.fk(&st.pose, &sol.q).expect("finite");
             let d: Vector3<f64> = (tip - target).map(|v| v.to_f64());
             worst = worst.max(d.norm());
             assert!(sol.margins.cos_qs2 > T::lit(0.3));

@@ -7,9 +7,9 @@
 
 use std::path::Path;
 
-use parasils_cli::robot_file::RobotFileError as FileError;
 use parasils_kin::Error;
 use parasils_kin::error::{Joint, Margin, ParallelSingularity};
+use parasils_sim::robot_file::RobotFileError as FileError;
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyType;

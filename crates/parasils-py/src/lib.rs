@@ -3,14 +3,16 @@
 //! re-exports.
 //!
 //! The bindings only convert: the numbers come from `parasils-kin` (the
-//! solvers, the same code as the firmware) and from `parasils-cli`'s library
-//! (the simulation, the same code as the `parasils` command), so that a
+//! solvers, the same code as the firmware) and from `parasils-sim` (the
+//! simulation library, the same code as the `parasils` command), so that a
 //! notebook, the CLI and the firmware agree to the last bit.
 //!
 //! - [`robot`]: `parasils.Robot`, the solvers on one sample or a batch of
 //!   NumPy rows, looped in Rust without the GIL;
-//! - [`simulate`]: `parasils.simulate`, the CLI's `simulate` returning its
-//!   CSV table as NumPy columns;
+//! - [`simulate`]: `parasils.simulate`, the simulation library's run
+//!   returning the CSV's table as NumPy columns (the package's Python
+//!   wrapper gives it its signature, with the paper's defaults from
+//!   `PAPER`);
 //! - [`errors`]: the exception hierarchy (`KinematicsError` and its
 //!   subclasses, `TrajectoryError`, `RobotFileError`);
 //! - [`batch`]: shapes, broadcasting, the loop (split across threads for
@@ -33,8 +35,9 @@ fn _parasils(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add(
         "COLUMNS",
-        pyo3::types::PyTuple::new(m.py(), parasils_cli::sample::COLUMNS)?,
+        pyo3::types::PyTuple::new(m.py(), parasils_sim::columns::CSV_NAMES)?,
     )?;
+    m.add("PAPER", simulate::paper_defaults(m.py())?)?;
     m.add_class::<robot::Robot>()?;
     m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(batch::batch_threads, m)?)?;

@@ -2,14 +2,13 @@
 
 use std::path::PathBuf;
 
-use parasils_cli::robot_file;
-use parasils_kin::controller::RobotGeometry;
 use parasils_kin::nalgebra::Vector3;
 use parasils_kin::{
     Actuators, AssemblyMode, Controller, Instrument, Joints, PlatformState, Pose, PoseRate,
-    TipMotion,
+    RobotGeometry, TipMotion,
 };
-use pyo3::exceptions::PyValueError;
+use parasils_sim::robot_file;
+use pyo3::exceptions::{PyDeprecationWarning, PyValueError};
 use pyo3::prelude::*;
 
 use crate::batch::{self, ArrayArg, OnError, Rows};
@@ -199,14 +198,15 @@ impl Robot {
         let n = batch::batch_size(&[("pose", &pose), ("qs", &qs)])?;
         batch::solve::<3, _>(py, n, on_error, &[3], |i| {
             let [a, b, c] = qs.get::<3>(i);
-            let tip = m.tip(&pose_of(pose.get(i)), &Joints::new(a, b, c))?;
+            let tip = m.fk(&pose_of(pose.get(i)), &Joints::new(a, b, c))?;
             Ok([tip.x, tip.y, tip.z])
         })
     }
 
     /// An instrument module's joints, joint velocities and joint accelerations
-    /// from the platform's motion and the tip's (SPEC section 4, the general
-    /// case), with c = RCM + p_local(qs) in the platform frame:
+    /// from the platform's motion and the tip's (the general case; see
+    /// docs/model.md, "Instrument modules"), with c = RCM + p_local(qs) in
+    /// the platform frame:
     ///
     ///     qs_dot  = J^-1 R^T (p_F' - P' - R' c)
     ///     qs_ddot = J^-1 (R^T (p_F'' - P'' - R'' c - 2 R' J qs_dot) - J' qs_dot)
@@ -298,7 +298,7 @@ impl Robot {
     /// Raises NonFiniteError, LegOutOfReachError, SerialSingularError,
     /// ActuatorLimitError (strokes are checked).
     #[pyo3(signature = (pose, *, errors = "raise"))]
-    fn platform_ik<'py>(
+    fn module1_ik<'py>(
         &self,
         py: Python<'py>,
         pose: ArrayArg<'py>,
@@ -328,7 +328,7 @@ impl Robot {
     /// Raises NonFiniteError, NoConvergenceError, SingularJacobianError,
     /// BranchMismatchError.
     #[pyo3(signature = (q, guess, *, errors = "raise"))]
-    fn platform_fk<'py>(
+    fn module1_fk<'py>(
         &self,
         py: Python<'py>,
         q: ArrayArg<'py>,
@@ -356,9 +356,9 @@ impl Robot {
     ///
     /// Returns q (mm), q_dot (mm/s), q_ddot (mm/s^2), each (6,) or (N, 6).
     ///
-    /// Raises as platform_ik.
+    /// Raises as module1_ik.
     #[pyo3(signature = (pose, pose_rate, pose_acc, *, errors = "raise"))]
-    fn platform_rates<'py>(
+    fn module1_rates<'py>(
         &self,
         py: Python<'py>,
         pose: ArrayArg<'py>,
@@ -390,4 +390,62 @@ impl Robot {
             Ok(out)
         })
     }
+
+    /// Deprecated alias of module1_ik (module 1's inverse kinematics: pose
+    /// in mm and rad, shape (6,) or (N, 6), to actuators in mm; errors
+    /// "raise" or "nan"). Warns with a DeprecationWarning; removed in the
+    /// next release.
+    #[pyo3(signature = (pose, *, errors = "raise"))]
+    fn platform_ik<'py>(
+        &self,
+        py: Python<'py>,
+        pose: ArrayArg<'py>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        deprecated(py, "platform_ik", "module1_ik")?;
+        self.module1_ik(py, pose, errors)
+    }
+
+    /// Deprecated alias of module1_fk (module 1's forward kinematics:
+    /// actuators in mm and a guess in mm and rad, shape (6,) or (N, 6), to
+    /// the pose; errors "raise" or "nan"). Warns with a DeprecationWarning;
+    /// removed in the next release.
+    #[pyo3(signature = (q, guess, *, errors = "raise"))]
+    fn platform_fk<'py>(
+        &self,
+        py: Python<'py>,
+        q: ArrayArg<'py>,
+        guess: ArrayArg<'py>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        deprecated(py, "platform_fk", "module1_fk")?;
+        self.module1_fk(py, q, guess, errors)
+    }
+
+    /// Deprecated alias of module1_rates (module 1's actuators, rates and
+    /// accelerations: mm, mm/s, mm/s^2 from the pose in mm and rad and its
+    /// rate and acceleration, shape (6,) or (N, 6); errors "raise" or
+    /// "nan"). Warns with a DeprecationWarning; removed in the next release.
+    #[pyo3(signature = (pose, pose_rate, pose_acc, *, errors = "raise"))]
+    fn platform_rates<'py>(
+        &self,
+        py: Python<'py>,
+        pose: ArrayArg<'py>,
+        pose_rate: ArrayArg<'py>,
+        pose_acc: ArrayArg<'py>,
+        errors: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        deprecated(py, "platform_rates", "module1_rates")?;
+        self.module1_rates(py, pose, pose_rate, pose_acc, errors)
+    }
+}
+
+/// Warns that `Robot.old` is deprecated in favour of `Robot.new`.
+fn deprecated(py: Python<'_>, old: &str, new: &str) -> PyResult<()> {
+    let message = std::ffi::CString::new(format!(
+        "Robot.{old} is deprecated: use Robot.{new} (module 1 is `module1` in every name); \
+         {old} will be removed in the next release"
+    ))
+    .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    PyErr::warn(py, &py.get_type::<PyDeprecationWarning>(), &message, 1)
 }

@@ -1,17 +1,24 @@
-//! `parasils.simulate`: the CLI's `parasils simulate`, returning its CSV table.
+//! `parasils.simulate`: the simulation library's run, returning the CSV's
+//! table as NumPy columns (and writing CSV or MCAP with `out=`).
+//!
+//! The arguments build a [`Scenario`] directly (user units, like the CLI's
+//! flags); the library's [`Simulation::run`] is the loop, the same as the
+//! CLI's, into a [`Tee`] of the output file (if any) and the table.
 
-use std::path::{Path, PathBuf};
-
-use parasils_cli::cli::{Format, OutputFile, SimulateArgs, SyncArg};
-use parasils_cli::robot_file::RobotFileError as FileError;
-use parasils_cli::sample::{COLUMNS, NUM_COLUMNS, Sink};
-use parasils_cli::simulate::{Simulation, SimulationError};
-use parasils_kin::controller::RobotGeometry;
-use pyo3::exceptions::{PyMemoryError, PyOSError, PyValueError};
-use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use core::convert::Infallible;
+use std::path::PathBuf;
 
 use numpy::IntoPyArray;
+use parasils_kin::RobotGeometry;
+use parasils_sim::numbers::AtTime;
+use parasils_sim::{
+    Format, OutputError, OutputFile, Record, RunError, Scenario, Simulation, SimulationError, Tee,
+    columns, robot_file,
+};
+use parasils_traj::Synchronization;
+use pyo3::exceptions::{PyMemoryError, PyOSError, PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
 
 use crate::batch::{ArrayArg, Rows};
 use crate::errors;
@@ -19,10 +26,10 @@ use crate::robot::Robot;
 
 /// Why a run failed, in the thread without the GIL.
 enum Failure {
-    /// The engine failed, at the sample `row` if any.
-    Simulation(SimulationError, Option<usize>),
-    /// The output file could not be written.
-    Output(anyhow::Error, PathBuf),
+    /// The engine failed.
+    Simulation(SimulationError),
+    /// The output file `path` could not be written.
+    Output(OutputError, PathBuf),
     /// The table does not fit in memory.
     Memory(usize),
 }
@@ -41,133 +48,115 @@ fn fixed<const N: usize>(value: Option<ArrayArg<'_>>, name: &str) -> PyResult<Op
     Ok(Some(rows.get::<N>(0)))
 }
 
-/// An error of the CLI library (anyhow) as a Python exception: a robot
-/// file's as `errors::robot_file`, an I/O error as `OSError` naming `path`,
-/// anything else as `ValueError` with the chain of causes.
-fn cli_error(py: Python<'_>, error: &anyhow::Error, path: Option<&Path>) -> PyErr {
-    if let Some(e) = error.downcast_ref::<FileError>() {
-        return errors::robot_file(py, e);
+/// An output file's error as a Python exception: `OSError` (its subclass
+/// from the error number, or from the kind) naming `path` when the system
+/// failed, `ValueError` otherwise.
+fn output_error(py: Python<'_>, error: &OutputError, path: &std::path::Path) -> PyErr {
+    let text = error.to_string();
+    let Some(io) = error.io_error() else {
+        return PyValueError::new_err(text);
+    };
+    let filename = path.display().to_string();
+    if let Some(errno) = io.raw_os_error() {
+        return PyOSError::new_err((errno, text, filename));
     }
-    let text: Vec<String> = error.chain().map(ToString::to_string).collect();
-    let text = text.join(": ");
-    // The OS error number, wherever in the chain (tempfile wraps it), picks
-    // the subclass (FileNotFoundError, PermissionError, ...).
-    let io_errors: Vec<&std::io::Error> = error
-        .chain()
-        .filter_map(|c| c.downcast_ref::<std::io::Error>())
-        .collect();
-    if let Some(errno) = io_errors.iter().find_map(|e| e.raw_os_error()) {
-        return match path {
-            Some(p) => PyOSError::new_err((errno, text, p.display().to_string())),
-            None => PyOSError::new_err((errno, text)),
-        };
-    }
-    if let Some(io) = io_errors.first() {
-        // No number: the subclass from the error's kind.
-        let err = PyErr::from(std::io::Error::new(io.kind(), text));
-        if let Some(p) = path {
-            // Best effort: the message already names the place.
-            let _ = err.value(py).setattr("filename", p.display().to_string());
-        }
-        return err;
-    }
-    PyValueError::new_err(text)
+    let err = PyErr::from(std::io::Error::new(io.kind(), text));
+    // Best effort: the message already names the place.
+    let _ = err.value(py).setattr("filename", filename);
+    err
 }
 
-fn simulation_error(py: Python<'_>, error: &SimulationError, row: Option<usize>) -> PyErr {
+fn simulation_error(py: Python<'_>, error: &SimulationError) -> PyErr {
     match error {
         SimulationError::Geometry(e) => errors::kinematics(py, e, None, None, "robot geometry: "),
         SimulationError::Trajectory(e) => errors::trajectory(py, e),
-        SimulationError::Kinematics { t, error } => {
-            errors::kinematics(py, error, row, Some(*t), &format!("at t = {t:.3} s: "))
+        SimulationError::Kinematics { t, sample, error } => {
+            errors::kinematics(py, error, *sample, Some(*t), &AtTime(*t).to_string())
         }
+        other => PyValueError::new_err(other.to_string()),
     }
 }
 
-/// Runs the simulation and keeps every sample's row, column by column;
-/// streams the samples to `out` as well.
-fn run(sim: &Simulation, out: Option<(PathBuf, Format)>) -> Result<Vec<Vec<f64>>, Failure> {
+/// Runs the simulation through the library's loop, keeping every record's
+/// CSV row column by column, and streaming the records to `out` as well.
+fn run(scenario: Scenario, out: Option<(PathBuf, Format)>) -> Result<Vec<Vec<f64>>, Failure> {
+    let sim = Simulation::new(scenario).map_err(Failure::Simulation)?;
     let n = sim.sample_count();
-    let mut columns: Vec<Vec<f64>> = Vec::with_capacity(NUM_COLUMNS);
-    for _ in 0..NUM_COLUMNS {
+    let mut table: Vec<Vec<f64>> = Vec::with_capacity(columns::CSV_COUNT);
+    for _ in 0..columns::CSV_COUNT {
         let mut c = Vec::new();
         c.try_reserve_exact(n).map_err(|_| Failure::Memory(n))?;
-        columns.push(c);
+        table.push(c);
     }
-    let mut file = match out {
-        Some((path, format)) => {
-            Some(OutputFile::create(&path, format, sim).map_err(|e| Failure::Output(e, path))?)
-        }
-        None => None,
+    let (mut file, path) = match out {
+        Some((path, format)) => (
+            Some(
+                OutputFile::create(&path, format, sim.scenario())
+                    .map_err(|e| Failure::Output(e, path.clone()))?,
+            ),
+            path,
+        ),
+        None => (None, PathBuf::new()),
     };
-    for (k, sample) in sim.samples().enumerate() {
-        let s = sample.map_err(|e| Failure::Simulation(e, Some(k)))?;
-        if let Some(f) = &mut file {
-            f.push(&s)
-                .map_err(|e| Failure::Output(e, f.path().to_owned()))?;
+    let mut keep = |r: &Record| {
+        for (values, column) in table.iter_mut().zip(&columns::CSV) {
+            values.push(column.value(r));
         }
-        for (c, v) in columns.iter_mut().zip(s.row()) {
-            c.push(v);
+        Ok::<(), Infallible>(())
+    };
+    let ran = sim.run(&mut Tee::new().with_some(file.as_mut()).with(&mut keep));
+    match ran {
+        Ok(()) => {}
+        Err(RunError::Simulation(e)) => return Err(Failure::Simulation(e)),
+        Err(RunError::Sink(e)) => {
+            // The table cannot fail: the output file did.
+            return Err(match e.downcast::<OutputError>() {
+                Ok(e) => Failure::Output(*e, path),
+                Err(other) => Failure::Output(
+                    OutputError::Io {
+                        path: path.clone(),
+                        error: std::io::Error::other(other.to_string()),
+                    },
+                    path,
+                ),
+            });
         }
     }
     if let Some(f) = file {
-        let path = f.path().to_owned();
         f.finish().map_err(|e| Failure::Output(e, path))?;
     }
-    Ok(columns)
+    Ok(table)
 }
 
-/// Simulates an endoscope reorientation (motion type 4), as the CLI's
-/// `parasils simulate` does, with the same library: the platform turns about
-/// the endoscope's RCM from `pose` by (psi_deg, theta_deg) along a
-/// synchronised trapezoidal profile, and both instrument modules keep their
-/// tips still. The defaults are the paper's scenario (SPEC section 7): 4501
-/// samples over 4.5 s.
-///
-/// Keyword arguments (the CLI's options, names with their units):
-///
-/// - psi_deg, theta_deg: the increments of psi and theta from the start pose,
-///   deg (the final angles with absolute=True); default 15, 25.
-/// - absolute: take psi_deg and theta_deg as final angles (--absolute).
-/// - omega_max_deg_s: each Euler angle's velocity limit, deg/s; default 10.
-/// - eps_max_deg_s2: each Euler angle's acceleration limit, deg/s^2; default 5.
-/// - sync: "phase" (default), "time" or "none": how psi and theta are timed.
-/// - rate_hz: samples per second, Hz; default 1000.
-/// - pose: the start pose (x, y, z mm, psi, theta, phi DEG, like the CLI's
-///   --pose and the CSV columns); default the paper's P0 =
-///   (15, 20, -500, -15, 10, -60).
-/// - tip_left_mm: the left tip held still, (x, y, z) mm, fixed frame; default
-///   (50, -50, -620).
-/// - tip_right_mm: the right tip, (x, y, z) mm; default the mirror image of
-///   the left tip across the platform's Y'Z' plane at the start pose.
-/// - robot: a robot file's path (TOML, as --robot) or a parasils.Robot;
-///   default the paper's robot (module 1 assumed).
-/// - out: also write every sample to this file exactly as
-///   `parasils simulate -o out` does: CSV or MCAP from the extension (.csv,
-///   .mcap), through a temporary file renamed on success.
-/// - format: "csv" or "mcap", overriding the extension (--format).
-///
-/// Returns a dict of 1-D float64 arrays keyed by the CSV's column names, in
-/// the CSV's order and units (t_s, x_mm, ..., psi_deg, ..., q1_mm, ...,
-/// left_qs1_deg, ..., right_tip_err_mm): the CLI's CSV to the last bit.
-/// `pandas.DataFrame(parasils.simulate())` makes it a table.
-///
-/// Raises a KinematicsError subclass when a sample fails (with .row, the
-/// sample's index, and .t, its time in s), TrajectoryError for limits or a
-/// rate that cannot be planned, RobotFileError or OSError for the robot
-/// file, OSError when `out` cannot be written, ValueError for a bad
-/// argument. The simulation runs without the GIL.
+/// The paper's scenario in the units of `simulate`'s arguments: the defaults
+/// the package's `simulate` shows in its signature.
+pub(crate) fn paper_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let paper = Scenario::paper();
+    let d = PyDict::new(py);
+    d.set_item("psi_deg", paper.psi_deg)?;
+    d.set_item("theta_deg", paper.theta_deg)?;
+    d.set_item("omega_max_deg_s", paper.omega_max_deg_s)?;
+    d.set_item("eps_max_deg_s2", paper.eps_max_deg_s2)?;
+    d.set_item("rate_hz", paper.rate_hz)?;
+    d.set_item("pose_mm_deg", paper.start_mm_deg.to_vec())?;
+    d.set_item("tip_left_mm", paper.tip_left_mm.to_vec())?;
+    Ok(d)
+}
+
+/// The compiled part of `parasils.simulate` (see its docstring in
+/// `python/parasils/__init__.py`): every argument keyword-only, `None` for
+/// the paper's value.
 #[pyfunction]
 #[pyo3(signature = (
     *,
-    psi_deg = 15.0,
-    theta_deg = 25.0,
+    psi_deg = None,
+    theta_deg = None,
     absolute = false,
-    omega_max_deg_s = 10.0,
-    eps_max_deg_s2 = 5.0,
+    omega_max_deg_s = None,
+    eps_max_deg_s2 = None,
     sync = "phase",
-    rate_hz = 1000.0,
-    pose = None,
+    rate_hz = None,
+    pose_mm_deg = None,
     tip_left_mm = None,
     tip_right_mm = None,
     robot = None,
@@ -177,14 +166,14 @@ fn run(sim: &Simulation, out: Option<(PathBuf, Format)>) -> Result<Vec<Vec<f64>>
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn simulate<'py>(
     py: Python<'py>,
-    psi_deg: f64,
-    theta_deg: f64,
+    psi_deg: Option<f64>,
+    theta_deg: Option<f64>,
     absolute: bool,
-    omega_max_deg_s: f64,
-    eps_max_deg_s2: f64,
+    omega_max_deg_s: Option<f64>,
+    eps_max_deg_s2: Option<f64>,
     sync: &str,
-    rate_hz: f64,
-    pose: Option<ArrayArg<'py>>,
+    rate_hz: Option<f64>,
+    pose_mm_deg: Option<ArrayArg<'py>>,
     tip_left_mm: Option<ArrayArg<'py>>,
     tip_right_mm: Option<ArrayArg<'py>>,
     robot: Option<Bound<'py, PyAny>>,
@@ -192,9 +181,9 @@ pub(crate) fn simulate<'py>(
     format: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let sync = match sync {
-        "phase" => SyncArg::Phase,
-        "time" => SyncArg::Time,
-        "none" => SyncArg::None,
+        "phase" => Synchronization::Phase,
+        "time" => Synchronization::Time,
+        "none" => Synchronization::None,
         _ => {
             return Err(PyValueError::new_err(format!(
                 "sync must be 'phase', 'time' or 'none', got {sync:?}"
@@ -211,59 +200,66 @@ pub(crate) fn simulate<'py>(
             )));
         }
     };
-    let (robot_path, robot_geometry): (Option<PathBuf>, Option<RobotGeometry<f64>>) = match &robot
-    {
-        None => (None, None),
+    enum RobotArg {
+        Paper,
+        Geometry(Box<RobotGeometry<f64>>),
+        File(PathBuf),
+    }
+    let robot = match &robot {
+        None => RobotArg::Paper,
         Some(r) => match r.cast::<Robot>() {
-            Ok(r) => (None, Some(*r.get().geometry())),
-            Err(_) => (Some(r.extract::<PathBuf>().map_err(|_| {
-                pyo3::exceptions::PyTypeError::new_err(
+            Ok(r) => RobotArg::Geometry(Box::new(*r.get().geometry())),
+            Err(_) => RobotArg::File(r.extract::<PathBuf>().map_err(|_| {
+                PyTypeError::new_err(
                     "robot must be a path to a robot file (str or os.PathLike) or a parasils.Robot",
                 )
-            })?), None),
+            })?),
         },
     };
-    let args = SimulateArgs {
-        psi: psi_deg,
-        theta: theta_deg,
-        absolute,
-        omega_max: omega_max_deg_s,
-        eps_max: eps_max_deg_s2,
-        sync,
-        rate: rate_hz,
-        pose: fixed::<6>(pose, "pose")?,
-        tip_left: fixed::<3>(tip_left_mm, "tip_left_mm")?,
-        tip_right: fixed::<3>(tip_right_mm, "tip_right_mm")?,
-        robot: robot_path,
-        output: out.clone(),
-        format,
-        plot: None,
+    let paper = Scenario::paper();
+    let start_mm_deg = fixed::<6>(pose_mm_deg, "pose_mm_deg")?;
+    let tip_left_mm = fixed::<3>(tip_left_mm, "tip_left_mm")?;
+    let tip_right_mm = fixed::<3>(tip_right_mm, "tip_right_mm")?;
+    let robot = match robot {
+        RobotArg::Paper => paper.robot,
+        RobotArg::Geometry(g) => *g,
+        RobotArg::File(path) => robot_file::load(&path).map_err(|e| errors::robot_file(py, &e))?,
     };
-    let (mut scenario, _assumed) = args.scenario().map_err(|e| cli_error(py, &e, None))?;
-    if let Some(g) = robot_geometry {
-        scenario.robot = g;
-    }
+    let scenario = Scenario {
+        start_mm_deg: start_mm_deg.unwrap_or(paper.start_mm_deg),
+        psi_deg: psi_deg.unwrap_or(paper.psi_deg),
+        theta_deg: theta_deg.unwrap_or(paper.theta_deg),
+        absolute,
+        omega_max_deg_s: omega_max_deg_s.unwrap_or(paper.omega_max_deg_s),
+        eps_max_deg_s2: eps_max_deg_s2.unwrap_or(paper.eps_max_deg_s2),
+        sync,
+        rate_hz: rate_hz.unwrap_or(paper.rate_hz),
+        tip_left_mm: tip_left_mm.unwrap_or(paper.tip_left_mm),
+        tip_right_mm,
+        robot,
+    };
     let out = match out {
         Some(p) => {
-            let f = args.format(&p).map_err(|e| cli_error(py, &e, None))?;
+            let f = match format {
+                Some(f) => f,
+                None => Format::from_path(&p).map_err(|e| PyValueError::new_err(e.to_string()))?,
+            };
             Some((p, f))
         }
         None => None,
     };
-    let result = py.detach(move || {
-        let sim = Simulation::new(scenario).map_err(|e| Failure::Simulation(e, None))?;
-        run(&sim, out)
-    });
-    let columns = result.map_err(|f| match f {
-        Failure::Simulation(e, row) => simulation_error(py, &e, row),
-        Failure::Output(e, path) => cli_error(py, &e, Some(&path)),
+    let result = py.detach(move || run(scenario, out));
+    let table = result.map_err(|f| match f {
+        Failure::Simulation(e) => simulation_error(py, &e),
+        Failure::Output(e, path) => output_error(py, &e, &path),
         Failure::Memory(n) => PyMemoryError::new_err(format!(
-            "{n} samples of {NUM_COLUMNS} columns do not fit in memory: lower rate_hz"
+            "{n} samples of {} columns do not fit in memory: lower rate_hz",
+            columns::CSV_COUNT
         )),
     })?;
-    let table = PyDict::new(py);
-    for (name, values) in COLUMNS.iter().zip(columns) {
-        table.set_item(*name, values.into_pyarray(py))?;
+    let dict = PyDict::new(py);
+    for (name, values) in columns::CSV_NAMES.iter().zip(table) {
+        dict.set_item(*name, values.into_pyarray(py))?;
     }
-    Ok(table)
+    Ok(dict)
 }

@@ -50,14 +50,14 @@ def test_instrument_fk_batch_equals_single_and_inverts_ik(robot, side):
     assert np.max(np.abs(batch - t)) < 1e-9
 
 
-def test_platform_ik_fk_batch_equals_single(robot):
+def test_module1_ik_fk_batch_equals_single(robot):
     p = poses()
-    q = robot.platform_ik(p)
+    q = robot.module1_ik(p)
     assert q.shape == (N, 6)
-    assert_same_bits(q, np.array([robot.platform_ik(x) for x in p]))
+    assert_same_bits(q, np.array([robot.module1_ik(x) for x in p]))
     guess = p + 0.5
-    back = robot.platform_fk(q, guess)
-    assert_same_bits(back, np.array([robot.platform_fk(q[i], guess[i]) for i in range(N)]))
+    back = robot.module1_fk(q, guess)
+    assert_same_bits(back, np.array([robot.module1_fk(q[i], guess[i]) for i in range(N)]))
     np.testing.assert_allclose(back, p, atol=1e-8, rtol=0)
 
 
@@ -78,15 +78,36 @@ def test_instrument_rates_batch_equals_single(robot, side):
     assert_same_bits(q, robot.instrument_ik(side, p, t))
 
 
-def test_platform_rates_batch_equals_single(robot):
+def test_module1_rates_batch_equals_single(robot):
     p = poses()
     rate = RNG.normal(0, 0.1, (N, 6))
     acc = RNG.normal(0, 0.1, (N, 6))
-    q, qd, qdd = robot.platform_rates(p, rate, acc)
+    q, qd, qdd = robot.module1_rates(p, rate, acc)
     assert q.shape == qd.shape == qdd.shape == (N, 6)
     for i in range(0, N, 23):
-        assert_same_bits(np.array([q[i], qd[i], qdd[i]]), np.array(robot.platform_rates(p[i], rate[i], acc[i])))
-    assert_same_bits(q, robot.platform_ik(p))
+        assert_same_bits(np.array([q[i], qd[i], qdd[i]]), np.array(robot.module1_rates(p[i], rate[i], acc[i])))
+    assert_same_bits(q, robot.module1_ik(p))
+
+
+@pytest.mark.parametrize(
+    "old, new, args",
+    [
+        ("platform_ik", "module1_ik", lambda p: (p,)),
+        ("platform_fk", "module1_fk", lambda p: (parasils.Robot().module1_ik(p), p + 0.5)),
+        ("platform_rates", "module1_rates", lambda p: (p, np.full(6, 0.01), np.full(6, 0.02))),
+    ],
+)
+def test_platform_names_are_deprecated_aliases(robot, old, new, args):
+    p = poses(5)
+    a = args(p)
+    with pytest.warns(DeprecationWarning, match=f"Robot.{old} is deprecated: use Robot.{new}") as record:
+        got = getattr(robot, old)(*a)
+    assert record[0].filename == __file__  # the warning points at the caller
+    assert_same_bits(np.array(got), np.array(getattr(robot, new)(*a)))
+    # Keyword arguments too, errors="nan" included.
+    with pytest.warns(DeprecationWarning):
+        *_, ok = getattr(robot, old)(*a, errors="nan")
+    assert ok.all()
 
 
 def motion(t):
@@ -137,7 +158,7 @@ def test_rates_agree_with_the_simulation(robot, right_tip):
             np.testing.assert_allclose(np.degrees(qd[:, k]), table[f"{side}_{j}_rate_deg_s"], atol=1e-9)
             np.testing.assert_allclose(np.degrees(qdd[:, k]), table[f"{side}_{j}_acc_deg_s2"], atol=1e-9)
         np.testing.assert_allclose(qd[:, 2], table[f"{side}_qs3_rate_mm_s"], atol=1e-9)
-    q, qd, qdd = robot.platform_rates(pose, rate, acc)
+    q, qd, qdd = robot.module1_rates(pose, rate, acc)
     for j in range(6):
         np.testing.assert_allclose(q[:, j], table[f"q{j + 1}_mm"], atol=1e-9)
         np.testing.assert_allclose(qd[:, j], table[f"q{j + 1}_rate_mm_s"], atol=1e-9)
@@ -157,8 +178,8 @@ def test_a_single_row_goes_with_every_row_of_a_batch(robot):
 def test_a_single_sample_gives_1d_arrays(robot):
     qs = robot.instrument_ik("left", P0, LEFT_TIP)
     assert isinstance(qs, np.ndarray) and qs.shape == (3,)
-    assert robot.platform_ik(P0).shape == (6,)
-    assert robot.platform_fk(robot.platform_ik(P0), P0).shape == (6,)
+    assert robot.module1_ik(P0).shape == (6,)
+    assert robot.module1_fk(robot.module1_ik(P0), P0).shape == (6,)
     # A batch of one stays a batch.
     assert robot.instrument_ik("left", P0[None, :], LEFT_TIP).shape == (1, 3)
 
@@ -183,7 +204,7 @@ def test_non_contiguous_batches(robot):
 def test_empty_batch(robot):
     out = robot.instrument_ik("left", np.empty((0, 6)), np.empty((0, 3)))
     assert out.shape == (0, 3)
-    out, ok = robot.platform_ik(np.empty((0, 6)), errors="nan")
+    out, ok = robot.module1_ik(np.empty((0, 6)), errors="nan")
     assert out.shape == (0, 6) and ok.shape == (0,) and ok.dtype == np.bool_
 
 
@@ -210,11 +231,11 @@ def test_errors_nan_gives_nan_rows_and_a_mask(robot):
     # FK and module 1 too.
     tip, ok = robot.instrument_fk("left", [P0, P0 * np.nan], [0.1, 0.2, 100.0], errors="nan")
     assert list(ok) == [True, False]
-    q, ok = robot.platform_ik([P0, P0 + [0, 0, -5000, 0, 0, 0]], errors="nan")
+    q, ok = robot.module1_ik([P0, P0 + [0, 0, -5000, 0, 0, 0]], errors="nan")
     assert list(ok) == [True, False] and np.all(np.isnan(q[1]))
-    pose, ok = robot.platform_fk(q[0], [P0, [15, 20, -500, 0, np.pi / 2, 0]], errors="nan")
+    pose, ok = robot.module1_fk(q[0], [P0, [15, 20, -500, 0, np.pi / 2, 0]], errors="nan")
     assert list(ok) == [True, False]
-    *_, ok = robot.platform_rates([P0, P0 * np.nan], np.zeros(6), np.zeros(6), errors="nan")
+    *_, ok = robot.module1_rates([P0, P0 * np.nan], np.zeros(6), np.zeros(6), errors="nan")
     assert list(ok) == [True, False]
 
 

@@ -16,9 +16,9 @@ METHODS = [
     "instrument_ik",
     "instrument_fk",
     "instrument_rates",
-    "platform_ik",
-    "platform_fk",
-    "platform_rates",
+    "module1_ik",
+    "module1_fk",
+    "module1_rates",
 ]
 
 
@@ -26,7 +26,7 @@ METHODS = [
 def test_methods_have_docstrings_with_units(name):
     doc = getattr(parasils.Robot, name).__doc__
     assert doc and len(doc) > 40, name
-    if name.startswith(("instrument", "platform")):
+    if name.startswith(("instrument", "module1")):
         assert "mm" in doc and "rad" in doc, name
         assert "shape" in doc and "errors" in doc, name
     text = pydoc.render_doc(getattr(parasils.Robot, name), renderer=pydoc.plaintext)
@@ -46,6 +46,7 @@ def test_signatures_are_visible():
         ("eps_max_deg_s2", 5.0),
         ("rate_hz", 1000.0),
         ("sync", "phase"),
+        ("pose_mm_deg", None),
         ("pose", None),
         ("tip_left_mm", None),
         ("tip_right_mm", None),
@@ -53,6 +54,19 @@ def test_signatures_are_visible():
     ]:
         assert sig.parameters[name].default == default, name
         assert sig.parameters[name].kind is inspect.Parameter.KEYWORD_ONLY
+
+
+def test_simulate_defaults_are_the_library_s():
+    sig = inspect.signature(parasils.simulate)
+    for name in ("psi_deg", "theta_deg", "omega_max_deg_s", "eps_max_deg_s2", "rate_hz"):
+        assert sig.parameters[name].default == parasils._PAPER[name], name
+    assert parasils._PAPER["pose_mm_deg"] == [15.0, 20.0, -500.0, -15.0, 10.0, -60.0]
+
+
+def test_deprecated_aliases_are_documented():
+    for old, new in [("platform_ik", "module1_ik"), ("platform_fk", "module1_fk"), ("platform_rates", "module1_rates")]:
+        doc = getattr(parasils.Robot, old).__doc__
+        assert "Deprecated" in doc and new in doc, old
 
 
 def test_help_of_the_package_class_and_simulate():

@@ -130,7 +130,7 @@ def test_joint_limit(robot):
         "joint_limit", "left", "qs3", 10.0, 300.0, 300.0,
     )
     assert err.value == pytest.approx(3 * 147.7687, abs=1e-3)
-    assert "joint qs3 = 443.30" in str(err) and "[10.000000, 300.000000] mm" in str(err)
+    assert "joint qs3 = 443.30" in str(err) and "[10, 300] mm" in str(err)
     # The rates solve the joints first: the same error.
     with pytest.raises(parasils.JointLimitError):
         robot.instrument_rates("left", P0, np.zeros(6), np.zeros(6), far)
@@ -142,7 +142,7 @@ def test_joint_limit_in_radians_with_degrees_in_the_message(robot):
     err = e.value
     assert err.joint == "qs1"
     assert err.min == pytest.approx(-math.radians(120)) and err.limit == err.min
-    assert "deg is outside [-120.000000, 120.000000] deg" in str(err)
+    assert "deg is outside [-120, 120] deg" in str(err)
 
 
 def test_batch_error_names_the_first_bad_row(robot):
@@ -194,11 +194,11 @@ def test_bad_shapes_elsewhere(robot):
     with pytest.raises(ValueError, match=r"qs must have shape \(3,\)"):
         robot.instrument_fk("left", P0, [1.0, 2.0])
     with pytest.raises(ValueError, match=r"q must have shape \(6,\)"):
-        robot.platform_fk(np.zeros(5), P0)
+        robot.module1_fk(np.zeros(5), P0)
     with pytest.raises(ValueError, match=r"guess must have shape"):
-        robot.platform_fk(np.zeros(6), np.zeros(3))
+        robot.module1_fk(np.zeros(6), np.zeros(3))
     with pytest.raises(ValueError, match="pose_rate has 2 rows but pose_acc has 3"):
-        robot.platform_rates(P0, np.zeros((2, 6)), np.zeros((3, 6)))
+        robot.module1_rates(P0, np.zeros((2, 6)), np.zeros((3, 6)))
     with pytest.raises(ValueError, match=r"tip_rate must have shape"):
         robot.instrument_rates("left", P0, np.zeros(6), np.zeros(6), LEFT_TIP, [1.0])
 
@@ -224,7 +224,7 @@ def test_bad_errors_and_mode(robot):
 
 def test_leg_out_of_reach(robot):
     with pytest.raises(parasils.LegOutOfReachError) as e:
-        robot.platform_ik([0.0, 0.0, -500.0, math.radians(60), 0.0, 0.0])
+        robot.module1_ik([0.0, 0.0, -500.0, math.radians(60), 0.0, 0.0])
     err = e.value
     assert (err.kind, err.actuator) == ("leg_out_of_reach", 1)
     assert err.discriminant < 0
@@ -232,19 +232,19 @@ def test_leg_out_of_reach(robot):
 
 def test_actuator_limit(robot):
     with pytest.raises(parasils.ActuatorLimitError) as e:
-        robot.platform_ik([0.0, 0.0, -900.0, 0.0, 0.0, 0.0])
+        robot.module1_ik([0.0, 0.0, -900.0, 0.0, 0.0, 0.0])
     err = e.value
     assert (err.kind, err.actuator, err.min, err.max, err.limit) == ("actuator_limit", 1, 0.0, 320.0, 320.0)
     assert err.value > 320.0
     with pytest.raises(parasils.ActuatorLimitError) as e:
-        robot.platform_ik([0.0, 0.0, -200.0, 0.0, 0.0, 0.0])
+        robot.module1_ik([0.0, 0.0, -200.0, 0.0, 0.0, 0.0])
     assert e.value.limit == 0.0 and e.value.value < 0.0
 
 
 def test_serial_singular(tmp_path):
     robot = robot_with(tmp_path, serial_margin_min="0.999")
     with pytest.raises(parasils.SerialSingularError) as e:
-        robot.platform_ik(P0)
+        robot.module1_ik(P0)
     err = e.value
     assert (err.kind, err.threshold) == ("serial_singular", 0.999)
     assert 1 <= err.actuator <= 6 and err.margin < 0.999
@@ -252,17 +252,17 @@ def test_serial_singular(tmp_path):
 
 def test_parallel_singular(tmp_path):
     robot = robot_with(tmp_path, parallel_margin_command_min="0.99")
-    robot.platform_ik(P0)  # the IK itself does not watch the parallel margin
+    robot.module1_ik(P0)  # the IK itself does not watch the parallel margin
     with pytest.raises(parasils.ParallelSingularError) as e:
-        robot.platform_rates(P0, np.zeros(6), np.zeros(6))
+        robot.module1_rates(P0, np.zeros(6), np.zeros(6))
     assert (e.value.kind, e.value.threshold) == ("parallel_singular", 0.99)
     assert e.value.margin < 0.99
 
 
 def test_fk_singular_guess(robot):
-    q = robot.platform_ik(P0)
+    q = robot.module1_ik(P0)
     with pytest.raises(parasils.SingularJacobianError) as e:
-        robot.platform_fk(q, [15.0, 20.0, -500.0, 0.0, math.pi / 2, 0.0])
+        robot.module1_fk(q, [15.0, 20.0, -500.0, 0.0, math.pi / 2, 0.0])
     err = e.value
     assert (err.kind, err.singularity, err.iteration, err.threshold) == (
         "singular_jacobian", "euler_angles", 0, 1e-6,
@@ -272,22 +272,22 @@ def test_fk_singular_guess(robot):
 
 def test_fk_no_convergence(tmp_path):
     robot = robot_with(tmp_path, fk_max_iterations="1")
-    q = robot.platform_ik(P0)
+    q = robot.module1_ik(P0)
     with pytest.raises(parasils.NoConvergenceError) as e:
-        robot.platform_fk(q, P0 + [20.0, -10.0, 15.0, 0.1, -0.1, 0.1])
+        robot.module1_fk(q, P0 + [20.0, -10.0, 15.0, 0.1, -0.1, 0.1])
     err = e.value
     assert err.kind == "no_convergence" and err.iterations >= 1 and err.residual > 1e-13
 
 
 def test_fk_other_branch(robot):
     with pytest.raises(parasils.BranchMismatchError) as e:
-        robot.platform_fk([1e4] * 6, P0)
+        robot.module1_fk([1e4] * 6, P0)
     assert (e.value.kind, e.value.actuator) == ("branch_mismatch", 1)
 
 
 def test_nan_actuators(robot):
     with pytest.raises(parasils.NonFiniteError) as e:
-        robot.platform_fk([100.0, np.nan, 0, 0, 0, 0], P0)
+        robot.module1_fk([100.0, np.nan, 0, 0, 0, 0], P0)
     assert e.value.what == "q2"
 
 

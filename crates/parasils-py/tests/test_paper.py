@@ -1,4 +1,4 @@
-"""The paper's numbers (SPEC section 7), from Python."""
+"""The paper's numbers (docs/model.md, "Check values"), from Python."""
 
 import numpy as np
 import pytest
@@ -7,7 +7,7 @@ import parasils
 from conftest import LEFT_TIP, P0, mirror_tip, rotation
 
 DEG = np.degrees
-#: SPEC prints 4 decimals.
+#: The paper prints 4 decimals.
 TOL = 5e-5
 
 
@@ -55,13 +55,13 @@ def test_end_of_the_increments_reading(robot, right_tip):
 
 
 def test_module1_at_p0(robot):
-    q = robot.platform_ik(P0)
+    q = robot.module1_ik(P0)
     np.testing.assert_allclose(
         q, [117.942, 151.459, 56.937, 89.428, 132.193, 77.441], atol=5e-4, rtol=0
     )
     # And back, from a guess a little off.
     guess = P0 + [2.0, -1.0, 3.0, 0.01, -0.02, 0.01]
-    np.testing.assert_allclose(robot.platform_fk(q, guess), P0, atol=1e-9, rtol=0)
+    np.testing.assert_allclose(robot.module1_fk(q, guess), P0, atol=1e-9, rtol=0)
 
 
 def test_tips_held_along_the_paper_motion(robot, right_tip):
@@ -88,7 +88,7 @@ def test_tips_held_along_the_paper_motion(robot, right_tip):
 
 def test_rotation_convention_is_xyz_intrinsic(robot):
     # The tip of a module at joints qs, from the crate, equals the formula of
-    # SPEC section 2-3 written here: p_F = R (RCM + R_Y(a) R_X(qs1) R_Y(qs2) R_X(b) (0, 0, -qs3)) + P.
+    # The instrument chain (docs/model.md, "Instrument modules") written here: p_F = R (RCM + R_Y(a) R_X(qs1) R_Y(qs2) R_X(b) (0, 0, -qs3)) + P.
     def ry(a):
         return np.array([[np.cos(a), 0, np.sin(a)], [0, 1, 0], [-np.sin(a), 0, np.cos(a)]])
 

@@ -42,7 +42,7 @@ CASES = [
     ),
     (
         dict(
-            pose=[10.0, 25.0, -510.0, -12.0, 8.0, -55.0],
+            pose_mm_deg=[10.0, 25.0, -510.0, -12.0, 8.0, -55.0],
             tip_left_mm=(45.0, -52.5, -615.0),
             tip_right_mm=np.array([-12.0, 50.0, -630.0]),
             psi_deg=0.1 + 0.2,  # not a short decimal: passed as repr()
@@ -89,6 +89,24 @@ def test_out_writes_the_same_file_as_the_cli(run_cli, tmp_path, ext, fmt):
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted([cli_path.name, py_path.name])
     if (fmt or ext) == "csv":
         assert_bit_equal(table, read_csv(py_path))
+
+
+def test_the_first_row_is_on_the_start_s_own_degrees():
+    table = parasils.simulate(rate_hz=10.0)
+    assert (table["psi_deg"][0], table["theta_deg"][0]) == (-15.0, 10.0)
+    assert (table["phi_deg"] == -60.0).all()
+    table = parasils.simulate(pose_mm_deg=[15, 20, -500, -14.3, 10.56, -57.89], psi_deg=1, theta_deg=1, rate_hz=10.0)
+    assert [table[c][0] for c in ("psi_deg", "theta_deg", "phi_deg")] == [-14.3, 10.56, -57.89]
+
+
+def test_pose_is_a_deprecated_name_of_pose_mm_deg():
+    start = [10.0, 25.0, -510.0, -12.0, 8.0, -55.0]
+    with pytest.warns(DeprecationWarning, match="pose_mm_deg") as record:
+        old = parasils.simulate(pose=start, rate_hz=10.0)
+    assert record[0].filename == __file__  # the warning points at the caller
+    assert_bit_equal(old, parasils.simulate(pose_mm_deg=start, rate_hz=10.0))
+    with pytest.raises(TypeError, match="pose_mm_deg"):
+        parasils.simulate(pose=start, pose_mm_deg=start)
 
 
 def test_pandas_dataframe():
@@ -141,7 +159,7 @@ def test_non_finite_tip():
 
 def test_non_finite_pose():
     with pytest.raises(parasils.NonFiniteError) as e:
-        parasils.simulate(pose=[np.nan, 20, -500, -15, 10, -60], tip_right_mm=[-10, 54, -637])
+        parasils.simulate(pose_mm_deg=[np.nan, 20, -500, -15, 10, -60], tip_right_mm=[-10, 54, -637])
     assert e.value.what == "pose.x" and e.value.row == 0
 
 
@@ -186,8 +204,8 @@ def test_bad_arguments(tmp_path):
         parasils.simulate(format="json")
     with pytest.raises(ValueError, match="cannot tell the output format"):
         parasils.simulate(out=tmp_path / "run.txt")
-    with pytest.raises(ValueError, match=r"pose must have shape \(6,\)"):
-        parasils.simulate(pose=[1.0, 2.0, 3.0])
+    with pytest.raises(ValueError, match=r"pose_mm_deg must have shape \(6,\)"):
+        parasils.simulate(pose_mm_deg=[1.0, 2.0, 3.0])
     with pytest.raises(ValueError, match=r"tip_left_mm must have shape \(3,\)"):
         parasils.simulate(tip_left_mm=np.zeros((2, 3)))
     with pytest.raises(TypeError):

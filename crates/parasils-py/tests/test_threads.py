@@ -100,17 +100,17 @@ def test_every_batch_method_is_independent_of_the_thread_count(robot, big, threa
         assert got.shape == (BIG, 3) and got.flags.c_contiguous
         assert_same_bits(got, want)
     if side == "left":
-        q = robot.platform_ik(p)
-        assert_same_bits(q, in_small_batches(robot.platform_ik, BIG, p))
+        q = robot.module1_ik(p)
+        assert_same_bits(q, in_small_batches(robot.module1_ik, BIG, p))
         for got, want in zip(
-            robot.platform_rates(p, rate, acc), in_small_batches(robot.platform_rates, BIG, p, rate, acc)
+            robot.module1_rates(p, rate, acc), in_small_batches(robot.module1_rates, BIG, p, rate, acc)
         ):
             assert got.shape == (BIG, 6)
             assert_same_bits(got, want)
         # Newton is slower: fewer rows, still several chunks.
         n = 20_000
         guess = p[:n] + 0.5
-        assert_same_bits(robot.platform_fk(q[:n], guess), in_small_batches(robot.platform_fk, n, q[:n], guess))
+        assert_same_bits(robot.module1_fk(q[:n], guess), in_small_batches(robot.module1_fk, n, q[:n], guess))
 
 
 def with_bad_rows(big, bad):
@@ -183,8 +183,8 @@ def test_errors_nan_masks_exactly_the_bad_rows(robot, big, threads):
     for a in (q, qd, qdd):
         assert np.all(np.isnan(a[~ok2])) and not np.any(np.isnan(a[ok2]))
 
-    q, ok3 = robot.platform_ik(p, errors="nan")
+    q, ok3 = robot.module1_ik(p, errors="nan")
     nan_rows = np.isnan(p).any(axis=1)
     assert np.array_equal(ok3, ~nan_rows)
     assert np.all(np.isnan(q[nan_rows]))
-    assert_same_bits(q[ok3], robot.platform_ik(p[ok3]))
+    assert_same_bits(q[ok3], robot.module1_ik(p[ok3]))

@@ -1,6 +1,13 @@
 //! Typed errors of the profile constructors and of the sampler.
+//!
+//! Messages write every number with up to 6 significant digits: plain
+//! decimals from `1e-3` to `1e6`, exponent form (`1e-6`, `2.5e308`) beyond,
+//! `NaN` and `inf` by name; a duration just below its minimum gets as many
+//! more digits as it takes to read differently from the minimum.
 
 use core::fmt;
+
+use parasils_num::Num;
 
 use crate::real::Real;
 
@@ -51,9 +58,10 @@ impl fmt::Display for Endpoint {
 /// value, widened to `f64`.
 ///
 /// # When this happens / how to handle it
-/// - [`InvalidLimit`](Self::InvalidLimit), [`NonFinitePosition`](Self::NonFinitePosition):
-///   bad input, typically a unit mix-up or an uninitialised value upstream.
-///   Reject the command; do not retry with the same input.
+/// - [`InvalidLimit`](Self::InvalidLimit), [`NonFinitePosition`](Self::NonFinitePosition),
+///   [`NonFiniteVelocity`](Self::NonFiniteVelocity): bad input, typically a unit
+///   mix-up or an uninitialised value upstream. Reject the command; do not
+///   retry with the same input.
 /// - [`DistanceOverflow`](Self::DistanceOverflow), [`OutOfRange`](Self::OutOfRange):
 ///   the numbers are finite but the profile does not fit the float type (for
 ///   example a distance of `1e30` at `1e-30` units/s in `f32`). Check units.
@@ -65,7 +73,7 @@ impl fmt::Display for Endpoint {
 #[non_exhaustive]
 pub enum Error {
     /// A limit is zero, negative, infinite or NaN.
-    #[error("axis {axis}: {limit} = {value} is not a positive finite number")]
+    #[error("axis {axis}: {limit} = {} is not a positive finite number", Num::new(*value))]
     InvalidLimit {
         /// The axis index (`0` for a single-axis profile).
         axis: usize,
@@ -75,7 +83,7 @@ pub enum Error {
         value: f64,
     },
     /// The start or the goal position is infinite or NaN.
-    #[error("axis {axis}: the {endpoint} position {value} is not finite")]
+    #[error("axis {axis}: the {endpoint} position {} is not finite", Num::new(*value))]
     NonFinitePosition {
         /// The axis index (`0` for a single-axis profile).
         axis: usize,
@@ -84,8 +92,19 @@ pub enum Error {
         /// The value given, in position units.
         value: f64,
     },
+    /// The start velocity of an online profile is infinite or NaN.
+    #[error("axis {axis}: the start velocity {} is not finite", Num::new(*value))]
+    NonFiniteVelocity {
+        /// The axis index (`0` for a single-axis profile).
+        axis: usize,
+        /// The value given, in position units/s.
+        value: f64,
+    },
     /// `goal - start` overflows the float type.
-    #[error("axis {axis}: the distance from {start} to {goal} overflows the float type")]
+    #[error(
+        "axis {axis}: the distance from {} to {} overflows the float type",
+        Num::new(*start), Num::new(*goal)
+    )]
     DistanceOverflow {
         /// The axis index (`0` for a single-axis profile).
         axis: usize,
@@ -97,7 +116,8 @@ pub enum Error {
     /// The limits are valid but the profile's duration, a phase time or a
     /// peak overflows or underflows the float type.
     #[error(
-        "axis {axis}: the profile over distance {distance} does not fit the float type with these limits"
+        "axis {axis}: the profile over distance {} does not fit the float type with these limits",
+        Num::new(*distance)
     )]
     OutOfRange {
         /// The axis index (`0` for a single-axis profile).
@@ -107,7 +127,8 @@ pub enum Error {
     },
     /// An imposed duration is shorter than the minimum time, or not finite.
     #[error(
-        "axis {axis}: the duration {requested} s is not finite or below the minimum {minimum} s"
+        "axis {axis}: the duration {} s is not finite or below the minimum {} s",
+        Num::apart_from(*requested, *minimum), Num::new(*minimum)
     )]
     InvalidDuration {
         /// The axis index (`0` for a single-axis profile).
@@ -118,13 +139,16 @@ pub enum Error {
         minimum: f64,
     },
     /// A sampling rate is zero, negative, infinite or NaN.
-    #[error("sampling rate {value} Hz is not a positive finite number")]
+    #[error("sampling rate {} Hz is not a positive finite number", Num::new(*value))]
     InvalidRate {
         /// The rate given, in Hz.
         value: f64,
     },
     /// `duration * rate` does not fit `usize`.
-    #[error("sampling {duration} s at {rate} Hz needs more samples than usize can count")]
+    #[error(
+        "sampling {} s at {} Hz needs more samples than usize can count",
+        Num::new(*duration), Num::new(*rate)
+    )]
     TooManySamples {
         /// The motion's duration, in s.
         duration: f64,
@@ -191,5 +215,67 @@ pub(crate) fn out_of_range<T: Real>(axis: usize, distance: T) -> Error {
     Error::OutOfRange {
         axis,
         distance: distance.widen(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use std::string::ToString;
+
+    use super::*;
+
+    #[test]
+    fn numbers_are_short() {
+        let e = Error::InvalidLimit {
+            axis: 1,
+            limit: LimitKind::Velocity,
+            value: 1e308,
+        };
+        assert_eq!(
+            e.to_string(),
+            "axis 1: v_max = 1e308 is not a positive finite number"
+        );
+        let e = Error::DistanceOverflow {
+            axis: 0,
+            start: -1.5e308,
+            goal: 1.7e308,
+        };
+        assert_eq!(
+            e.to_string(),
+            "axis 0: the distance from -1.5e308 to 1.7e308 overflows the float type"
+        );
+        let e = Error::InvalidDuration {
+            axis: 0,
+            requested: 4.499_999_9,
+            minimum: 4.5,
+        };
+        assert_eq!(
+            e.to_string(),
+            "axis 0: the duration 4.4999999 s is not finite or below the minimum 4.5 s"
+        );
+        let e = Error::InvalidRate { value: -0.0 };
+        assert_eq!(
+            e.to_string(),
+            "sampling rate 0 Hz is not a positive finite number"
+        );
+        let e = Error::TooManySamples {
+            duration: 4.5,
+            rate: 1.234_567_8e20,
+        };
+        assert_eq!(
+            e.to_string(),
+            "sampling 4.5 s at 1.23457e20 Hz needs more samples than usize can count"
+        );
+        for (x, want) in [
+            (f64::NAN, "NaN"),
+            (f64::NEG_INFINITY, "-inf"),
+            (0.000_99, "9.9e-4"),
+            (0.001, "0.001"),
+            (999_999.7, "1e6"),
+            (-123.456_78, "-123.457"),
+        ] {
+            assert_eq!(Num::new(x).to_string(), want);
+        }
     }
 }

@@ -1,6 +1,8 @@
-//! Rest-to-rest motion profiles for PARA-SILSROB's axes: trapezoidal (SPEC
-//! section 5) and jerk-limited, synchronised across axes, sampled at a fixed
-//! rate. `#![no_std]`, no allocation, no panics, generic over `f32` and `f64`.
+//! Motion profiles for PARA-SILSROB's axes: rest-to-rest trapezoidal (see
+//! `docs/model.md`, *Trajectories*) and jerk-limited, online (from any moving
+//! state to rest, and the controlled stop), synchronised across axes, sampled
+//! at a fixed rate. `#![no_std]`, no allocation, no panics, generic over `f32`
+//! and `f64`.
 //!
 //! The paper's reorientation: `psi` moves 15 deg and `theta` 25 deg, each
 //! under `omega_max = 10 deg/s` and `epsilon_max = 5 deg/s^2`, phase-synchronised:
@@ -32,15 +34,16 @@
 //! # Conventions
 //! - **Units**: each axis has its own position unit (rad, mm, ...); velocity
 //!   is in units/s, acceleration units/s^2, jerk units/s^3, time in s. The
-//!   project's code speaks rad and mm (SPEC); the crate never converts.
+//!   project's code speaks rad and mm; the crate never converts.
 //! - **Time** runs from the start of the motion: `t <= 0` (and a NaN `t`) is
-//!   the start at rest, `t >= duration` the goal at rest, returned exactly as
+//!   the start at rest (for the online profiles, the start state as given,
+//!   moving or not), `t >= duration` the goal at rest, returned exactly as
 //!   given (not recomputed).
 //! - **Acceleration** is analytic everywhere; at a switch instant it is that of
 //!   the phase that begins (right-continuous), and exactly 0 for `t <= 0` and
-//!   `t >= duration`, as SPEC section 5 says.
-//! - **Limits** are magnitudes applying to each axis separately (SPEC's
-//!   reading); they must be positive and finite.
+//!   `t >= duration` (`docs/model.md`, *Trajectories*).
+//! - **Limits** are magnitudes applying to each axis separately (the project's
+//!   reading, `docs/model.md`, *Trajectories*); they must be positive and finite.
 //! - **Directions**: a motion towards smaller positions is the mirror image;
 //!   a zero distance stays still.
 //! - **Errors**, not panics and not NaN: every constructor returns
@@ -51,6 +54,8 @@
 //! - [`trapezoid`]: [`Trapezoid`] and [`Limits`], the single-axis profile;
 //! - [`double_s`]: [`DoubleS`] and [`JerkLimits`], the jerk-limited profile;
 //! - [`sync`]: [`Multi`] and [`Synchronization`], `N` axes together;
+//! - [`online`]: [`OnlineTrapezoid`] and [`OnlineMulti`], from any current
+//!   state (moving or not) to rest at a target, and the controlled stop;
 //! - [`sampler`]: [`Sampler`], the fixed-rate iterator;
 //! - [`profile`]: the [`Motion`] and [`Profile`] traits and [`State`];
 //! - [`error`]: [`Error`]; [`real`]: the [`Real`] float trait.
@@ -74,6 +79,7 @@
 
 pub mod double_s;
 pub mod error;
+pub mod online;
 pub mod profile;
 pub mod real;
 pub mod sampler;
@@ -82,6 +88,7 @@ pub mod trapezoid;
 
 pub use double_s::{DoubleS, JerkLimits};
 pub use error::{Endpoint, Error, LimitKind};
+pub use online::{OnlineMulti, OnlineTrapezoid};
 pub use profile::{Motion, Profile, State};
 pub use real::Real;
 pub use sampler::{Sample, Sampler};

@@ -37,7 +37,7 @@ impl<T: Real> State<T> {
 /// and synchronised groups ([`Multi`](crate::Multi)).
 ///
 /// Time is in seconds, measured from the start of the motion. For `t <= 0`
-/// (and for a NaN `t`) the state is the start at rest, for `t >= duration()`
+/// (and for a NaN `t`) the state is the start state (at rest for the rest-to-rest profiles), for `t >= duration()`
 /// the goal at rest, both returned exactly as stored.
 pub trait Motion<T: Real> {
     /// What a sample holds: a [`State`] for one axis, `[State<T>; N]` for `N` axes.

@@ -1,4 +1,5 @@
-//! Several axes moving together: SPEC section 5's `phase`, `time` and `none`.
+//! Several axes moving together: `phase`, `time` and `none` synchronisation
+//! (`docs/model.md`, *Trajectories*).
 //!
 //! - [`Synchronization::Phase`] (default): a straight line in joint space.
 //!   All axes share one normalised profile and its phase times; axis `i` is
@@ -7,7 +8,7 @@
 //!   axis at every `t`. The normalised limits are `min_i v_max_i D / d_i` and
 //!   `min_i a_max_i D / d_i` (and `j_max` alike for [`DoubleS`]): the fastest
 //!   straight line that keeps every axis within its own limits. When all axes
-//!   share the same limits (the paper's case), this is exactly SPEC's wording:
+//!   share the same limits (the paper's case), this is exactly the model's wording:
 //!   the axis with the longest minimum time sets the timing and the others are
 //!   scaled copies of its profile. When the axes have different limits, the
 //!   straight line can take longer than every single axis alone (one axis
@@ -28,7 +29,8 @@ use crate::profile::{Motion, Profile, State};
 use crate::real::Real;
 use crate::trapezoid::{Limits, Shape, Trapezoid};
 
-/// How the axes of a [`Multi`] are timed together (SPEC section 5).
+/// How the axes of a [`Multi`] are timed together (`docs/model.md`,
+/// *Trajectories*).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Synchronization {

@@ -1,4 +1,5 @@
-//! The trapezoidal velocity profile of one axis (SPEC section 5), triangular
+//! The trapezoidal velocity profile of one axis (`docs/model.md`,
+//! *Trajectories*), triangular
 //! when the distance is too short to reach the velocity limit.
 //!
 //! With distance `d = |goal - start|` and limits `v_max`, `a_max`:
@@ -92,7 +93,7 @@ impl<T: Real> Shape<T> {
 
     /// The shape over `d > 0` that keeps `a_max`, lowers the cruise velocity
     /// and lasts exactly `duration`, which must be at least the minimum time
-    /// (SPEC section 5, `time` synchronisation).
+    /// (`time` synchronisation, `docs/model.md`, *Trajectories*).
     ///
     /// `d = v (T - v / a)` gives `v = 2 d / (T + sqrt(T^2 - 4 d / a))`, the
     /// root that leaves a non-negative cruise, written without cancellation.

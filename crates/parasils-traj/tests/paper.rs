@@ -1,6 +1,7 @@
-//! The acceptance checks of the issue, with the paper's numbers: `psi` 15 deg,
-//! `theta` 25 deg, `omega_max = 10 deg/s`, `epsilon_max = 5 deg/s^2` (SPEC
-//! sections 5 and 7), in degrees, in radians, in f64 and in f32.
+//! The paper's reorientation profiles: `psi` 15 deg, `theta` 25 deg,
+//! `omega_max = 10 deg/s`, `epsilon_max = 5 deg/s^2` (`docs/model.md`,
+//! *Trajectories* and *Check values*), in degrees, in radians, in f64 and in
+//! f32.
 #![allow(
     clippy::float_cmp,
     reason = "exact ends and exact times are what these tests check"
@@ -140,7 +141,7 @@ fn none_synchronised_axes_keep_their_own_times() -> Result<(), Error> {
 
 #[test]
 fn absolute_reading_takes_5_s() -> Result<(), Error> {
-    // SPEC section 7, `--absolute`: psi -15 -> 15, theta 10 -> 25.
+    // `docs/model.md`, *Check values*, `--absolute`: psi -15 -> 15, theta 10 -> 25.
     let m = Multi::new(
         [-15.0_f64, 10.0],
         [15.0, 25.0],

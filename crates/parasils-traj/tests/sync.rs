@@ -1,4 +1,4 @@
-//! Property tests of multi-axis synchronisation (SPEC section 5): phase stays
+//! Property tests of multi-axis synchronisation (`docs/model.md`, *Trajectories*): phase stays
 //! on the straight line, time gives one duration, none keeps each axis's own
 //! profile; zero-distance and opposite-direction axes included.
 #![allow(
@@ -33,7 +33,7 @@ fn moves() -> impl Strategy<Value = [(f64, f64); N]> {
     [one.clone(), one.clone(), one]
 }
 
-/// Per-axis limits: the same for all axes (SPEC's case) or independent.
+/// Per-axis limits: the same for all axes (the paper's case) or independent.
 fn limits() -> impl Strategy<Value = [(f64, f64, f64); N]> {
     let one = (
         log_uniform(-2.0, 2.0),

@@ -1,15 +1,16 @@
-//! The paper's reorientation on a Cortex-M4F: `parasils-kin` and
-//! `parasils-traj` embedded as a user's motor-control firmware would embed
-//! them, run on QEMU's `mps2-an386` board.
+//! The paper's reorientation on a Cortex-M4F: `parasils` (the kinematics,
+//! the profiles and the bridge between them) embedded as a user's
+//! motor-control firmware would embed it, run on QEMU's `mps2-an386` board.
 //!
-//! Every 1 ms control cycle ([`parasils_control_step`]) samples the
-//! trajectory, solves module 1 (actuators, rates, accelerations, margins) and
+//! Every 1 ms control cycle ([`parasils_control_step`]) takes the next
+//! platform state of the motion ([`Reorientation::paper`], sampled at
+//! 1 kHz), solves module 1 (actuators, rates, accelerations, margins) and
 //! both instrument modules (joints, rates, accelerations, margins), watches
 //! the margins, and recomputes both tips from the joints (forward
 //! kinematics), all in `f32`. The harness around it checks, at each of the
 //! 4501 cycles, that the tips stay within 2e-3 mm of their targets, and every
 //! 250 cycles that the results match the `f64` references that `build.rs`
-//! computed on the host with the same crates; it reports the cost of a cycle
+//! computed on the host with the same library; it reports the cost of a cycle
 //! (instructions, counted by QEMU with `-icount`) and the stack used, and
 //! exits through semihosting with a failure code on any mismatch.
 //!
@@ -32,9 +33,10 @@ use cortex_m::peripheral::SYST;
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
-use parasils_kin::nalgebra::{ComplexField, Vector3};
-use parasils_kin::{ControlStep, Controller, Error, PlatformState, Pose, TipTargets};
-use parasils_traj::{Motion, Multi, Sample, Sampler, State};
+use parasils::Reorientation;
+use parasils::kin::nalgebra::{ComplexField, Vector3};
+use parasils::kin::{ControlStep, Controller, Error, PlatformState, TipTargets};
+use parasils::traj::{Sample, Sampler};
 
 mod out;
 mod scenario;
@@ -75,8 +77,7 @@ pub struct Watch {
 pub struct Runtime {
     controller: Controller<f32>,
     tips: TipTargets<f32>,
-    start: Pose<f32>,
-    samples: Sampler<f32, Multi<f32, 2>>,
+    samples: Sampler<f32, Reorientation<f32>>,
     watch: Watch,
 }
 
@@ -103,8 +104,9 @@ pub struct Cycle {
     pub drift_mm: [f32; 2],
 }
 
-/// One control cycle: the next trajectory sample, the controller, the margin
-/// watch and both tips' forward kinematics. `None` once the motion is over.
+/// One control cycle: the next platform state of the motion, the controller,
+/// the margin watch and both tips' forward kinematics. `None` once the motion
+/// is over.
 #[unsafe(no_mangle)]
 #[inline(never)]
 pub fn parasils_control_step(rt: &mut Runtime) -> Option<Result<Cycle, Fault>> {
@@ -113,27 +115,16 @@ pub fn parasils_control_step(rt: &mut Runtime) -> Option<Result<Cycle, Fault>> {
 }
 
 #[inline(always)]
-fn cycle(rt: &mut Runtime, sample: &Sample<f32, [State<f32>; 2]>) -> Result<Cycle, Fault> {
-    let [psi, theta] = sample.state;
-    let mut pose = rt.start;
-    pose.psi = psi.position;
-    pose.theta = theta.position;
-    let state = PlatformState::reorientation(
-        pose,
-        [psi.velocity, theta.velocity],
-        [psi.acceleration, theta.acceleration],
-    );
+fn cycle(rt: &mut Runtime, sample: &Sample<f32, PlatformState<f32>>) -> Result<Cycle, Fault> {
+    let pose = &sample.state.pose;
     let step = rt
         .controller
-        .step(&state, &rt.tips)
+        .step(&sample.state, &rt.tips)
         .map_err(Fault::Kinematics)?;
     watch(&rt.watch, &step)?;
     let c = &rt.controller;
-    let left = c.left.tip(&pose, &step.left.q).map_err(Fault::Kinematics)?;
-    let right = c
-        .right
-        .tip(&pose, &step.right.q)
-        .map_err(Fault::Kinematics)?;
+    let left = c.left.fk(pose, &step.left.q).map_err(Fault::Kinematics)?;
+    let right = c.right.fk(pose, &step.right.q).map_err(Fault::Kinematics)?;
     Ok(Cycle {
         index: sample.index,
         step,
@@ -171,7 +162,8 @@ fn watch(w: &Watch, step: &ControlStep<f32>) -> Result<(), Fault> {
 // The harness: runs the loop, checks it, measures it, reports.
 // ---------------------------------------------------------------------------
 
-/// The f32 error budget (SPEC section 7 and the issue): tips within 2e-3 mm.
+/// The f32 error budget: tips within 2e-3 mm (see `docs/model.md`, *Check
+/// values*).
 const DRIFT_MAX_MM: f64 = 2e-3;
 
 /// The tolerance of a field against its f64 reference.
@@ -319,11 +311,11 @@ fn run(out: &mut Out) -> bool {
     out.str(" SysTick ticks per 1000 instructions (1600 expected)")
         .nl();
 
-    let Ok((start, motion)) = scenario::paper_reorientation::<f32>() else {
+    let Ok(motion) = Reorientation::<f32>::paper() else {
         out.str("error: the paper's motion is invalid").nl();
         return false;
     };
-    let Ok(samples) = motion.sampler(scenario::RATE_HZ as f32) else {
+    let Ok(samples) = motion.sampler(parasils::paper::RATE_HZ as f32) else {
         out.str("error: invalid rate").nl();
         return false;
     };
@@ -331,7 +323,6 @@ fn run(out: &mut Out) -> bool {
     let mut rt = black_box(Runtime {
         controller: Controller::paper(),
         tips: TipTargets::paper(),
-        start,
         samples,
         watch: Watch {
             parallel: 0.2,
@@ -524,7 +515,7 @@ fn breakdown(out: &mut Out, rt: &Runtime, calibration: u32) {
     let motion = rt.samples.motion();
     let c = &rt.controller;
     // Module 1's margin tracked from cycle to cycle, as `Controller::step` does.
-    let mut tracker = parasils_kin::MarginTracker::new();
+    let mut tracker = parasils::kin::MarginTracker::new();
     let mut parts = [
         Cost::new(),
         Cost::new(),
@@ -535,21 +526,14 @@ fn breakdown(out: &mut Out, rt: &Runtime, calibration: u32) {
     ];
     let [traj, frame_cost, module1, instruments, fk, trig] = &mut parts;
     for k in 0..SAMPLE_COUNT {
-        let t = black_box(k as f32 / scenario::RATE_HZ as f32);
+        let t = black_box(k as f32 / parasils::paper::RATE_HZ as f32);
         let t0 = systick();
-        let [psi, theta] = black_box(motion.sample(t));
+        let state = black_box(motion.state_at(t));
         let t1 = systick();
         traj.add(elapsed(t0, t1));
-        let mut pose = rt.start;
-        pose.psi = psi.position;
-        pose.theta = theta.position;
-        let state = black_box(PlatformState::reorientation(
-            pose,
-            [psi.velocity, theta.velocity],
-            [psi.acceleration, theta.acceleration],
-        ));
+        let pose = &state.pose;
         let t0 = systick();
-        let _ = black_box(ComplexField::sin_cos(black_box(psi.position)));
+        let _ = black_box(ComplexField::sin_cos(black_box(pose.psi)));
         let t1 = systick();
         trig.add(elapsed(t0, t1));
         let t0 = systick();
@@ -564,12 +548,12 @@ fn breakdown(out: &mut Out, rt: &Runtime, calibration: u32) {
         let t0 = systick();
         let left = black_box(c.left.solve(
             black_box(&frame),
-            &parasils_kin::TipMotion::still(rt.tips.left),
+            &parasils::kin::TipMotion::still(rt.tips.left),
             c.modes[0],
         ));
         let right = black_box(c.right.solve(
             black_box(&frame),
-            &parasils_kin::TipMotion::still(rt.tips.right),
+            &parasils::kin::TipMotion::still(rt.tips.right),
             c.modes[1],
         ));
         let t1 = systick();
@@ -578,16 +562,19 @@ fn breakdown(out: &mut Out, rt: &Runtime, calibration: u32) {
             return;
         };
         let t0 = systick();
-        let _ = black_box(c.left.tip(black_box(&pose), &left.q));
-        let _ = black_box(c.right.tip(black_box(&pose), &right.q));
+        let _ = black_box(c.left.fk(black_box(pose), &left.q));
+        let _ = black_box(c.right.fk(black_box(pose), &right.q));
         let t1 = systick();
         fk.add(elapsed(t0, t1));
     }
     out.str("cost.breakdown (mean instructions):");
     for (label, part) in [
-        (" trajectory ", &parts[0]),
+        (" trajectory (platform state) ", &parts[0]),
         (", frame ", &parts[1]),
-        (", module 1 (IK, rates, margins, the parallel one tracked) ", &parts[2]),
+        (
+            ", module 1 (IK, rates, margins, the parallel one tracked) ",
+            &parts[2],
+        ),
         (", both instrument modules ", &parts[3]),
         (", both tips FK ", &parts[4]),
         ("; one f32 sin_cos (libm) ", &parts[5]),

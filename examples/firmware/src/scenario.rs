@@ -1,18 +1,15 @@
-//! The paper's reorientation (SPEC section 7), shared word for word by the
-//! firmware (`f32`, on the MCU) and by `build.rs` (`f64`, on the host, for the
-//! references): one definition of the scenario and of what is compared.
+//! What the firmware (`f32`, on the MCU) and `build.rs` (`f64`, on the host,
+//! for the references) share word for word: how many samples the paper's
+//! reorientation has, which of them are compared, and the values of a control
+//! step that are compared. The motion itself is
+//! [`Reorientation::paper`](parasils::Reorientation::paper), sampled at
+//! [`parasils::paper::RATE_HZ`] (see `docs/model.md`, *Check values*).
 
-use parasils_kin::{ControlStep, Pose};
-use parasils_traj::{Error, Limits, Multi, Synchronization};
+use parasils::Real;
+use parasils::kin::ControlStep;
 
-/// A float both crates compute in: `f32` on the MCU, `f64` on the host.
-pub trait Float: parasils_kin::Real + parasils_traj::Real {}
-impl<T: parasils_kin::Real + parasils_traj::Real> Float for T {}
-
-/// The control rate, Hz.
-pub const RATE_HZ: f64 = 1000.0;
-
-/// The samples of the motion at [`RATE_HZ`]: `t = 0, 1 ms, ..., 4.5 s`.
+/// The samples of the motion at [`parasils::paper::RATE_HZ`] (1 kHz):
+/// `t = 0, 1 ms, ..., 4.5 s`.
 pub const SAMPLE_COUNT: usize = 4501;
 
 /// Every how many samples the firmware compares its `f32` results with the
@@ -92,25 +89,10 @@ pub const FIELD_KINDS: [Kind; FIELD_COUNT] = {
     ]
 };
 
-/// The start pose `P0` and the motion: `psi` +15 deg and `theta` +25 deg
-/// (the increments reading), 10 deg/s and 5 deg/s^2 per axis,
-/// phase-synchronised: 4.5 s.
-pub fn paper_reorientation<T: Float>() -> Result<(Pose<T>, Multi<T, 2>), Error> {
-    let start = Pose::<T>::paper_start();
-    let deg = |x: f64| <T as parasils_kin::Real>::lit(x.to_radians());
-    let motion = Multi::new(
-        [start.psi, start.theta],
-        [start.psi + deg(15.0), start.theta + deg(25.0)],
-        [Limits::new(deg(10.0), deg(5.0)); 2],
-        Synchronization::Phase,
-    )?;
-    Ok((start, motion))
-}
-
 /// The values of one control step that the firmware compares with the
 /// host's, in the order of [`FIELD_NAMES`] (`build.rs` checks that there are
 /// exactly [`FIELD_COUNT`]).
-pub fn values<T: Float>(out: &ControlStep<T>) -> impl Iterator<Item = T> {
+pub fn values<T: Real>(out: &ControlStep<T>) -> impl Iterator<Item = T> {
     let m1 = &out.module1;
     let (l, r) = (&out.left, &out.right);
     m1.q.0
@@ -132,7 +114,7 @@ pub fn values<T: Float>(out: &ControlStep<T>) -> impl Iterator<Item = T> {
 }
 
 /// [`values`] as an array.
-pub fn fields<T: Float>(out: &ControlStep<T>) -> [T; FIELD_COUNT] {
+pub fn fields<T: Real>(out: &ControlStep<T>) -> [T; FIELD_COUNT] {
     let mut v = [T::zero(); FIELD_COUNT];
     for (slot, x) in v.iter_mut().zip(values(out)) {
         *slot = x;

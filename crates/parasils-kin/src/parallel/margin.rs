@@ -1,7 +1,7 @@
 //! The parallel margin from one control cycle to the next.
 //!
 //! The margin is `sigma_min(J)`, the smallest singular value of module 1's
-//! dimensionless 6x6 Jacobian `J` (see the [parent module](super)). From
+//! dimensionless 6x6 Jacobian `J` (see the [module docs](crate::parallel)). From
 //! scratch it takes a full singular value decomposition (one-sided Jacobi:
 //! about 25 rounds of square roots and divisions). Between two cycles of a
 //! control loop the platform barely moves, and neither does the weakest
@@ -38,9 +38,7 @@
 //! the exact value, so a tracker never returns a margin worse than the
 //! certified tolerance, whatever the motion.
 
-use nalgebra::Vector6;
-
-use super::Svd6;
+use crate::linalg::{Mat6, Svd6, Vec6, dot, gram, ldl_shifted, ldl_solve, mul};
 use crate::real::Real;
 
 /// The weakest direction of module 1 from the previous control cycle, so
@@ -48,7 +46,7 @@ use crate::real::Real;
 /// singular value decomposition (see the [module docs](self)).
 ///
 /// A [`Controller`](crate::controller::Controller) holds one; a loop that
-/// calls [`ParallelRobot::solve_tracking`](super::ParallelRobot::solve_tracking)
+/// calls [`ParallelRobot::solve_tracking`](crate::ParallelRobot::solve_tracking)
 /// itself keeps one per module 1. A new tracker knows nothing yet: its first
 /// margin is the full decomposition.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -104,17 +102,18 @@ impl<T: Real> MarginTracker<T> {
     /// The smallest singular value of the matrix whose rows are `rows`
     /// (module 1's scaled Jacobian), from the previous direction when it
     /// certifies, else from the full decomposition.
-    pub(super) fn margin(&mut self, rows: &[Vector6<T>; 6]) -> T {
+    pub(super) fn margin(&mut self, rows: &Mat6<T>) -> T {
         self.margins = self.margins.saturating_add(1);
-        let rows: [[T; 6]; 6] = rows.map(Into::into);
         if let Some(x) = self.weakest
-            && let Some((sigma, y)) = refine(&gram(&rows), &x)
+            && let Some((sigma, y)) = refine(&gram(rows), &x)
         {
             self.weakest = Some(y);
             return sigma;
         }
         self.full = self.full.saturating_add(1);
-        let svd = Svd6::of_columns::<false>(rows.map(Vector6::from));
+        // The singular values of J are those of J^T: the rows serve as the
+        // columns of the one-sided Jacobi, without a transposed copy.
+        let svd = Svd6::of_columns::<false>(*rows);
         let (sigma, x) = svd.smallest_with_direction();
         self.weakest = x;
         sigma
@@ -130,39 +129,10 @@ fn tolerance<T: Real>() -> T {
     }
 }
 
-/// `A = J^T J` (both triangles) of the rows `r_j` of `J`: `sum_j r_j r_j^T`,
-/// the lower triangle summed and mirrored.
-#[allow(clippy::needless_range_loop)]
-fn gram<T: Real>(rows: &[[T; 6]; 6]) -> [[T; 6]; 6] {
-    let mut a = [[T::zero(); 6]; 6];
-    for r in rows {
-        for i in 0..6 {
-            for k in 0..=i {
-                a[i][k] += r[i] * r[k];
-            }
-        }
-    }
-    for i in 0..6 {
-        for k in 0..i {
-            a[k][i] = a[i][k];
-        }
-    }
-    a
-}
-
-/// `A v`.
-fn mul<T: Real>(a: &[[T; 6]; 6], v: &[T; 6]) -> [T; 6] {
-    a.map(|row| dot(&row, v))
-}
-
-fn dot<T: Real>(u: &[T; 6], v: &[T; 6]) -> T {
-    u.iter().zip(v).fold(T::zero(), |s, (&a, &b)| s + a * b)
-}
-
 /// Steps 1 to 4 of the [module docs](self): the certified margin and the new
 /// weakest direction (unit), or `None` when the previous direction `x` does
 /// not certify.
-fn refine<T: Real>(a: &[[T; 6]; 6], x: &[T; 6]) -> Option<(T, [T; 6])> {
+fn refine<T: Real>(a: &Mat6<T>, x: &Vec6<T>) -> Option<(T, Vec6<T>)> {
     let delta = tolerance::<T>();
     let mut trace = T::zero();
     for (k, row) in a.iter().enumerate() {
@@ -185,7 +155,7 @@ fn refine<T: Real>(a: &[[T; 6]; 6], x: &[T; 6]) -> Option<(T, [T; 6])> {
     }
     // Two steps: near a crossing of the two smallest singular values the
     // weakest direction turns quickly, and one step leaves it lagging.
-    let y = solve(&l, &d_inv, &solve(&l, &d_inv, x));
+    let y = ldl_solve(&l, &d_inv, &ldl_solve(&l, &d_inv, x));
     let yy = dot(&y, &y);
     let rho1 = dot(&y, &mul(a, &y)) / yy;
     // rho1 is a Rayleigh quotient: at least lambda > mu, at most rho0 up to
@@ -195,58 +165,6 @@ fn refine<T: Real>(a: &[[T; 6]; 6], x: &[T; 6]) -> Option<(T, [T; 6])> {
     }
     let inv = T::one() / yy.sqrt();
     Some((rho1.sqrt(), y.map(|v| v * inv)))
-}
-
-/// `A - mu I = L D L^T` (`L` unit lower triangular, `D` diagonal) into `l`
-/// (below the diagonal) and `d_inv` (`D^-1`); `false` as soon as a pivot is
-/// not positive (then `A - mu I` is not positive definite: some eigenvalue of
-/// `A` is at most `mu`, up to rounding).
-#[allow(clippy::needless_range_loop)]
-fn ldl_shifted<T: Real>(a: &[[T; 6]; 6], mu: T, l: &mut [[T; 6]; 6], d_inv: &mut [T; 6]) -> bool {
-    let mut d = [T::zero(); 6];
-    for j in 0..6 {
-        // w_k = L_jk D_k for k < j, reused by every row below.
-        let mut w = [T::zero(); 6];
-        let mut dj = a[j][j] - mu;
-        for k in 0..j {
-            w[k] = l[j][k] * d[k];
-            dj -= w[k] * l[j][k];
-        }
-        if !(dj > T::zero()) {
-            return false;
-        }
-        d[j] = dj;
-        let inv = T::one() / dj;
-        d_inv[j] = inv;
-        for i in j + 1..6 {
-            let mut s = a[i][j];
-            for k in 0..j {
-                s -= l[i][k] * w[k];
-            }
-            l[i][j] = s * inv;
-        }
-    }
-    true
-}
-
-/// `(L D L^T)^-1 b`, from `L` and `D^-1`.
-#[allow(clippy::needless_range_loop)]
-fn solve<T: Real>(l: &[[T; 6]; 6], d_inv: &[T; 6], b: &[T; 6]) -> [T; 6] {
-    let mut z = *b;
-    for i in 0..6 {
-        for k in 0..i {
-            z[i] -= l[i][k] * z[k];
-        }
-    }
-    for i in 0..6 {
-        z[i] *= d_inv[i];
-    }
-    for i in (0..6).rev() {
-        for k in i + 1..6 {
-            z[i] -= l[k][i] * z[k];
-        }
-    }
-    z
 }
 
 #[cfg(test)]
@@ -266,55 +184,6 @@ mod tests {
     fn rows(seed: u64) -> [[f64; 6]; 6] {
         let mut x = seed;
         core::array::from_fn(|_| core::array::from_fn(|_| next(&mut x)))
-    }
-
-    fn eigenvalues(a: &[[f64; 6]; 6]) -> [f64; 6] {
-        let m = Matrix6::from_fn(|i, k| a[i][k]);
-        let mut e: [f64; 6] = SymmetricEigen::new(m).eigenvalues.into();
-        e.sort_by(f64::total_cmp);
-        e
-    }
-
-    #[test]
-    fn gram_is_j_transpose_j() {
-        for seed in 0..50 {
-            let r = rows(seed);
-            let j = Matrix6::from_fn(|i, k| r[i][k]);
-            let a = gram(&r);
-            let want = j.transpose() * j;
-            for i in 0..6 {
-                for k in 0..6 {
-                    assert!((a[i][k] - want[(i, k)]).abs() < 1e-14);
-                }
-            }
-        }
-    }
-
-    /// The factorisation says "positive definite" exactly when the shift is
-    /// below the smallest eigenvalue (away from it by more than rounding),
-    /// and then solves the shifted system.
-    #[test]
-    fn shifted_factorisation_tests_the_smallest_eigenvalue() {
-        let mut s = 7u64;
-        for seed in 0..500 {
-            let a = gram(&rows(seed));
-            let lambda = eigenvalues(&a)[0];
-            for f in [0.0, 0.5, 0.99, 0.999_999, 1.000_001, 1.01, 2.0] {
-                let mu = lambda * f;
-                let (mut l, mut d_inv) = ([[0.0; 6]; 6], [0.0; 6]);
-                let positive = ldl_shifted(&a, mu, &mut l, &mut d_inv);
-                assert_eq!(positive, f < 1.0, "seed {seed}, mu = {f} lambda");
-                if positive {
-                    let b: [f64; 6] = core::array::from_fn(|_| next(&mut s));
-                    let y = solve(&l, &d_inv, &b);
-                    let ay = mul(&a, &y);
-                    for k in 0..6 {
-                        let r = ay[k] - mu * y[k] - b[k];
-                        assert!(r.abs() < 1e-9 * (1.0 + y[k].abs()), "seed {seed}");
-                    }
-                }
-            }
-        }
     }
 
     /// From a direction near the weakest one, the refined margin is the

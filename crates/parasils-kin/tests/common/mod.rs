@@ -2,8 +2,8 @@
 
 use parasils_kin::{PlatformState, Pose, Real};
 
-/// The smooth stand-in for the paper's reorientation (SPEC section 7,
-/// increments reading): `psi: -15 -> 0 deg`, `theta: 10 -> 35 deg` over 4.5 s
+/// The smooth stand-in for the paper's reorientation (`docs/model.md`,
+/// *Check values*, the increments reading): `psi: -15 -> 0 deg`, `theta: 10 -> 35 deg` over 4.5 s
 /// with a quintic smoothstep, `P` and `phi` still; rates analytic.
 pub fn reorientation<T: Real>(t: f64) -> PlatformState<T> {
     let duration = 4.5;

@@ -8,9 +8,10 @@ CLI's units, which its argument names and column names carry).
 - :class:`Robot`: the robot's geometry and its solvers (instrument modules'
   IK, FK and rates; module 1's IK, FK and rates), each on one sample or a
   batch of rows, looped in Rust without the GIL.
-- :func:`simulate`: the CLI's ``parasils simulate``, returning its CSV table
-  as a dict of NumPy columns (``pandas.DataFrame(parasils.simulate())``), and
-  writing CSV or MCAP with ``out=``.
+- :func:`simulate`: the simulation library's run, as ``parasils simulate``
+  does it, returning its CSV table as a dict of NumPy columns
+  (``pandas.DataFrame(parasils.simulate())``), and writing CSV or MCAP with
+  ``out=``.
 - :data:`COLUMNS`: the names of those columns, each with its unit.
 - :func:`batch_threads`: the number of threads a large batch runs on
   (``PARASILS_NUM_THREADS``, else the CPUs available).
@@ -26,6 +27,9 @@ CLI's units, which its argument names and column names carry).
 [  3.0889 -38.8695] 147.7687
 """
 
+import warnings as _warnings
+
+from . import _parasils
 from ._parasils import (
     COLUMNS,
     ActuatorLimitError,
@@ -46,8 +50,102 @@ from ._parasils import (
     TrajectoryError,
     __version__,
     batch_threads,
-    simulate,
 )
+
+#: The paper's scenario in the units of ``simulate``'s arguments, from the
+#: Rust library (where it is stated once): the defaults of ``simulate``.
+_PAPER = _parasils.PAPER
+
+
+def simulate(
+    *,
+    psi_deg=_PAPER["psi_deg"],
+    theta_deg=_PAPER["theta_deg"],
+    absolute=False,
+    omega_max_deg_s=_PAPER["omega_max_deg_s"],
+    eps_max_deg_s2=_PAPER["eps_max_deg_s2"],
+    sync="phase",
+    rate_hz=_PAPER["rate_hz"],
+    pose_mm_deg=None,
+    tip_left_mm=None,
+    tip_right_mm=None,
+    robot=None,
+    out=None,
+    format=None,
+    pose=None,
+):
+    """Simulates an endoscope reorientation (motion type 4) with the
+    simulation library, as ``parasils simulate`` does: the platform turns
+    about the endoscope's RCM from ``pose_mm_deg`` by (psi_deg, theta_deg)
+    along a synchronised trapezoidal profile, and both instrument modules
+    keep their tips still. The defaults are the paper's scenario (see
+    docs/model.md, "Check values"): 4501 samples over 4.5 s.
+
+    Keyword arguments (the CLI's options, names with their units):
+
+    - psi_deg, theta_deg: the increments of psi and theta from the start
+      pose, deg (the final angles with absolute=True); default 15, 25.
+    - absolute: take psi_deg and theta_deg as final angles (--absolute).
+    - omega_max_deg_s: each Euler angle's velocity limit, deg/s; default 10.
+    - eps_max_deg_s2: each Euler angle's acceleration limit, deg/s^2;
+      default 5.
+    - sync: "phase" (default), "time" or "none": how psi and theta are timed.
+    - rate_hz: samples per second, Hz; default 1000.
+    - pose_mm_deg: the start pose (x, y, z mm, psi, theta, phi deg, like the
+      CLI's --pose and the CSV columns); default the paper's P0 =
+      (15, 20, -500, -15, 10, -60).
+    - tip_left_mm: the left tip held still, (x, y, z) mm, fixed frame;
+      default (50, -50, -620).
+    - tip_right_mm: the right tip, (x, y, z) mm; default the mirror image of
+      the left tip across the platform's Y'Z' plane at the start pose.
+    - robot: a robot file's path (TOML, as --robot) or a parasils.Robot;
+      default the paper's robot (module 1 assumed).
+    - out: also write every sample to this file exactly as
+      ``parasils simulate -o out`` does: CSV or MCAP from the extension
+      (.csv, .mcap), through a temporary file renamed on success.
+    - format: "csv" or "mcap", overriding the extension (--format).
+    - pose: deprecated name of pose_mm_deg (a DeprecationWarning; removed in
+      the next release).
+
+    Returns a dict of 1-D float64 arrays keyed by the CSV's column names, in
+    the CSV's order and units (t_s, x_mm, ..., psi_deg, ..., q1_mm, ...,
+    left_qs1_deg, ..., right_tip_err_mm; rates are ``_rate_``, accelerations
+    ``_acc_``): the CLI's CSV to the last bit. The Euler angle columns start
+    on the start pose's own degrees. ``pandas.DataFrame(parasils.simulate())``
+    makes it a table.
+
+    Raises a KinematicsError subclass when a sample fails (with .row, the
+    sample's index, and .t, its time in s), TrajectoryError for limits or a
+    rate that cannot be planned, RobotFileError or OSError for the robot
+    file, OSError when ``out`` cannot be written, ValueError for a bad
+    argument. The simulation runs without the GIL.
+    """
+    if pose is not None:
+        if pose_mm_deg is not None:
+            raise TypeError("simulate() got both pose_mm_deg and its deprecated name pose")
+        _warnings.warn(
+            "simulate(pose=...) is deprecated: use pose_mm_deg=... (the same values: "
+            "x, y, z in mm, psi, theta, phi in deg); pose will be removed in the next release",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        pose_mm_deg = pose
+    return _parasils.simulate(
+        psi_deg=psi_deg,
+        theta_deg=theta_deg,
+        absolute=absolute,
+        omega_max_deg_s=omega_max_deg_s,
+        eps_max_deg_s2=eps_max_deg_s2,
+        sync=sync,
+        rate_hz=rate_hz,
+        pose_mm_deg=pose_mm_deg,
+        tip_left_mm=tip_left_mm,
+        tip_right_mm=tip_right_mm,
+        robot=robot,
+        out=out,
+        format=format,
+    )
+
 
 __all__ = [
     "COLUMNS",

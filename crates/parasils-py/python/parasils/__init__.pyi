@@ -5,7 +5,7 @@ carry their units (deg, deg/s, Hz, mm).
 """
 
 import os
-from typing import Dict, Literal, Optional, Sequence, Tuple, Union, overload
+from typing import Any, Dict, Literal, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -103,23 +103,23 @@ class Robot:
         errors: Literal["nan"],
     ) -> Tuple[_F64, _F64, _F64, Union[_Mask, bool]]: ...
     @overload
-    def platform_ik(self, pose: _Array, *, errors: Literal["raise"] = "raise") -> _F64:
+    def module1_ik(self, pose: _Array, *, errors: Literal["raise"] = "raise") -> _F64:
         """Module 1 IK: pose (mm, rad) -> actuators q1..q6 (mm)."""
     @overload
-    def platform_ik(
+    def module1_ik(
         self, pose: _Array, *, errors: Literal["nan"]
     ) -> Tuple[_F64, Union[_Mask, bool]]: ...
     @overload
-    def platform_fk(
+    def module1_fk(
         self, q: _Array, guess: _Array, *, errors: Literal["raise"] = "raise"
     ) -> _F64:
         """Module 1 FK (Newton from guess): actuators (mm) -> pose (mm, rad)."""
     @overload
-    def platform_fk(
+    def module1_fk(
         self, q: _Array, guess: _Array, *, errors: Literal["nan"]
     ) -> Tuple[_F64, Union[_Mask, bool]]: ...
     @overload
-    def platform_rates(
+    def module1_rates(
         self,
         pose: _Array,
         pose_rate: _Array,
@@ -129,7 +129,7 @@ class Robot:
     ) -> Tuple[_F64, _F64, _F64]:
         """Module 1 actuators, rates, accelerations (mm, mm/s, mm/s^2)."""
     @overload
-    def platform_rates(
+    def module1_rates(
         self,
         pose: _Array,
         pose_rate: _Array,
@@ -137,25 +137,43 @@ class Robot:
         *,
         errors: Literal["nan"],
     ) -> Tuple[_F64, _F64, _F64, Union[_Mask, bool]]: ...
+    def platform_ik(self, pose: _Array, *, errors: Literal["raise", "nan"] = "raise") -> Any:
+        """Deprecated alias of module1_ik (a DeprecationWarning)."""
+    def platform_fk(
+        self, q: _Array, guess: _Array, *, errors: Literal["raise", "nan"] = "raise"
+    ) -> Any:
+        """Deprecated alias of module1_fk (a DeprecationWarning)."""
+    def platform_rates(
+        self,
+        pose: _Array,
+        pose_rate: _Array,
+        pose_acc: _Array,
+        *,
+        errors: Literal["raise", "nan"] = "raise",
+    ) -> Any:
+        """Deprecated alias of module1_rates (a DeprecationWarning)."""
 
 def simulate(
     *,
-    psi_deg: float = 15.0,
-    theta_deg: float = 25.0,
+    psi_deg: float = ...,
+    theta_deg: float = ...,
     absolute: bool = False,
-    omega_max_deg_s: float = 10.0,
-    eps_max_deg_s2: float = 5.0,
+    omega_max_deg_s: float = ...,
+    eps_max_deg_s2: float = ...,
     sync: Literal["phase", "time", "none"] = "phase",
-    rate_hz: float = 1000.0,
-    pose: Optional[Sequence[float]] = None,
+    rate_hz: float = ...,
+    pose_mm_deg: Optional[Sequence[float]] = None,
     tip_left_mm: Optional[Sequence[float]] = None,
     tip_right_mm: Optional[Sequence[float]] = None,
     robot: Union[_Path, Robot, None] = None,
     out: Optional[_Path] = None,
     format: Optional[Literal["csv", "mcap"]] = None,
+    pose: Optional[Sequence[float]] = None,
 ) -> Dict[str, _F64]:
-    """The CLI's ``parasils simulate``: the CSV table as NumPy columns keyed by
-    COLUMNS. ``pose`` is (x, y, z mm, psi, theta, phi deg) like the CLI's."""
+    """``parasils simulate`` from the simulation library: the CSV table as
+    NumPy columns keyed by COLUMNS. ``pose_mm_deg`` is (x, y, z mm, psi,
+    theta, phi deg) like the CLI's ``--pose``; ``pose`` is its deprecated
+    name (a DeprecationWarning). The defaults are the paper's scenario."""
 
 def batch_threads() -> int:
     """The number of threads a batch of 4096 rows or more runs on:

@@ -1,0 +1,264 @@
+//! The command line's arguments (clap): the commands, and the flags they
+//! share, defined once.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Result;
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use parasils::paper;
+use parasils_sim::robot_file;
+use parasils_sim::{Format, Scenario};
+
+/// Kinematics and motion of PARA-SILSROB, the parallel robot for
+/// single-incision laparoscopic surgery.
+#[derive(Debug, Parser)]
+#[command(name = "parasils", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Simulate an endoscope reorientation (motion type 4): the platform turns
+    /// about the endoscope's RCM and both instruments keep their tips still.
+    /// Defaults reproduce the paper's section 4.
+    Simulate(SimulateArgs),
+    /// Inverse kinematics at one platform pose: module 1's actuators and both
+    /// instrument modules' joints (both assembly modes).
+    Ik(IkArgs),
+    /// Forward kinematics: module 1's pose from its actuators, and the
+    /// instrument tips from their joints at that pose.
+    Fk(FkArgs),
+    /// Print the default robot geometry as TOML, to copy and edit.
+    Robot,
+}
+
+/// `--robot`, shared by `simulate`, `ik` and `fk`.
+#[derive(Debug, Args)]
+pub struct RobotArg {
+    /// Robot geometry (module 1 and both instrument modules) as TOML; see
+    /// `parasils robot`. Default: the paper's robot, module 1 assumed.
+    #[arg(long, value_name = "FILE.toml")]
+    pub robot: Option<PathBuf>,
+}
+
+impl RobotArg {
+    /// The robot file's geometry, or the paper's.
+    pub fn geometry(&self) -> Result<parasils::kin::RobotGeometry<f64>> {
+        Ok(match &self.robot {
+            Some(path) => robot_file::load(path)?,
+            None => parasils::kin::RobotGeometry::paper(),
+        })
+    }
+}
+
+/// `--pose`, `--tip-left`, `--tip-right`: where the platform is and where
+/// the tips are, shared by `simulate` (the start) and `ik`.
+#[derive(Debug, Args)]
+pub struct PlaceArgs {
+    /// Platform pose X,Y,Z,PSI,THETA,PHI (mm, deg); for `simulate`, the
+    /// start. Default: the paper's P0 = 15,20,-500,-15,10,-60.
+    #[arg(long, value_name = "X,Y,Z,PSI,THETA,PHI", value_parser = parse_floats::<6>, allow_hyphen_values = true)]
+    pub pose: Option<[f64; 6]>,
+    /// Left tip X,Y,Z (mm, fixed frame), held still. Default: 50,-50,-620.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_floats::<3>, allow_hyphen_values = true)]
+    pub tip_left: Option<[f64; 3]>,
+    /// Right tip X,Y,Z (mm, fixed frame), held still. Default: the mirror
+    /// image of the left tip across the platform's Y'Z' plane at the pose.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_floats::<3>, allow_hyphen_values = true)]
+    pub tip_right: Option<[f64; 3]>,
+}
+
+/// How the two Euler angles are timed together.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum SyncArg {
+    /// A straight line in (psi, theta): the slower axis sets the timing.
+    Phase,
+    /// The same duration for both; the faster axis lowers its peak velocity.
+    Time,
+    /// Each axis on its own minimum-time profile.
+    None,
+}
+
+impl From<SyncArg> for parasils::traj::Synchronization {
+    fn from(s: SyncArg) -> Self {
+        match s {
+            SyncArg::Phase => Self::Phase,
+            SyncArg::Time => Self::Time,
+            SyncArg::None => Self::None,
+        }
+    }
+}
+
+/// Output formats of `simulate`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum FormatArg {
+    /// One row per sample, every column named with its unit.
+    Csv,
+    /// MCAP for Foxglove: one channel per group, /tf and /scene.
+    Mcap,
+}
+
+impl From<FormatArg> for Format {
+    fn from(f: FormatArg) -> Self {
+        match f {
+            FormatArg::Csv => Format::Csv,
+            FormatArg::Mcap => Format::Mcap,
+        }
+    }
+}
+
+/// Arguments of `parasils simulate`.
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// psi: increment from the start pose (final value with --absolute), deg.
+    #[arg(long, default_value_t = paper::PSI_DEG, allow_hyphen_values = true)]
+    pub psi: f64,
+    /// theta: increment from the start pose (final value with --absolute), deg.
+    #[arg(long, default_value_t = paper::THETA_DEG, allow_hyphen_values = true)]
+    pub theta: f64,
+    /// Take --psi and --theta as final angles instead of increments.
+    #[arg(long)]
+    pub absolute: bool,
+    /// Velocity limit of each Euler angle, deg/s.
+    #[arg(long, value_name = "DEG_PER_S", default_value_t = paper::OMEGA_MAX_DEG_S, allow_hyphen_values = true)]
+    pub omega_max: f64,
+    /// Acceleration limit of each Euler angle, deg/s^2.
+    #[arg(long, value_name = "DEG_PER_S2", default_value_t = paper::EPS_MAX_DEG_S2, allow_hyphen_values = true)]
+    pub eps_max: f64,
+    /// Synchronisation of psi and theta.
+    #[arg(long, value_enum, default_value_t = SyncArg::Phase)]
+    pub sync: SyncArg,
+    /// Samples per second, Hz.
+    #[arg(long, value_name = "HZ", default_value_t = paper::RATE_HZ, allow_hyphen_values = true)]
+    pub rate: f64,
+    /// The start pose and the tips.
+    #[command(flatten)]
+    pub place: PlaceArgs,
+    /// The robot.
+    #[command(flatten)]
+    pub robot: RobotArg,
+    /// Write every sample to FILE (format from the extension: .csv, .mcap), or
+    /// CSV to standard output with `-o -`. Without it, print a summary.
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: Option<PathBuf>,
+    /// The output format, overriding the extension.
+    #[arg(long, value_enum)]
+    pub format: Option<FormatArg>,
+    /// Plot the paper's three figures to FILE.svg or FILE.png.
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
+}
+
+impl SimulateArgs {
+    /// The scenario these arguments describe (loading the robot file if any).
+    pub fn scenario(&self) -> Result<Scenario> {
+        let paper = Scenario::paper();
+        Ok(Scenario {
+            start_mm_deg: self.place.pose.unwrap_or(paper.start_mm_deg),
+            psi_deg: self.psi,
+            theta_deg: self.theta,
+            absolute: self.absolute,
+            omega_max_deg_s: self.omega_max,
+            eps_max_deg_s2: self.eps_max,
+            sync: self.sync.into(),
+            rate_hz: self.rate,
+            tip_left_mm: self.place.tip_left.unwrap_or(paper.tip_left_mm),
+            tip_right_mm: self.place.tip_right,
+            robot: self.robot.geometry()?,
+        })
+    }
+
+    /// The output format for `path`: `--format` if given, else from the
+    /// extension (`.csv`, `.mcap`, any case).
+    pub fn format(&self, path: &Path) -> Result<Format> {
+        match self.format {
+            Some(f) => Ok(f.into()),
+            None => Ok(Format::from_path(path)?),
+        }
+    }
+}
+
+/// Arguments of `parasils ik`.
+#[derive(Debug, Args)]
+pub struct IkArgs {
+    /// The pose and the tips.
+    #[command(flatten)]
+    pub place: PlaceArgs,
+    /// The robot.
+    #[command(flatten)]
+    pub robot: RobotArg,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Arguments of `parasils fk`.
+#[derive(Debug, Args)]
+pub struct FkArgs {
+    /// Module 1's actuators Q1,...,Q6, mm.
+    #[arg(long, value_name = "Q1,Q2,Q3,Q4,Q5,Q6", value_parser = parse_floats::<6>, allow_hyphen_values = true)]
+    pub q: [f64; 6],
+    /// Starting guess X,Y,Z,PSI,THETA,PHI (mm, deg); it picks the assembly
+    /// mode. Default: the paper's P0.
+    #[arg(long, value_name = "X,Y,Z,PSI,THETA,PHI", value_parser = parse_floats::<6>, allow_hyphen_values = true)]
+    pub guess: Option<[f64; 6]>,
+    /// Left module joints QS1,QS2,QS3 (deg, deg, mm): print its tip.
+    #[arg(long, value_name = "QS1,QS2,QS3", value_parser = parse_floats::<3>, allow_hyphen_values = true)]
+    pub qs_left: Option<[f64; 3]>,
+    /// Right module joints QS1,QS2,QS3 (deg, deg, mm): print its tip.
+    #[arg(long, value_name = "QS1,QS2,QS3", value_parser = parse_floats::<3>, allow_hyphen_values = true)]
+    pub qs_right: Option<[f64; 3]>,
+    /// The robot.
+    #[command(flatten)]
+    pub robot: RobotArg,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Parses `N` comma-separated finite floats.
+pub fn parse_floats<const N: usize>(s: &str) -> Result<[f64; N], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != N {
+        return Err(format!(
+            "expected {N} comma-separated numbers, got {}",
+            parts.len()
+        ));
+    }
+    let mut out = [0.0; N];
+    for (o, p) in out.iter_mut().zip(&parts) {
+        *o = p
+            .parse::<f64>()
+            .map_err(|e| format!("`{p}` is not a number: {e}"))?;
+        if !o.is_finite() {
+            return Err(format!("`{p}` is not a finite number"));
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_defaults_are_the_paper_s_scenario() {
+        let cli = Cli::try_parse_from(["parasils", "simulate"]).expect("parses");
+        let Command::Simulate(args) = cli.command else {
+            panic!("simulate expected");
+        };
+        assert_eq!(args.scenario().expect("paper"), Scenario::paper());
+    }
+
+    #[test]
+    fn floats_are_counted_and_finite() {
+        assert_eq!(parse_floats::<3>("1, -2.5,3e2"), Ok([1.0, -2.5, 300.0]));
+        assert!(parse_floats::<3>("1,2").is_err());
+        assert!(parse_floats::<2>("1,nan").is_err());
+        assert!(parse_floats::<1>("x").is_err());
+    }
+}

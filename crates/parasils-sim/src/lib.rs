@@ -1,0 +1,79 @@
+//! The PARA-SILSROB simulation library: what `parasils simulate` and the
+//! Python bindings' `parasils.simulate` both run, so that they give the same
+//! numbers to the last bit.
+//!
+//! Data flows one way: a [`Scenario`] (the inputs in user units, the paper's
+//! by default) is validated and planned into a [`Simulation`], whose
+//! [`Simulation::run`] steps the controller through the
+//! [`Reorientation`](parasils::Reorientation) sampled at a fixed rate and
+//! hands each [`Record`] to a [`Sink`]: the [`csv`] and [`mcap`] writers
+//! (into an atomic [`OutputFile`]), the [`summary`], the `plot` (feature
+//! `plot`), or several at once through a [`Tee`]. Nothing holds the whole
+//! run in memory. Every writer reads the records through one table of
+//! [`columns`] (name, unit, MCAP channel, value).
+//!
+//! The paper's run, written as CSV in memory:
+//!
+//! ```
+//! use parasils_sim::csv::CsvSink;
+//! use parasils_sim::{Scenario, Simulation};
+//!
+//! let sim = Simulation::new(Scenario::paper())?;
+//! assert_eq!(sim.sample_count(), 4501);
+//! let mut csv = CsvSink::new(Vec::new())?;
+//! sim.run(&mut csv)?;
+//! let text = String::from_utf8(csv.finish()?)?;
+//! let mut lines = text.lines();
+//! assert!(lines.next().is_some_and(|h| h.starts_with("t_s,x_mm,y_mm,z_mm,psi_deg,")));
+//! // The first row starts at the user's own degrees: -15, 10, -60.
+//! assert!(lines.next().is_some_and(|r| r.starts_with("0.0,15.0,20.0,-500.0,-15.0,10.0,-60.0,")));
+//! assert_eq!(lines.count(), 4500);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! # Modules
+//! | module | concept |
+//! |---|---|
+//! | [`scenario`] | the inputs in user units (mm, deg, deg/s, deg/s^2, Hz), the defaults stated once |
+//! | [`engine`] | [`Simulation`]: validation, planning, the one run loop |
+//! | [`record`] | [`Record`]: one instant, typed, in library units |
+//! | [`columns`] | the one table of output columns |
+//! | [`sink`] | [`Sink`] and [`Tee`] |
+//! | [`csv`], [`mcap`], [`summary`], `plot` | the sinks |
+//! | [`output`] | [`OutputFile`]: CSV or MCAP written atomically |
+//! | [`robot_file`] | the robot's geometry as TOML |
+//! | [`numbers`] | numbers in messages, readable whatever their size |
+//!
+//! Imports go one way: `numbers`, `record` < `columns`, `scenario`, `sink` <
+//! `engine` < the sinks < `output`; `robot_file` stands alone.
+//!
+//! The robot's geometry (module 1 and both instrument modules, with their
+//! limits) is read from and written to TOML by [`robot_file`]. Module 1's
+//! default geometry is **assumed** (its real dimensions are not published:
+//! see `docs/model.md`, *Module 1, the parallel robot*); `robots/default.toml`
+//! holds it, with `assumed = true`, for users to copy and edit.
+//!
+//! # Features
+//! - `plot`: the paper's figures as SVG or PNG (`plot::PlotSink`), with
+//!   plotters and an embedded font. Off by default: the `parasils` command
+//!   turns it on, the Python bindings leave it off.
+
+pub mod columns;
+pub mod csv;
+pub mod engine;
+pub mod mcap;
+pub mod numbers;
+pub mod output;
+#[cfg(feature = "plot")]
+pub mod plot;
+pub mod record;
+pub mod robot_file;
+pub mod scenario;
+pub mod sink;
+pub mod summary;
+
+pub use engine::{RunError, Simulation, SimulationError};
+pub use output::{Format, OutputError, OutputFile};
+pub use record::{InstrumentRecord, Module1Record, Record};
+pub use scenario::Scenario;
+pub use sink::{BoxError, Sink, Tee};

@@ -1,0 +1,467 @@
+//! The MCAP writer: a simulation as a Foxglove recording.
+//!
+//! [`McapSink`] streams records into an [MCAP](https://mcap.dev) file with
+//! zstd-compressed chunks and a summary (statistics, chunk indexes, message
+//! indexes), so that readers can seek. Every message is JSON (message
+//! encoding `json`) with a JSON Schema per channel (schema encoding
+//! `jsonschema`). Log time and publish time are the simulation time, ns.
+//!
+//! # Channels
+//! One message per record on each of the six data channels ([`Channel`]),
+//! every field a number named with its unit, `t_s` first in each, then the
+//! channel's columns in the order of the [column table](crate::columns::ALL),
+//! so that Foxglove's plot panel draws the paper's figures 5-7 directly:
+//!
+//! | topic | fields (besides `t_s`) |
+//! |---|---|
+//! | `/platform` | `x_mm y_mm z_mm psi_deg theta_deg phi_deg psi_rate_deg_s theta_rate_deg_s psi_acc_deg_s2 theta_acc_deg_s2` |
+//! | `/module1` | `q1_mm..q6_mm`, `q1_rate_mm_s..q6_rate_mm_s`, `q1_acc_mm_s2..q6_acc_mm_s2` |
+//! | `/left` | `left_qs1_deg left_qs2_deg left_qs3_mm`, their `_rate_` and `_acc_` |
+//! | `/right` | the same for `right_` |
+//! | `/tips` | `left_tip_err_mm right_tip_err_mm left_tip_x_mm left_tip_y_mm left_tip_z_mm right_tip_x_mm right_tip_y_mm right_tip_z_mm` |
+//! | `/margins` | `module1_serial_margin module1_parallel_margin left_cos_qs2 right_cos_qs2` |
+//!
+//! Every CSV column is on exactly one of them; the tips are the positions
+//! recomputed from the joints by forward kinematics (fixed frame, MCAP only)
+//! and their distances to the targets.
+//!
+//! For the 3D view, in metres as Foxglove expects:
+//! - `/tf`, `foxglove.FrameTransforms`: `world -> platform` (`P` and `R`),
+//!   `platform -> left_rcm`, `platform -> right_rcm` (the ports), and
+//!   `left_rcm -> left_tool`, `right_rcm -> right_tool` (the last frame of
+//!   each spherical module: the tool points along its `-z`, the tip at
+//!   `z = -qs3`);
+//! - `/scene`, `foxglove.SceneUpdate`, in the `world` frame: module 1's six
+//!   guides (over their strokes), sliders and legs (slider `B_j` to node
+//!   `A_i`), the platform triangle and its spokes to `P`, the endoscope along
+//!   `-z'` from `P` (a nominal length: its insertion is not simulated), both
+//!   instrument shafts (RCM to tip) and the target tips.
+//!
+//! `/tf` and `/scene` are published at a lower rate than the data channels:
+//! at the first record, then at the first record of each
+//! [`McapOptions::scene_period_s`] of simulation time (20 ms by default, the
+//! 50 Hz of a screen), and at the last record. At 1 kHz, drawing every record
+//! would double the file for frames no display shows; the exact numbers are
+//! on the data channels. A period of 0 publishes every record.
+//!
+//! # Metadata
+//! A metadata record `parasils.scenario`, written first: the [`Scenario`] in
+//! library units ([`Scenario::library_units`]: mm, rad, s) as JSON, the
+//! [`SceneGeometry`] as JSON (mm), the resolved tips, whether module 1's
+//! geometry is assumed, the channels' units. A record `parasils.run`, written
+//! by [`McapSink::finish`]: the number of records and the first and last
+//! times.
+//!
+//! # Memory and threads
+//! The writer holds one chunk (about [`McapOptions::chunk_size`] bytes) and
+//! the small indexes of the file's chunks: memory stays flat however long the
+//! run. JSON is written directly as text (shortest round-trip floats) into
+//! buffers reused from record to record.
+//!
+//! Three threads share the work. The caller's formats the JSON into batches
+//! of messages of about 64 KiB; a writer thread, which owns the `mcap`
+//! writer, turns them into records and feeds the compressor; zstd's
+//! multithreaded encoder compresses a job once it has about 2 MiB of input,
+//! so with 4 MiB chunks (the default) a chunk's first half is compressed
+//! while its second half is written. The file is the same, byte for byte, as
+//! one written on a single thread; an I/O error of the writer thread is
+//! reported by the next [`Sink::push`] or by [`McapSink::finish`].
+//!
+//! # Modules
+//! `error` ([`McapError`]), `json` (the JSON text builder), `schema` (the
+//! data channels' fields and schemas from the column table, and Foxglove's
+//! official schemas), `scene` (the `/tf` frames and the `/scene` drawing),
+//! `writer` (the writer thread), and here the sink that ties them together.
+
+mod error;
+mod json;
+mod scene;
+mod schema;
+mod writer;
+
+use std::collections::BTreeMap;
+use std::io::{Seek, Write};
+
+use mcap::records::{MessageHeader, Metadata};
+use mcap::{WriteOptions, Writer};
+use nalgebra::Vector3;
+
+pub use error::McapError;
+pub use scene::{SCENE_TOPIC, SceneGeometry, TF_TOPIC};
+pub use schema::{FRAME_TRANSFORMS_SCHEMA, SCENE_UPDATE_SCHEMA};
+
+use crate::columns::Channel;
+use crate::record::Record;
+use crate::scenario::Scenario;
+use crate::sink::Sink;
+use json::{log_time, push_num};
+use schema::Field;
+use writer::{BATCH_BYTES, Batch, WriterThread};
+
+/// The six data channels' topics, one message per record on each, in the
+/// order of their channel ids.
+pub const SAMPLE_TOPICS: [&str; 6] = [
+    Channel::Platform.topic(),
+    Channel::Module1.topic(),
+    Channel::Left.topic(),
+    Channel::Right.topic(),
+    Channel::Tips.topic(),
+    Channel::Margins.topic(),
+];
+/// The name of the metadata record with the scenario and the geometry.
+pub const SCENARIO_METADATA: &str = "parasils.scenario";
+/// The name of the metadata record written at the end: record count, times.
+pub const RUN_METADATA: &str = "parasils.run";
+/// The writer named in the file's header and metadata: the `parasils`
+/// command's package and version (the Python bindings write the same file).
+pub const GENERATOR: &str = concat!("parasils-cli ", env!("CARGO_PKG_VERSION"));
+
+/// How the MCAP file is written.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct McapOptions {
+    /// The simulation-time period of `/tf` and `/scene`, s (0: every record).
+    /// The first and the last records are always published.
+    pub scene_period_s: f64,
+    /// The zstd level of the chunks (1 fast .. 19 small; 0 for zstd's
+    /// default, 3).
+    pub compression_level: u32,
+    /// The target size of a chunk before compression, bytes.
+    pub chunk_size: u64,
+}
+
+impl Default for McapOptions {
+    /// 20 ms scene period, zstd level 1, 4 MiB chunks.
+    fn default() -> Self {
+        Self {
+            scene_period_s: 0.02,
+            compression_level: 1,
+            chunk_size: 4 << 20,
+        }
+    }
+}
+
+/// One data channel: its id, its fields, its next sequence number.
+#[derive(Debug)]
+struct DataChannel {
+    id: u16,
+    topic: &'static str,
+    fields: Vec<Field>,
+    sequence: u32,
+}
+
+/// Streams records into an MCAP file; see the module docs.
+pub struct McapSink<W: Write + Seek> {
+    /// The writer thread, which owns the `mcap` writer.
+    thread: WriterThread<W>,
+    /// The messages formatted since the last batch was sent.
+    batch: Batch,
+    data: Vec<DataChannel>,
+    tf: (u16, u32),
+    scene: (u16, u32),
+    geometry: SceneGeometry,
+    targets: [Vector3<f64>; 2],
+    options: McapOptions,
+    scene_period_ns: u64,
+    /// The log time at or after which `/tf` and `/scene` are next published.
+    next_scene_ns: u64,
+    /// The last record, its log time, and whether `/tf` and `/scene` have it.
+    last: Option<(Record, u64, bool)>,
+    first_t: Option<f64>,
+    count: u64,
+    buf: Vec<u8>,
+    ryu: ryu::Buffer,
+}
+
+impl<W: Write + Seek> core::fmt::Debug for McapSink<W> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("McapSink")
+            .field("options", &self.options)
+            .field("geometry", &self.geometry)
+            .field("count", &self.count)
+            .finish_non_exhaustive()
+    }
+}
+
+/// The `parasils.scenario` metadata record of `scenario`.
+fn scenario_metadata(
+    scenario: &Scenario,
+    geometry: &SceneGeometry,
+    period: f64,
+) -> Result<Metadata, McapError> {
+    let tips = scenario.tips();
+    let mut meta = BTreeMap::new();
+    meta.insert(
+        "scenario".to_owned(),
+        serde_json::to_string(&scenario.library_units())?,
+    );
+    meta.insert("scenario_units".to_owned(), "mm, rad, s".to_owned());
+    meta.insert("geometry".to_owned(), serde_json::to_string(geometry)?);
+    meta.insert(
+        "tips_mm".to_owned(),
+        serde_json::to_string(&[
+            [tips.left.x, tips.left.y, tips.left.z],
+            [tips.right.x, tips.right.y, tips.right.z],
+        ])?,
+    );
+    meta.insert(
+        "module1_geometry".to_owned(),
+        if geometry.module1_assumed {
+            "assumed: not the real robot's dimensions (unpublished)"
+        } else {
+            "given by the user"
+        }
+        .to_owned(),
+    );
+    meta.insert(
+        "units".to_owned(),
+        "data channels: each field's name ends with its unit (deg, mm, s; margins \
+         dimensionless); /tf and /scene: metres, quaternions; log times: simulation \
+         time, ns"
+            .to_owned(),
+    );
+    meta.insert(
+        "scene_period_s".to_owned(),
+        ryu::Buffer::new().format(period).to_owned(),
+    );
+    meta.insert("generator".to_owned(), GENERATOR.to_owned());
+    Ok(Metadata {
+        name: SCENARIO_METADATA.to_owned(),
+        metadata: meta,
+    })
+}
+
+impl<W: Write + Seek + Send + 'static> McapSink<W> {
+    /// Starts the file with the default [`McapOptions`]: header, schemas,
+    /// channels and the `parasils.scenario` metadata record.
+    ///
+    /// # Errors
+    /// [`McapError::Mcap`] when writing fails, [`McapError::Json`] when the
+    /// scenario cannot be serialised.
+    pub fn new(writer: W, scenario: &Scenario) -> Result<Self, McapError> {
+        Self::with_options(writer, scenario, McapOptions::default())
+    }
+
+    /// Starts the file with the given options.
+    ///
+    /// # Errors
+    /// As [`McapSink::new`], and [`McapError::InvalidOption`] for a negative
+    /// or non-finite scene period or a zero chunk size.
+    pub fn with_options(
+        writer: W,
+        scenario: &Scenario,
+        options: McapOptions,
+    ) -> Result<Self, McapError> {
+        let period = options.scene_period_s;
+        let Ok(scene_period_ns) = log_time(period) else {
+            return Err(McapError::InvalidOption {
+                what: "scene_period_s",
+                value: period,
+            });
+        };
+        if options.chunk_size == 0 {
+            return Err(McapError::InvalidOption {
+                what: "chunk_size",
+                value: 0.0,
+            });
+        }
+        let mut writer = WriteOptions::new()
+            .profile("")
+            .library(GENERATOR)
+            .compression(Some(mcap::Compression::Zstd))
+            .compression_level(options.compression_level)
+            .chunk_size(Some(options.chunk_size))
+            .create(writer)?;
+
+        let geometry = SceneGeometry::from_robot(&scenario.robot).map_err(McapError::Geometry)?;
+        writer.write_metadata(&scenario_metadata(scenario, &geometry, period)?)?;
+
+        let no_meta = BTreeMap::new();
+        let mut data = Vec::with_capacity(Channel::ALL.len());
+        for channel in Channel::ALL {
+            let fields = schema::fields(channel);
+            let schema = serde_json::to_vec_pretty(&schema::data_schema(channel, &fields))?;
+            let schema_id = writer.add_schema(channel.schema_name(), "jsonschema", &schema)?;
+            let id = writer.add_channel(schema_id, channel.topic(), "json", &no_meta)?;
+            data.push(DataChannel {
+                id,
+                topic: channel.topic(),
+                fields,
+                sequence: 0,
+            });
+        }
+        let tf_schema = writer.add_schema(
+            "foxglove.FrameTransforms",
+            "jsonschema",
+            FRAME_TRANSFORMS_SCHEMA.as_bytes(),
+        )?;
+        let tf = writer.add_channel(tf_schema, TF_TOPIC, "json", &no_meta)?;
+        let scene_schema = writer.add_schema(
+            "foxglove.SceneUpdate",
+            "jsonschema",
+            SCENE_UPDATE_SCHEMA.as_bytes(),
+        )?;
+        let scene = writer.add_channel(scene_schema, SCENE_TOPIC, "json", &no_meta)?;
+
+        let tips = scenario.tips();
+        let thread = WriterThread::spawn(writer)?;
+        Ok(Self {
+            batch: thread.empty_batch(),
+            thread,
+            data,
+            tf: (tf, 0),
+            scene: (scene, 0),
+            geometry,
+            targets: [tips.left, tips.right],
+            options,
+            scene_period_ns,
+            next_scene_ns: 0,
+            last: None,
+            first_t: None,
+            count: 0,
+            buf: Vec::with_capacity(8192),
+            ryu: ryu::Buffer::new(),
+        })
+    }
+
+    /// The options in use.
+    pub fn options(&self) -> &McapOptions {
+        &self.options
+    }
+
+    /// The geometry the scene is drawn from.
+    pub fn geometry(&self) -> &SceneGeometry {
+        &self.geometry
+    }
+
+    /// The number of records written so far.
+    pub fn count(&self) -> u64 {
+        self.count
+    }
+
+    /// Publishes any record still owed to `/tf` and `/scene` (the last one),
+    /// writes the `parasils.run` metadata record and the summary (statistics,
+    /// schemas, channels, chunk and message indexes), and returns the writer.
+    ///
+    /// # Errors
+    /// [`McapError::Mcap`] when writing fails.
+    pub fn finish(mut self) -> Result<W, McapError> {
+        if let Some((record, ns, false)) = self.last {
+            self.write_visuals(&record, ns)?;
+        }
+        let batch = core::mem::take(&mut self.batch);
+        self.thread.send(batch)?;
+        let (mut writer, written) = self.thread.join()?;
+        written?;
+        let mut meta = BTreeMap::new();
+        meta.insert("samples".to_owned(), self.count.to_string());
+        let mut ryu = ryu::Buffer::new();
+        if let (Some(first), Some((last, _, _))) = (self.first_t, &self.last) {
+            meta.insert("t_first_s".to_owned(), ryu.format(first).to_owned());
+            meta.insert("t_last_s".to_owned(), ryu.format(last.t).to_owned());
+        }
+        write_run_metadata(&mut writer, meta)?;
+        writer.finish()?;
+        Ok(writer.into_inner())
+    }
+
+    /// Queues the message in `buf` for the writer thread.
+    fn write(&mut self, id: u16, sequence: u32, ns: u64) {
+        let header = MessageHeader {
+            channel_id: id,
+            sequence,
+            log_time: ns,
+            publish_time: ns,
+        };
+        self.batch.push(header, &self.buf);
+    }
+
+    /// Writes `/tf` and `/scene` for `record`.
+    fn write_visuals(&mut self, record: &Record, ns: u64) -> Result<(), McapError> {
+        self.buf.clear();
+        scene::write_tf(&self.geometry, record, ns, &mut self.buf, &mut self.ryu)?;
+        let (id, seq) = self.tf;
+        self.write(id, seq, ns);
+        self.tf.1 = seq.wrapping_add(1);
+
+        self.buf.clear();
+        scene::write_scene(
+            &self.geometry,
+            &self.targets,
+            record,
+            ns,
+            &mut self.buf,
+            &mut self.ryu,
+        )?;
+        let (id, seq) = self.scene;
+        self.write(id, seq, ns);
+        self.scene.1 = seq.wrapping_add(1);
+        Ok(())
+    }
+}
+
+fn write_run_metadata<W: Write + Seek>(
+    writer: &mut Writer<W>,
+    metadata: BTreeMap<String, String>,
+) -> Result<(), McapError> {
+    writer.write_metadata(&Metadata {
+        name: RUN_METADATA.to_owned(),
+        metadata,
+    })?;
+    Ok(())
+}
+
+impl<W: Write + Seek + Send + 'static> Sink for McapSink<W> {
+    type Error = McapError;
+
+    fn push(&mut self, record: &Record) -> Result<(), McapError> {
+        let ns = log_time(record.t)?;
+        if let Some((prev, prev_ns, _)) = &self.last
+            && ns <= *prev_ns
+        {
+            return Err(McapError::TimeNotIncreasing {
+                t: record.t,
+                previous: prev.t,
+            });
+        }
+        for k in 0..self.data.len() {
+            self.buf.clear();
+            let ch = &self.data[k];
+            for f in &ch.fields {
+                self.buf.extend_from_slice(&f.key);
+                if let Err(value) = push_num(&mut self.buf, &mut self.ryu, f.column.value(record)) {
+                    return Err(McapError::NonFinite {
+                        topic: ch.topic,
+                        field: f.column.name,
+                        t: record.t,
+                        value,
+                    });
+                }
+            }
+            self.buf.push(b'}');
+            let (id, seq) = (ch.id, ch.sequence);
+            self.write(id, seq, ns);
+            self.data[k].sequence = seq.wrapping_add(1);
+        }
+
+        let publish = self.last.is_none() || ns >= self.next_scene_ns;
+        if publish {
+            self.write_visuals(record, ns)?;
+            self.next_scene_ns = match self.scene_period_ns {
+                0 => 0,
+                p => (ns / p).saturating_add(1).saturating_mul(p),
+            };
+        }
+        self.first_t.get_or_insert(record.t);
+        self.last = Some((*record, ns, publish));
+        self.count += 1;
+        if self.batch.bytes.len() >= BATCH_BYTES {
+            let next = self.thread.empty_batch();
+            let full = core::mem::replace(&mut self.batch, next);
+            self.thread.send(full)?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests;

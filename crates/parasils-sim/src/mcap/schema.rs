@@ -1,0 +1,94 @@
+//! The channels' schemas: the data channels' fields and JSON Schemas, derived
+//! from the [column table](crate::columns), and Foxglove's official schemas
+//! of `/tf` and `/scene`, embedded.
+
+use crate::columns::{self, Channel, Column};
+
+/// Foxglove's official schema of `foxglove.FrameTransforms` (MIT, see
+/// `schemas/LICENSE`).
+pub const FRAME_TRANSFORMS_SCHEMA: &str = include_str!("../../schemas/FrameTransforms.json");
+/// Foxglove's official schema of `foxglove.SceneUpdate` (MIT, see
+/// `schemas/LICENSE`).
+pub const SCENE_UPDATE_SCHEMA: &str = include_str!("../../schemas/SceneUpdate.json");
+
+/// One field of a data channel's messages: its column, and the JSON text
+/// before its value (`{"t_s":` for the first, `,"x_mm":` for the others).
+#[derive(Debug, Clone)]
+pub(crate) struct Field {
+    pub(crate) column: Column,
+    pub(crate) key: Vec<u8>,
+}
+
+/// The fields of `channel`'s messages: `t_s`, then the channel's columns in
+/// the table's order.
+pub(crate) fn fields(channel: Channel) -> Vec<Field> {
+    core::iter::once(columns::T_S)
+        .chain(
+            columns::ALL
+                .into_iter()
+                .filter(|c| c.channel == Some(channel)),
+        )
+        .enumerate()
+        .map(|(k, column)| Field {
+            key: format!("{}\"{}\":", if k == 0 { "{" } else { "," }, column.name).into_bytes(),
+            column,
+        })
+        .collect()
+}
+
+/// The JSON Schema of `channel`'s messages: an object of the numbers in
+/// `fields`, all required, none other allowed.
+pub(crate) fn data_schema(channel: Channel, fields: &[Field]) -> serde_json::Value {
+    let mut properties = serde_json::Map::new();
+    for f in fields {
+        properties.insert(
+            f.column.name.to_owned(),
+            serde_json::json!({
+                "type": "number",
+                "description": format!("unit: {}", f.column.unit),
+            }),
+        );
+    }
+    let required: Vec<&str> = fields.iter().map(|f| f.column.name).collect();
+    serde_json::json!({
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "title": channel.schema_name(),
+        "description": channel.description(),
+        "type": "object",
+        "properties": properties,
+        "required": required,
+        "additionalProperties": false,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_column_is_on_exactly_one_data_channel_after_t_s() {
+        let all: Vec<Vec<Field>> = Channel::ALL.iter().map(|c| fields(*c)).collect();
+        let counts: Vec<usize> = all.iter().map(Vec::len).collect();
+        assert_eq!(counts, [11, 19, 10, 10, 9, 5]);
+        assert_eq!(counts.iter().sum::<usize>(), columns::ALL.len() + 5);
+        for f in &all {
+            assert_eq!(f[0].key, b"{\"t_s\":");
+        }
+        assert_eq!(all[4][1].key, b",\"left_tip_err_mm\":");
+        let schema = data_schema(Channel::Module1, &all[1]);
+        assert_eq!(
+            schema["properties"]["q1_acc_mm_s2"]["description"],
+            "unit: mm/s^2"
+        );
+        assert_eq!(schema["properties"]["t_s"]["description"], "unit: s");
+        assert_eq!(schema["required"].as_array().map(Vec::len), Some(19));
+    }
+
+    #[test]
+    fn embedded_schemas_are_the_official_ones() {
+        let tf: serde_json::Value = serde_json::from_str(FRAME_TRANSFORMS_SCHEMA).expect("json");
+        assert_eq!(tf["title"], "foxglove.FrameTransforms");
+        let scene: serde_json::Value = serde_json::from_str(SCENE_UPDATE_SCHEMA).expect("json");
+        assert_eq!(scene["title"], "foxglove.SceneUpdate");
+    }
+}

@@ -1,0 +1,278 @@
+//! The MCAP writer read back: counts, schemas, times, metadata, the 3D
+//! messages, and the errors.
+
+use std::collections::HashMap;
+use std::io::Cursor;
+
+use nalgebra::Vector3;
+use parasils::kin::{Joints, Pose, Side};
+
+use super::*;
+use crate::columns;
+use crate::engine::Simulation;
+
+/// The paper's scenario at `rate_hz`.
+fn scenario(rate_hz: f64) -> Scenario {
+    Scenario {
+        rate_hz,
+        ..Scenario::paper()
+    }
+}
+
+/// Runs `scenario` into an in-memory MCAP.
+fn write(scenario: &Scenario, options: McapOptions) -> (Vec<u8>, usize) {
+    let sim = Simulation::new(scenario.clone()).expect("valid scenario");
+    let mut sink =
+        McapSink::with_options(Cursor::new(Vec::new()), sim.scenario(), options).expect("new");
+    sim.run(&mut sink).expect("run");
+    (
+        sink.finish().expect("finish").into_inner(),
+        sim.sample_count(),
+    )
+}
+
+#[test]
+fn reads_back_with_counts_schemas_times_and_metadata() {
+    let sc = scenario(100.0);
+    let (bytes, n) = write(&sc, McapOptions::default());
+    assert_eq!(n, 451);
+
+    let summary = mcap::Summary::read(&bytes)
+        .expect("summary readable")
+        .expect("summary present");
+    let stats = summary.stats.as_ref().expect("statistics");
+    assert!(!summary.chunk_indexes.is_empty());
+    assert!(
+        summary
+            .chunk_indexes
+            .iter()
+            .all(|c| !c.message_index_offsets.is_empty()),
+        "message indexes"
+    );
+    assert_eq!(stats.metadata_count, 2);
+
+    let mut per_topic: HashMap<String, Vec<(u64, serde_json::Value)>> = HashMap::new();
+    for m in mcap::MessageStream::new(&bytes).expect("stream") {
+        let m = m.expect("message");
+        assert_eq!(m.channel.message_encoding, "json");
+        let schema = m.channel.schema.as_ref().expect("schema");
+        assert_eq!(schema.encoding, "jsonschema");
+        assert_eq!(m.log_time, m.publish_time);
+        let v: serde_json::Value = serde_json::from_slice(&m.data).expect("JSON message");
+        per_topic
+            .entry(m.channel.topic.clone())
+            .or_default()
+            .push((m.log_time, v));
+    }
+    for (k, topic) in SAMPLE_TOPICS.iter().enumerate() {
+        let msgs = &per_topic[*topic];
+        assert_eq!(msgs.len(), n, "{topic}");
+        let ch = summary
+            .channels
+            .values()
+            .find(|c| c.topic == *topic)
+            .expect("channel");
+        assert_eq!(stats.channel_message_counts[&ch.id], n as u64);
+        let schema: serde_json::Value =
+            serde_json::from_slice(&ch.schema.as_ref().expect("schema").data).expect("schema");
+        assert_eq!(schema["title"], Channel::ALL[k].schema_name());
+        assert_eq!(schema["additionalProperties"], false);
+        let required = schema["required"].as_array().expect("required");
+        for (j, (ns, v)) in msgs.iter().enumerate() {
+            let obj = v.as_object().expect("object");
+            assert_eq!(obj.len(), required.len());
+            assert!(
+                required
+                    .iter()
+                    .all(|f| obj[f.as_str().expect("name")].is_f64())
+            );
+            let t = obj["t_s"].as_f64().expect("t_s");
+            assert_eq!(t.to_bits(), (j as f64 / 100.0).to_bits());
+            assert_eq!(*ns, (t * 1e9).round() as u64);
+        }
+    }
+    // The data agree with the CSV row to the last bit.
+    let sim = Simulation::new(sc.clone()).expect("valid");
+    let r100 = sim.samples().nth(100).expect("a record").expect("ok");
+    let row = columns::csv_row(&r100);
+    for topic in SAMPLE_TOPICS {
+        let obj = per_topic[topic][100].1.as_object().expect("object").clone();
+        for (name, v) in obj {
+            let value = v.as_f64().expect("number");
+            if let Some(c) = columns::CSV_NAMES.iter().position(|c| *c == name) {
+                assert_eq!(value.to_bits(), row[c].to_bits(), "{name}");
+            }
+        }
+    }
+    assert_eq!(
+        per_topic["/tips"][100].1["left_tip_z_mm"].as_f64(),
+        Some(r100.left.tip.z)
+    );
+
+    // /tf and /scene: the first record, every 20 ms, the last.
+    let tf = &per_topic[TF_TOPIC];
+    assert_eq!(tf.len(), 226);
+    assert_eq!(tf[0].0, 0);
+    assert_eq!(tf[1].0, 20_000_000);
+    assert_eq!(tf.last().map(|m| m.0), Some(4_500_000_000));
+    assert_eq!(per_topic[SCENE_TOPIC].len(), tf.len());
+
+    // Metadata.
+    let by_name: HashMap<String, Metadata> = summary
+        .metadata_indexes
+        .iter()
+        .map(|i| {
+            let m = mcap::read::metadata(&bytes, i).expect("metadata");
+            (m.name.clone(), m)
+        })
+        .collect();
+    let sc_meta = &by_name[SCENARIO_METADATA].metadata;
+    let scen: serde_json::Value = serde_json::from_str(&sc_meta["scenario"]).expect("json");
+    assert_eq!(scen["rate_hz"], 100.0);
+    assert_eq!(scen["psi"], 15f64.to_radians());
+    assert_eq!(scen["start"]["psi"], (-15f64).to_radians());
+    assert_eq!(scen["tip_left"], serde_json::json!([50.0, -50.0, -620.0]));
+    let geo: serde_json::Value = serde_json::from_str(&sc_meta["geometry"]).expect("json");
+    assert_eq!(geo["link_lengths_mm"][0], 350.0);
+    assert!(sc_meta["module1_geometry"].starts_with("assumed"));
+    let run = &by_name[RUN_METADATA].metadata;
+    assert_eq!(run["samples"], "451");
+    assert_eq!(run["t_last_s"], "4.5");
+}
+
+#[test]
+fn the_frames_put_the_tool_tip_on_the_recomputed_tip() {
+    let sim = Simulation::new(scenario(10.0)).expect("valid");
+    let g = SceneGeometry::from_robot(&sim.scenario().robot).expect("valid");
+    for r in sim.samples() {
+        let r = r.expect("ok");
+        let pose = Pose::from_array(r.pose);
+        for (side, m, k) in [(Side::Left, &r.left, 0), (Side::Right, &r.right, 1)] {
+            let q = Joints::new(m.q[0], m.q[1], m.q[2]);
+            let tool = g.tool_rotation(side, &q);
+            let local = Vector3::from(g.rcms_mm[k]) + tool * Vector3::new(0.0, 0.0, -m.q[2]);
+            let world = pose.position() + pose.rotation() * local;
+            assert!((world - m.tip).norm() < 1e-9, "{side:?} at {}", r.t);
+            assert!((tool.determinant() - 1.0).abs() < 1e-12);
+        }
+    }
+}
+
+#[test]
+fn scene_and_tf_follow_the_official_shapes() {
+    let (bytes, _) = write(
+        &scenario(50.0),
+        McapOptions {
+            scene_period_s: 0.0,
+            ..McapOptions::default()
+        },
+    );
+    let mut scenes = 0;
+    for m in mcap::MessageStream::new(&bytes).expect("stream") {
+        let m = m.expect("message");
+        let v: serde_json::Value = serde_json::from_slice(&m.data).expect("JSON");
+        match m.channel.topic.as_str() {
+            TF_TOPIC => {
+                assert_eq!(
+                    m.channel.schema.as_ref().map(|s| s.name.as_str()),
+                    Some("foxglove.FrameTransforms")
+                );
+                let tr = v["transforms"].as_array().expect("transforms");
+                assert_eq!(tr.len(), 5);
+                let q = &tr[0]["rotation"];
+                let norm: f64 = ["x", "y", "z", "w"]
+                    .iter()
+                    .map(|c| q[c].as_f64().expect("number").powi(2))
+                    .sum();
+                assert!((norm - 1.0).abs() < 1e-12);
+                assert_eq!(
+                    tr[0]["timestamp"]["sec"].as_u64().expect("sec") * 1_000_000_000
+                        + tr[0]["timestamp"]["nsec"].as_u64().expect("nsec"),
+                    m.log_time
+                );
+            }
+            SCENE_TOPIC => {
+                scenes += 1;
+                assert_eq!(
+                    m.channel.schema.as_ref().map(|s| s.name.as_str()),
+                    Some("foxglove.SceneUpdate")
+                );
+                let entities = v["entities"].as_array().expect("entities");
+                assert_eq!(entities.len(), 7);
+                let legs = &entities[1]["lines"][0]["points"];
+                assert_eq!(legs.as_array().map(Vec::len), Some(12));
+                // Metres: the platform is about half a metre below the base.
+                let z = entities[2]["spheres"][3]["pose"]["position"]["z"]
+                    .as_f64()
+                    .expect("z");
+                assert!((z + 0.5).abs() < 1e-9, "{z}");
+            }
+            _ => {}
+        }
+    }
+    assert_eq!(scenes, 226);
+}
+
+#[test]
+fn the_error_can_cross_threads() {
+    fn send_sync<T: Send + Sync + 'static>() {}
+    send_sync::<McapError>();
+}
+
+#[test]
+fn non_finite_values_and_time_going_back_are_errors() {
+    let sc = Scenario::paper();
+    let mut sink = McapSink::new(Cursor::new(Vec::new()), &sc).expect("new");
+    let good = Simulation::new(sc.clone())
+        .expect("valid")
+        .samples()
+        .next()
+        .expect("one")
+        .expect("ok");
+    let mut bad = good;
+    bad.module1.q[2] = f64::NAN;
+    match sink.push(&bad) {
+        Err(McapError::NonFinite { topic, field, .. }) => {
+            assert_eq!((topic, field), ("/module1", "q3_mm"));
+        }
+        other => panic!("expected NonFinite, got {other:?}"),
+    }
+    let mut sink = McapSink::new(Cursor::new(Vec::new()), &sc).expect("new");
+    sink.push(&good).expect("first");
+    assert!(matches!(
+        sink.push(&good),
+        Err(McapError::TimeNotIncreasing { .. })
+    ));
+    let mut late = good;
+    late.t = -1.0;
+    assert!(matches!(
+        sink.push(&late),
+        Err(McapError::InvalidTime { .. })
+    ));
+    late.t = 1e300;
+    let err = sink.push(&late).expect_err("too late");
+    assert_eq!(
+        err.to_string(),
+        "sample time t = 1e300 s cannot be a log time (finite, >= 0, < 1.8e10 s)"
+    );
+    assert!(matches!(
+        McapSink::with_options(
+            Cursor::new(Vec::new()),
+            &sc,
+            McapOptions {
+                scene_period_s: f64::NAN,
+                ..McapOptions::default()
+            }
+        ),
+        Err(McapError::InvalidOption { .. })
+    ));
+}
+
+#[test]
+fn an_empty_run_is_still_a_valid_file() {
+    let sink = McapSink::new(Cursor::new(Vec::new()), &Scenario::paper()).expect("new");
+    let bytes = sink.finish().expect("finish").into_inner();
+    let summary = mcap::Summary::read(&bytes).expect("ok").expect("summary");
+    assert_eq!(summary.stats.map(|s| s.message_count), Some(0));
+    assert_eq!(summary.channels.len(), 8);
+}

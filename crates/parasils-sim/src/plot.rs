@@ -1,0 +1,523 @@
+//! The paper's figures 5-7 as one image (feature `plot`): platform angles, module 1's
+//! actuators and the left module's joints over time.
+//!
+//! [`PlotSink`] keeps a decimated copy of the run (at most
+//! [`MAX_POINTS`] points per series, plus the last sample), so memory stays
+//! flat however long the run; [`PlotSink::finish`] renders three stacked
+//! panels to SVG or PNG. Text is laid out (and, for PNG, drawn) with the
+//! DejaVu Sans font embedded in the binary: no system font is needed.
+
+use std::path::{Path, PathBuf};
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+
+use crate::record::Record;
+use crate::sink::Sink;
+
+/// The most points kept per series (the last sample comes on top).
+pub const MAX_POINTS: usize = 2000;
+
+/// The image size, pixels.
+const SIZE: (u32, u32) = (1200, 1500);
+/// The font family name the embedded font is registered under.
+const FONT: &str = "sans-serif";
+
+/// What can go wrong while plotting.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum PlotError {
+    /// The file name's extension is neither `.svg` nor `.png`.
+    #[error("cannot tell the image format of {}: use a .svg or .png extension", path.display())]
+    UnknownFormat {
+        /// The file name.
+        path: PathBuf,
+    },
+    /// No sample was pushed: there is nothing to plot.
+    #[error("no sample to plot")]
+    NoSamples,
+    /// The embedded font could not be loaded.
+    #[error("the embedded font could not be loaded")]
+    Font,
+    /// Drawing or writing the image failed (for instance, an I/O error).
+    #[error("plotting to {}: {message}", path.display())]
+    Render {
+        /// The file written.
+        path: PathBuf,
+        /// The drawing library's message.
+        message: String,
+    },
+}
+
+/// An image format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ImageFormat {
+    /// Scalable vector graphics (text as text).
+    Svg,
+    /// A bitmap (text rasterised with the embedded font).
+    Png,
+}
+
+impl ImageFormat {
+    /// The format named by a path's extension (`.svg` or `.png`, any case).
+    ///
+    /// # Errors
+    /// [`PlotError::UnknownFormat`] for any other extension, or none.
+    pub fn from_path(path: &Path) -> Result<Self, PlotError> {
+        match path.extension().and_then(|e| e.to_str()) {
+            Some(e) if e.eq_ignore_ascii_case("svg") => Ok(Self::Svg),
+            Some(e) if e.eq_ignore_ascii_case("png") => Ok(Self::Png),
+            _ => Err(PlotError::UnknownFormat {
+                path: path.to_owned(),
+            }),
+        }
+    }
+}
+
+/// What the figures need of one sample, in display units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Point {
+    /// s.
+    t: f64,
+    /// `psi`, `theta`, deg.
+    angles: [f64; 2],
+    /// `q1..q6`, mm.
+    q: [f64; 6],
+    /// Left `qs1`, `qs2` deg, `qs3` mm.
+    left: [f64; 3],
+}
+
+impl Point {
+    fn of(s: &Record) -> Self {
+        Self {
+            t: s.t,
+            angles: [s.angles_deg[0], s.angles_deg[1]],
+            q: s.module1.q,
+            left: [
+                s.left.q[0].to_degrees(),
+                s.left.q[1].to_degrees(),
+                s.left.q[2],
+            ],
+        }
+    }
+}
+
+/// Collects a decimated copy of a run and plots the paper's three figures.
+///
+/// Keeps every `k`-th sample, with `k` chosen from the expected count so that
+/// at most [`MAX_POINTS`] are kept, plus the last sample. Should more samples
+/// come than announced, the kept points are thinned (every other one dropped,
+/// `k` doubled) so that memory stays bounded all the same.
+#[derive(Debug, Clone)]
+pub struct PlotSink {
+    stride: usize,
+    seen: usize,
+    points: Vec<Point>,
+    /// The latest sample, when not kept.
+    last: Option<Point>,
+    module1_assumed: bool,
+}
+
+impl PlotSink {
+    /// A sink for a run of `total_samples` samples; `module1_assumed` says
+    /// whether module 1's geometry is the assumed one (the figure says so).
+    pub fn new(total_samples: usize, module1_assumed: bool) -> Self {
+        let stride = total_samples.div_ceil(MAX_POINTS).max(1);
+        Self {
+            stride,
+            seen: 0,
+            points: Vec::with_capacity(total_samples.min(MAX_POINTS) + 1),
+            last: None,
+            module1_assumed,
+        }
+    }
+
+    /// The number of points that will be plotted per series.
+    pub fn len(&self) -> usize {
+        self.points.len() + usize::from(self.last.is_some())
+    }
+
+    /// Whether no sample was pushed.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Renders the figure to `out`, in the format named by the extension of
+    /// `name` (`.svg` or `.png`). `out` and `name` may be the same path; the
+    /// caller may also write to a temporary file (`out`) and rename it to
+    /// `name` afterwards.
+    ///
+    /// # Errors
+    /// [`PlotError::UnknownFormat`], [`PlotError::NoSamples`],
+    /// [`PlotError::Font`], [`PlotError::Render`] (I/O included).
+    pub fn finish(self, out: &Path, name: &Path) -> Result<(), PlotError> {
+        self.render(out, ImageFormat::from_path(name)?)
+    }
+
+    /// Renders the figure to `out` in `format`.
+    ///
+    /// # Errors
+    /// As [`PlotSink::finish`], less the format.
+    pub fn render(&self, out: &Path, format: ImageFormat) -> Result<(), PlotError> {
+        if self.is_empty() {
+            return Err(PlotError::NoSamples);
+        }
+        plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular())
+            .map_err(|_| PlotError::Font)?;
+        plotters::style::register_font(FONT, FontStyle::Bold, dejavu::sans::bold())
+            .map_err(|_| PlotError::Font)?;
+        let fail = |message: String| PlotError::Render {
+            path: out.to_owned(),
+            message,
+        };
+        match format {
+            ImageFormat::Svg => {
+                let root = SVGBackend::new(out, SIZE).into_drawing_area();
+                self.draw(&root).map_err(fail)?;
+                root.present().map_err(|e| fail(e.to_string()))
+            }
+            ImageFormat::Png => {
+                // Drawn in memory and encoded here: plotters would pick the
+                // format from `out`'s extension, which a temporary file lacks.
+                let (w, h) = SIZE;
+                let mut rgb = vec![0u8; 3 * w as usize * h as usize];
+                {
+                    let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
+                    self.draw(&root).map_err(fail)?;
+                    root.present().map_err(|e| fail(e.to_string()))?;
+                }
+                write_png(out, &rgb, SIZE).map_err(|e| fail(e.to_string()))
+            }
+        }
+    }
+
+    /// The kept points, the last one included.
+    fn series(&self) -> impl Iterator<Item = &Point> + Clone {
+        self.points.iter().chain(self.last.iter())
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+        root.fill(&WHITE).map_err(e)?;
+        let root = root
+            .titled(
+                "PARA-SILSROB endoscope reorientation: the paper's figures 5-7",
+                (FONT, 28).into_font().style(FontStyle::Bold),
+            )
+            .map_err(e)?;
+        let panels = root.split_evenly((3, 1));
+
+        let angles = [
+            Series::new("psi (deg)", 0, |p| p.angles[0]),
+            Series::new("theta (deg)", 1, |p| p.angles[1]),
+        ];
+        self.panel(
+            &panels[0],
+            "(a) Platform orientation (fig. 5)",
+            None,
+            "angle (deg)",
+            &angles,
+            None,
+        )
+        .map_err(e)?;
+
+        let actuators: [Series; 6] = core::array::from_fn(|j| Series {
+            label: format!("q{} (mm)", j + 1),
+            color: PALETTE[j],
+            get: Box::new(move |p| p.q[j]),
+        });
+        let note = self.module1_assumed.then_some(
+            "Module 1's geometry is ASSUMED (the robot's dimensions are unpublished): \
+             the method, not the real robot's values",
+        );
+        self.panel(
+            &panels[1],
+            "(b) Module 1 actuators q1..q6 (fig. 6)",
+            note,
+            "actuator position (mm)",
+            &actuators,
+            None,
+        )
+        .map_err(e)?;
+
+        let joints = [
+            Series::new("qs1 (deg)", 0, |p| p.left[0]),
+            Series::new("qs2 (deg)", 1, |p| p.left[1]),
+        ];
+        let insertion = Series::new("qs3 (mm, right axis)", 3, |p| p.left[2]);
+        self.panel(
+            &panels[2],
+            "(c) Left instrument module joints (fig. 7)",
+            None,
+            "qs1, qs2 (deg)",
+            &joints,
+            Some(("qs3 (mm)", &insertion)),
+        )
+        .map_err(e)
+    }
+
+    /// One panel: a caption, an optional note, a legend row, then the chart
+    /// against `t`, with an optional series on a second y axis.
+    fn panel<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        caption: &str,
+        note: Option<&str>,
+        y_desc: &str,
+        series: &[Series],
+        secondary: Option<(&str, &Series)>,
+    ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+        let mut area = area.titled(caption, (FONT, 22))?;
+        if let Some(note) = note {
+            area = area.titled(note, (FONT, 16).into_font().color(&RGBColor(170, 20, 20)))?;
+        }
+        let (strip, area) = area.split_vertically(26);
+        let legend_font = TextStyle::from((FONT, 15).into_font());
+        let mut x = 90;
+        for s in series.iter().chain(secondary.map(|(_, s)| s)) {
+            strip.draw(&PathElement::new(
+                [(x, 12), (x + 26, 12)],
+                s.color.stroke_width(3),
+            ))?;
+            strip.draw(&Text::new(
+                s.label.clone(),
+                (x + 32, 4),
+                legend_font.clone(),
+            ))?;
+            let (w, _) = strip.estimate_text_size(&s.label, &legend_font)?;
+            x += 32 + i32::try_from(w).unwrap_or(100) + 28;
+        }
+
+        let t_end = self.series().last().map_or(1.0, |p| p.t);
+        let t_range = 0.0..if t_end > 0.0 { t_end } else { 1.0 };
+        let y = range(
+            series
+                .iter()
+                .flat_map(|s| self.series().map(|p| (s.get)(p))),
+        );
+        let y2 = secondary.map_or(0.0..1.0, |(_, s)| range(self.series().map(|p| (s.get)(p))));
+        let mut builder = ChartBuilder::on(&area);
+        builder
+            .margin_left(12)
+            .margin_right(if secondary.is_some() { 12 } else { 30 })
+            .margin_bottom(8)
+            .x_label_area_size(42)
+            .y_label_area_size(72);
+        if secondary.is_some() {
+            builder.right_y_label_area_size(72);
+        }
+        let mut chart = builder
+            .build_cartesian_2d(t_range.clone(), y)?
+            .set_secondary_coord(t_range, y2);
+        chart
+            .configure_mesh()
+            .x_desc("t (s)")
+            .y_desc(y_desc)
+            .label_style((FONT, 14))
+            .axis_desc_style((FONT, 16))
+            .draw()?;
+        for s in series {
+            chart.draw_series(LineSeries::new(
+                self.series().map(|p| (p.t, (s.get)(p))),
+                s.color.stroke_width(2),
+            ))?;
+        }
+        if let Some((desc, s)) = secondary {
+            chart
+                .configure_secondary_axes()
+                .y_desc(desc)
+                .label_style((FONT, 14))
+                .axis_desc_style((FONT, 16))
+                .draw()?;
+            chart.draw_secondary_series(LineSeries::new(
+                self.series().map(|p| (p.t, (s.get)(p))),
+                s.color.stroke_width(2),
+            ))?;
+        }
+        Ok(())
+    }
+}
+
+/// Distinct colours (Tableau 10).
+const PALETTE: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+];
+
+/// One curve: its legend label, colour and value.
+struct Series {
+    label: String,
+    color: RGBColor,
+    get: Box<dyn Fn(&Point) -> f64>,
+}
+
+impl Series {
+    fn new(label: &str, color: usize, get: fn(&Point) -> f64) -> Self {
+        Self {
+            label: label.to_owned(),
+            color: PALETTE[color % PALETTE.len()],
+            get: Box::new(get),
+        }
+    }
+}
+
+/// Encodes an RGB buffer as a PNG file.
+fn write_png(out: &Path, rgb: &[u8], (w, h): (u32, u32)) -> Result<(), png::EncodingError> {
+    let file = std::io::BufWriter::new(std::fs::File::create(out)?);
+    let mut encoder = png::Encoder::new(file, w, h);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_compression(png::Compression::Best);
+    let mut writer = encoder.write_header()?;
+    writer.write_image_data(rgb)?;
+    writer.finish()
+}
+
+/// A plotting range around `values`, with a 5 % margin (and a unit one when
+/// they are all equal).
+fn range(values: impl Iterator<Item = f64>) -> core::ops::Range<f64> {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if lo > hi {
+        return -1.0..1.0;
+    }
+    let pad = if hi - lo > 1e-9 * hi.abs().max(1.0) {
+        0.05 * (hi - lo)
+    } else {
+        1.0
+    };
+    (lo - pad)..(hi + pad)
+}
+
+impl Sink for PlotSink {
+    type Error = core::convert::Infallible;
+
+    fn push(&mut self, record: &Record) -> Result<(), Self::Error> {
+        let p = Point::of(record);
+        if self.seen.is_multiple_of(self.stride) {
+            self.points.push(p);
+            self.last = None;
+            if self.points.len() >= 2 * MAX_POINTS {
+                // More samples than announced: thin out, keep memory bounded.
+                let mut k = 0;
+                self.points.retain(|_| {
+                    k += 1;
+                    k % 2 == 1
+                });
+                self.stride *= 2;
+            }
+        } else {
+            self.last = Some(p);
+        }
+        self.seen += 1;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample(t: f64) -> Record {
+        let mut s = Record {
+            t,
+            ..Record::default()
+        };
+        s.angles_deg[0] = -15.0 + 3.0 * t;
+        s.angles_deg[1] = 10.0 + 5.0 * t;
+        s.module1.q = [100.0 + t, 110.0 + t, 90.0, 80.0 - t, 120.0, 95.0 + 2.0 * t];
+        s.left.q = [(3.0 + t).to_radians(), (-38.0 - t).to_radians(), 147.0 + t];
+        s
+    }
+
+    fn filled(n: usize, announced: usize) -> PlotSink {
+        let mut sink = PlotSink::new(announced, true);
+        for k in 0..n {
+            sink.push(&sample(k as f64 * 1e-3)).expect("infallible");
+        }
+        sink
+    }
+
+    #[test]
+    fn decimates_to_at_most_max_points_plus_the_last() {
+        let sink = filled(4501, 4501);
+        assert_eq!(sink.stride, 3);
+        assert_eq!(sink.points.len(), 1501);
+        assert_eq!(sink.series().last().map(|p| p.t), Some(4.5));
+        let sink = filled(10_001, 10_001);
+        assert!(sink.len() <= MAX_POINTS + 1);
+        assert_eq!(sink.series().last().map(|p| p.t), Some(10.0));
+        // Announced too few: still bounded.
+        let sink = filled(100_000, 10);
+        assert!(sink.len() <= 2 * MAX_POINTS + 1, "{}", sink.len());
+        assert_eq!(sink.series().last().map(|p| p.t), Some(99.999));
+        // Small runs keep everything.
+        assert_eq!(filled(7, 7).len(), 7);
+    }
+
+    #[test]
+    fn renders_an_svg_with_titles_and_units() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("fig.svg");
+        filled(4501, 4501).finish(&path, &path).expect("render");
+        let svg = std::fs::read_to_string(&path).expect("written");
+        for text in [
+            "the paper&apos;s figures 5-7",
+            "(a) Platform orientation",
+            "(b) Module 1 actuators",
+            "geometry is ASSUMED",
+            "(c) Left instrument module joints",
+            "t (s)",
+            "angle (deg)",
+            "actuator position (mm)",
+            "qs3 (mm)",
+            "theta (deg)",
+            "q6 (mm)",
+        ] {
+            assert!(svg.contains(text), "missing {text}");
+        }
+    }
+
+    #[test]
+    fn renders_a_png_without_system_fonts() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let out = dir.path().join("tmp-without-extension");
+        let mut sink = PlotSink::new(100, false);
+        for k in 0..100 {
+            sink.push(&sample(f64::from(k) * 0.05)).expect("infallible");
+        }
+        sink.finish(&out, Path::new("fig.png")).expect("render");
+        let bytes = std::fs::read(&out).expect("written");
+        assert_eq!(&bytes[1..4], b"PNG");
+    }
+
+    #[test]
+    fn errors_are_typed() {
+        fn send_sync<T: Send + Sync + 'static>() {}
+        send_sync::<PlotError>();
+        let dir = tempfile::tempdir().expect("tempdir");
+        let p = dir.path().join("fig.pdf");
+        assert!(matches!(
+            filled(3, 3).finish(&p, &p),
+            Err(PlotError::UnknownFormat { .. })
+        ));
+        let p = dir.path().join("fig.svg");
+        assert!(matches!(
+            PlotSink::new(0, true).finish(&p, &p),
+            Err(PlotError::NoSamples)
+        ));
+        let p = dir.path().join("no-such-dir").join("fig.png");
+        assert!(matches!(
+            filled(3, 3).finish(&p, &p),
+            Err(PlotError::Render { .. })
+        ));
+    }
+}

@@ -1,0 +1,106 @@
+//! One instant of a simulation: everything the engine computes at a sample,
+//! typed, in the libraries' units (mm, rad, s).
+//!
+//! The [`columns`](crate::columns) table says how a [`Record`] is written
+//! (which value, in which unit, under which name and on which MCAP channel);
+//! the sinks read records through it.
+
+use nalgebra::Vector3;
+
+/// Module 1 (the parallel robot) at one instant.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Module1Record {
+    /// The actuators `q1..q6`, mm.
+    pub q: [f64; 6],
+    /// Their rates, mm/s.
+    pub q_dot: [f64; 6],
+    /// Their accelerations, mm/s^2.
+    pub q_ddot: [f64; 6],
+    /// The smallest serial margin `min_j |e_j.u_j| / l_j`.
+    pub serial_margin: f64,
+    /// The parallel margin (see `docs/model.md`, *Singularities and
+    /// thresholds*).
+    pub parallel_margin: f64,
+}
+
+/// One instrument module at one instant.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct InstrumentRecord {
+    /// `qs1, qs2` (rad), `qs3` (mm).
+    pub q: [f64; 3],
+    /// Joint rates (rad/s, rad/s, mm/s).
+    pub q_dot: [f64; 3],
+    /// Joint accelerations (rad/s^2, rad/s^2, mm/s^2).
+    pub q_ddot: [f64; 3],
+    /// `cos qs2`, signed: positive in assembly mode A, negative in B.
+    pub cos_qs2: f64,
+    /// The tip recomputed from the joints by forward kinematics, mm, fixed
+    /// frame.
+    pub tip: Vector3<f64>,
+    /// The distance from that tip to its target, mm.
+    pub tip_err: f64,
+}
+
+/// Everything computed at one instant of a simulation.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Record {
+    /// The sample's index `k`, from 0.
+    pub index: usize,
+    /// Time since the start of the motion, `k / rate`, s.
+    pub t: f64,
+    /// The platform's pose: `[x, y, z]` mm, `[psi, theta, phi]` rad.
+    pub pose: [f64; 6],
+    /// `[psi, theta, phi]` in degrees as written out: the user's start angle
+    /// plus the turn since the start, `start_deg + deg(angle - start_rad)`,
+    /// so that the start's own degrees come back unchanged (`-15` stays
+    /// `-15` at `t = 0`, and `phi` stays the user's `phi`).
+    pub angles_deg: [f64; 3],
+    /// The Euler rates `[psi, theta, phi]`, rad/s.
+    pub euler_dot: [f64; 3],
+    /// The Euler accelerations `[psi, theta, phi]`, rad/s^2.
+    pub euler_ddot: [f64; 3],
+    /// Module 1.
+    pub module1: Module1Record,
+    /// The left instrument module.
+    pub left: InstrumentRecord,
+    /// The right instrument module.
+    pub right: InstrumentRecord,
+}
+
+impl Record {
+    /// The pose's Euler angles in degrees as [`Record::angles_deg`] writes
+    /// them, given the start's angles in degrees and in radians.
+    pub fn degrees_from_start(
+        angles_rad: [f64; 3],
+        start_deg: [f64; 3],
+        start_rad: [f64; 3],
+    ) -> [f64; 3] {
+        core::array::from_fn(|i| start_deg[i] + (angles_rad[i] - start_rad[i]).to_degrees())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_start_angles_come_back_exactly() {
+        let start_deg = [-15.0, 10.0, -60.0];
+        let start_rad = start_deg.map(f64::to_radians);
+        // to_degrees(to_radians(x)) is not x for these.
+        assert_ne!(start_rad[0].to_degrees(), -15.0);
+        assert_ne!(start_rad[2].to_degrees(), -60.0);
+        assert_eq!(
+            Record::degrees_from_start(start_rad, start_deg, start_rad),
+            start_deg
+        );
+        let turned = [
+            start_rad[0] + 15f64.to_radians(),
+            start_rad[1],
+            start_rad[2],
+        ];
+        let d = Record::degrees_from_start(turned, start_deg, start_rad);
+        assert!(d[0].abs() < 1e-13, "{}", d[0]);
+        assert_eq!(d[1..], start_deg[1..]);
+    }
+}

@@ -1,0 +1,750 @@
+//! The robot file: the whole robot's geometry as TOML, to load, edit and save.
+//!
+//! One file holds module 1 (the parallel robot: six guides with their links
+//! and strokes, three platform nodes, thresholds) and both instrument modules
+//! (angles, radius, port, joint limits, thresholds): a
+//! [`RobotGeometry<f64>`]. Every key names its unit (`link_length_mm`,
+//! `alpha_deg`, `qs1_deg = [min, max]`); angles are in degrees in the file
+//! and in radians in memory, lengths in mm in both. `parasils robot` prints
+//! the default file, which is also under version control as
+//! `robots/default.toml`.
+//!
+//! **Module 1's default dimensions are assumed**, not the real robot's (which
+//! are not published; see `docs/model.md`, *Module 1, the parallel robot*):
+//! the file says so with `assumed = true` in its `[module1]` table, which
+//! the CLI reads to label every module-1 number it prints. A user with the
+//! real dimensions edits them and sets `assumed = false`.
+//!
+//! ```
+//! use parasils::kin::RobotGeometry;
+//! use parasils_sim::robot_file;
+//!
+//! let text = robot_file::to_toml_string(&RobotGeometry::paper())?;
+//! assert!(text.contains("link_length_mm = 350.0"));
+//! assert_eq!(robot_file::parse(&text)?, RobotGeometry::paper());
+//! # Ok::<(), robot_file::RobotFileError>(())
+//! ```
+//!
+//! Errors say where: a malformed file, a missing, unknown or mistyped key, or
+//! a value out of its range (a negative length, an interval with
+//! `min > max`, a branch other than `1` or `-1`) is a
+//! [`RobotFileError::Parse`] with the line, the column, the key and the line's
+//! text; parameters that parse but do not make a valid robot are a
+//! [`RobotFileError::Invalid`] naming the parameter.
+
+use core::fmt;
+use std::path::{Path, PathBuf};
+
+use nalgebra::Vector3;
+use parasils::kin::{
+    Branch, FkOptions, Guide, InstrumentGeometry, Interval, JointLimits, ParallelGeometry,
+    ParallelThresholds, RobotGeometry, Side, Thresholds,
+};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+/// What went wrong with a robot file.
+///
+/// The message is complete on its own (file, line, column, key, the line's
+/// text, and the parser's or the kinematics' words); the underlying errors
+/// are kept in the fields, not chained as `source()`, so that a report of
+/// the chain does not repeat them.
+///
+/// # When this happens, how to handle it
+/// - [`RobotFileError::Io`]: the file cannot be read or written: check the path.
+/// - [`RobotFileError::Parse`]: fix the file at the line and key it names.
+/// - [`RobotFileError::Invalid`]: the values parse but do not make a robot
+///   (for instance a guide direction of zero length): fix the parameter it
+///   names (guides and legs are counted from 0 in file order).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum RobotFileError {
+    /// The file could not be read or written.
+    #[error("{}: {error}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        error: std::io::Error,
+    },
+
+    /// Malformed TOML, a missing, unknown or mistyped key, or a value out of
+    /// its range.
+    #[error("{origin}{}: {}{}", Location(*line, *column, key.as_deref()), error.message().trim_end(), Excerpt(*line, text.as_deref()))]
+    Parse {
+        /// The file's path, or `"robot file"` for text.
+        origin: Box<str>,
+        /// The line (1-based), when the parser gave a position.
+        line: Option<usize>,
+        /// The column (1-based, in characters), when the parser gave a position.
+        column: Option<usize>,
+        /// The key on that line, if the line holds one (`link_length_mm`).
+        key: Option<Box<str>>,
+        /// The text of that line.
+        text: Option<Box<str>>,
+        /// The TOML parser's error; its message says what is wrong
+        /// (`missing field ...`, `invalid type ...`).
+        error: Box<toml::de::Error>,
+    },
+
+    /// The values parse but do not make a valid robot.
+    #[error("{origin}{}: invalid robot geometry: {error}{}", Location(*line, None, key.as_deref()), Excerpt(*line, text.as_deref()))]
+    Invalid {
+        /// The file's path, or `"robot file"` for text.
+        origin: Box<str>,
+        /// The line (1-based) of the parameter, when the file shows it.
+        line: Option<usize>,
+        /// The parameter's key in the file, with its table
+        /// (`[[module1.guides]] #3 (q3) direction`).
+        key: Option<Box<str>>,
+        /// The text of that line.
+        text: Option<Box<str>>,
+        /// The kinematics' error, naming the parameter.
+        error: parasils::kin::Error,
+    },
+
+    /// The geometry could not be written as TOML.
+    #[error("cannot write the robot geometry as TOML: {0}")]
+    Serialize(Box<toml::ser::Error>),
+}
+
+impl From<toml::ser::Error> for RobotFileError {
+    fn from(e: toml::ser::Error) -> Self {
+        RobotFileError::Serialize(Box::new(e))
+    }
+}
+
+/// `", line L, column C, key `k`"` of a parse error.
+struct Location<'a>(Option<usize>, Option<usize>, Option<&'a str>);
+
+impl fmt::Display for Location<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some(line) = self.0 {
+            write!(f, ", line {line}")?;
+        }
+        if let Some(column) = self.1 {
+            write!(f, ", column {column}")?;
+        }
+        if let Some(key) = self.2 {
+            write!(f, ", key `{key}`")?;
+        }
+        Ok(())
+    }
+}
+
+/// The offending line, quoted after the message.
+struct Excerpt<'a>(Option<usize>, Option<&'a str>);
+
+impl fmt::Display for Excerpt<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match (self.0, self.1) {
+            (Some(line), Some(text)) => write!(f, "\n  {line} | {text}"),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// The whole robot as the file holds it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotFile {
+    /// Module 1, the parallel robot.
+    pub module1: Module1File,
+    /// The left instrument module.
+    pub left: InstrumentFile,
+    /// The right instrument module.
+    pub right: InstrumentFile,
+}
+
+/// Module 1 in the file: `[module1]`, six `[[module1.guides]]` (`q1` to `q6`
+/// in order) and three `[[module1.legs]]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Module1File {
+    /// Whether the dimensions are assumed (the default geometry) rather than
+    /// the real robot's.
+    pub assumed: bool,
+    /// Smallest accepted serial margin `|e.u| / l`, in `(0, 1)`.
+    #[serde(deserialize_with = "positive")]
+    pub serial_margin_min: f64,
+    /// Smallest parallel margin the forward kinematics accepts.
+    #[serde(deserialize_with = "positive")]
+    pub parallel_margin_min: f64,
+    /// Smallest parallel margin the per-cycle call accepts (a command
+    /// closer to a parallel singularity is refused).
+    #[serde(deserialize_with = "positive")]
+    pub parallel_margin_command_min: f64,
+    /// Smallest `|cos theta|` the forward kinematics accepts.
+    #[serde(deserialize_with = "positive")]
+    pub euler_cos_theta_min: f64,
+    /// The forward kinematics' tolerance, relative to the link lengths.
+    #[serde(deserialize_with = "positive")]
+    pub fk_tolerance_rel: f64,
+    /// The forward kinematics' largest number of Newton steps (at least 1).
+    #[serde(deserialize_with = "at_least_one")]
+    pub fk_max_iterations: u32,
+    /// The six actuators' guides, `q1` to `q6`.
+    pub guides: [GuideFile; 6],
+    /// The three legs' platform nodes, leg 1 (`q1`, `q2`) to leg 3 (`q5`, `q6`).
+    pub legs: [LegFile; 3],
+}
+
+/// One actuator in the file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GuideFile {
+    /// `G_j`, the slider's position at `q_j = 0`, mm, fixed frame.
+    #[serde(deserialize_with = "finite3")]
+    pub point_mm: [f64; 3],
+    /// `u_j`, the direction in which `q_j` grows (normalised on loading).
+    #[serde(deserialize_with = "finite3")]
+    pub direction: [f64; 3],
+    /// `l_j`, the link from slider to node, mm.
+    #[serde(deserialize_with = "positive")]
+    pub link_length_mm: f64,
+    /// `s_j`, `1` or `-1`: which root of the inverse kinematics.
+    #[serde(deserialize_with = "branch_sign", serialize_with = "branch_sign_out")]
+    pub branch: Branch,
+    /// The slider's stroke `[min, max]`, mm.
+    #[serde(deserialize_with = "interval")]
+    pub stroke_mm: [f64; 2],
+}
+
+/// One leg in the file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LegFile {
+    /// `a_i`, the spherical-joint centre, mm, platform frame.
+    #[serde(deserialize_with = "finite3")]
+    pub node_mm: [f64; 3],
+}
+
+/// An instrument module in the file: `[left]` or `[right]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InstrumentFile {
+    /// `alpha`, deg.
+    #[serde(deserialize_with = "finite")]
+    pub alpha_deg: f64,
+    /// `beta`, deg, in `[0, 90)`.
+    #[serde(deserialize_with = "finite")]
+    pub beta_deg: f64,
+    /// The spherical linkage's radius, mm.
+    #[serde(deserialize_with = "positive")]
+    pub radius_mm: f64,
+    /// The port (RCM), mm, platform frame.
+    #[serde(deserialize_with = "finite3")]
+    pub rcm_mm: [f64; 3],
+    /// `qs1` limits `[min, max]`, deg.
+    #[serde(deserialize_with = "interval")]
+    pub qs1_deg: [f64; 2],
+    /// `qs2` limits `[min, max]`, deg.
+    #[serde(deserialize_with = "interval")]
+    pub qs2_deg: [f64; 2],
+    /// `qs3` limits `[min, max]`, mm.
+    #[serde(deserialize_with = "interval")]
+    pub qs3_mm: [f64; 2],
+    /// Relative tolerance of the reach test.
+    #[serde(deserialize_with = "positive")]
+    pub reach_tolerance_rel: f64,
+    /// Smallest accepted `|cos qs2|`.
+    #[serde(deserialize_with = "positive")]
+    pub cos_qs2_min: f64,
+    /// Smallest accepted `qs3`, mm.
+    #[serde(deserialize_with = "positive")]
+    pub qs3_min_mm: f64,
+}
+
+fn finite<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    let v = f64::deserialize(d)?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(serde::de::Error::custom(format!(
+            "expected a finite number, got {v}"
+        )))
+    }
+}
+
+fn positive<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    let v = f64::deserialize(d)?;
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(serde::de::Error::custom(format!(
+            "expected a finite number > 0, got {v}"
+        )))
+    }
+}
+
+fn at_least_one<'de, D: Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
+    let v = u32::deserialize(d)?;
+    if v >= 1 {
+        Ok(v)
+    } else {
+        Err(serde::de::Error::custom("expected at least 1, got 0"))
+    }
+}
+
+fn finite3<'de, D: Deserializer<'de>>(d: D) -> Result<[f64; 3], D::Error> {
+    let v = <[f64; 3]>::deserialize(d)?;
+    if v.iter().all(|x| x.is_finite()) {
+        Ok(v)
+    } else {
+        Err(serde::de::Error::custom(format!(
+            "expected three finite numbers, got {v:?}"
+        )))
+    }
+}
+
+fn interval<'de, D: Deserializer<'de>>(d: D) -> Result<[f64; 2], D::Error> {
+    let v = <[f64; 2]>::deserialize(d)?;
+    if v[0] <= v[1] {
+        Ok(v)
+    } else {
+        Err(serde::de::Error::custom(format!(
+            "expected an interval [min, max] with min <= max (either may be inf), got {v:?}"
+        )))
+    }
+}
+
+fn branch_sign<'de, D: Deserializer<'de>>(d: D) -> Result<Branch, D::Error> {
+    let v = i64::deserialize(d)?;
+    Branch::from_sign(v)
+        .ok_or_else(|| serde::de::Error::custom(format!("expected 1 or -1, got {v}")))
+}
+
+fn branch_sign_out<S: Serializer>(b: &Branch, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_i64(b.as_i64())
+}
+
+/// Degrees for the file, chosen so that reading them back gives `rad`
+/// exactly when some decimal of degrees does: the shortest of a few
+/// roundings that converts back bit for bit (`10` rather than
+/// `9.999999999999998`), else the nearest that does. Not every `f64` of
+/// radians is the conversion of an `f64` of degrees (about one in ten is
+/// not); those read back within one unit in the last place.
+fn to_deg(rad: f64) -> f64 {
+    let d = rad.to_degrees();
+    let back = |x: f64| x.to_radians().to_bits() == rad.to_bits();
+    for digits in [6, 9, 12] {
+        let k = 10f64.powi(digits);
+        let r = (d * k).round() / k;
+        if back(r) {
+            return r;
+        }
+    }
+    [d, d.next_up(), d.next_down()]
+        .into_iter()
+        .find(|&x| back(x))
+        .unwrap_or(d)
+}
+
+fn deg_interval(i: &Interval<f64>) -> [f64; 2] {
+    [to_deg(i.min), to_deg(i.max)]
+}
+
+fn rad_interval(v: [f64; 2]) -> Interval<f64> {
+    Interval::new(v[0].to_radians(), v[1].to_radians())
+}
+
+fn mm_interval(v: [f64; 2]) -> Interval<f64> {
+    Interval::new(v[0], v[1])
+}
+
+impl RobotFile {
+    /// The file's form of a geometry (radians to degrees).
+    pub fn from_geometry(g: &RobotGeometry<f64>) -> Self {
+        let m = &g.module1;
+        Self {
+            module1: Module1File {
+                assumed: m.assumed,
+                serial_margin_min: m.thresholds.serial,
+                parallel_margin_min: m.thresholds.parallel,
+                parallel_margin_command_min: m.thresholds.parallel_command,
+                euler_cos_theta_min: m.thresholds.euler,
+                fk_tolerance_rel: m.fk.tolerance,
+                fk_max_iterations: m.fk.max_iterations,
+                guides: m.guides.map(|g| GuideFile {
+                    point_mm: g.point.into(),
+                    direction: g.direction.into(),
+                    link_length_mm: g.link_length,
+                    branch: g.branch,
+                    stroke_mm: [g.stroke.min, g.stroke.max],
+                }),
+                legs: m.nodes.map(|a| LegFile { node_mm: a.into() }),
+            },
+            left: InstrumentFile::from_geometry(&g.left),
+            right: InstrumentFile::from_geometry(&g.right),
+        }
+    }
+
+    /// The geometry (degrees to radians), not yet validated (see
+    /// [`RobotGeometry::validate`]).
+    pub fn to_geometry(&self) -> RobotGeometry<f64> {
+        let m = &self.module1;
+        RobotGeometry {
+            module1: ParallelGeometry {
+                assumed: m.assumed,
+                guides: m.guides.clone().map(|g| Guide {
+                    point: Vector3::from(g.point_mm),
+                    direction: Vector3::from(g.direction),
+                    link_length: g.link_length_mm,
+                    branch: g.branch,
+                    stroke: mm_interval(g.stroke_mm),
+                }),
+                nodes: m.legs.clone().map(|l| Vector3::from(l.node_mm)),
+                thresholds: ParallelThresholds {
+                    serial: m.serial_margin_min,
+                    parallel: m.parallel_margin_min,
+                    parallel_command: m.parallel_margin_command_min,
+                    euler: m.euler_cos_theta_min,
+                },
+                fk: FkOptions {
+                    tolerance: m.fk_tolerance_rel,
+                    max_iterations: m.fk_max_iterations,
+                },
+            },
+            left: self.left.to_geometry(Side::Left),
+            right: self.right.to_geometry(Side::Right),
+        }
+    }
+}
+
+impl InstrumentFile {
+    /// The file's form of an instrument module (radians to degrees).
+    pub fn from_geometry(g: &InstrumentGeometry<f64>) -> Self {
+        Self {
+            alpha_deg: to_deg(g.alpha),
+            beta_deg: to_deg(g.beta),
+            radius_mm: g.radius,
+            rcm_mm: g.rcm.into(),
+            qs1_deg: deg_interval(&g.limits.qs1),
+            qs2_deg: deg_interval(&g.limits.qs2),
+            qs3_mm: [g.limits.qs3.min, g.limits.qs3.max],
+            reach_tolerance_rel: g.thresholds.reach,
+            cos_qs2_min: g.thresholds.cos_qs2,
+            qs3_min_mm: g.thresholds.qs3,
+        }
+    }
+
+    /// The module on `side` (degrees to radians), not yet validated.
+    pub fn to_geometry(&self, side: Side) -> InstrumentGeometry<f64> {
+        InstrumentGeometry {
+            side,
+            alpha: self.alpha_deg.to_radians(),
+            beta: self.beta_deg.to_radians(),
+            radius: self.radius_mm,
+            rcm: Vector3::from(self.rcm_mm),
+            limits: JointLimits {
+                qs1: rad_interval(self.qs1_deg),
+                qs2: rad_interval(self.qs2_deg),
+                qs3: mm_interval(self.qs3_mm),
+            },
+            thresholds: Thresholds {
+                reach: self.reach_tolerance_rel,
+                cos_qs2: self.cos_qs2_min,
+                qs3: self.qs3_min_mm,
+            },
+        }
+    }
+}
+
+/// The header of every file this module writes.
+const HEADER: &str = "\
+# PARA-SILSROB robot geometry: module 1 (the 6-DOF parallel robot) and the
+# two spherical instrument modules, with their limits and thresholds.
+# Every key names its unit: _mm millimetres, _deg degrees, _rel relative;
+# module 1's positions are in the fixed frame OXYZ (-Z towards the patient),
+# its nodes and the ports (rcm_mm) in the platform frame.
+#
+# Module 1's default dimensions are ASSUMED, not the real robot's, which are
+# not published (see docs/model.md, section \"Module 1, the parallel robot\").
+# Replace them with the real ones and set `assumed = false`; as long as it is
+# true, every module-1 number the CLI prints is labelled as coming from an
+# assumed geometry.
+";
+
+/// Comments appended to the lines whose key they explain.
+const KEY_COMMENTS: [(&str, &str); 15] = [
+    ("assumed", "true: the dimensions below are assumed"),
+    ("serial_margin_min", "smallest accepted |e.u|/l, in (0, 1)"),
+    (
+        "parallel_margin_min",
+        "FK: smallest accepted parallel margin",
+    ),
+    (
+        "parallel_margin_command_min",
+        "each cycle: smallest accepted parallel margin",
+    ),
+    ("euler_cos_theta_min", "FK: smallest accepted |cos theta|"),
+    ("fk_tolerance_rel", "FK: max |f_j| / l_j at convergence"),
+    ("fk_max_iterations", "FK: Newton steps at most"),
+    ("direction", "u_j, normalised on loading"),
+    ("branch", "s_j: 1 or -1"),
+    ("stroke_mm", "[min, max]"),
+    ("node_mm", "a_i, platform frame"),
+    ("rcm_mm", "the port, platform frame"),
+    (
+        "reach_tolerance_rel",
+        "out of reach beyond |v_x| > cos(beta) (1 + this)",
+    ),
+    ("cos_qs2_min", "singular below"),
+    ("qs3_min_mm", "singular below"),
+];
+
+/// The TOML text of a geometry, with a header and comments: what
+/// `parasils robot` prints and `robots/default.toml` holds.
+pub fn to_toml_string(geometry: &RobotGeometry<f64>) -> Result<String, RobotFileError> {
+    let body = toml::to_string(&RobotFile::from_geometry(geometry))?;
+    let mut out = String::from(HEADER);
+    let (mut guide, mut leg) = (0, 0);
+    for line in body.lines() {
+        let line = &exponent_form(line);
+        let trimmed = line.trim();
+        if trimmed.starts_with('[') && !out.ends_with("\n\n") {
+            out.push('\n');
+        }
+        out.push_str(line);
+        match trimmed {
+            "[[module1.guides]]" => {
+                guide += 1;
+                out.push_str(&format!(" # q{guide}"));
+            }
+            "[[module1.legs]]" => {
+                leg += 1;
+                out.push_str(&format!(
+                    " # leg {leg}: the node of q{} and q{}",
+                    2 * leg - 1,
+                    2 * leg
+                ));
+            }
+            _ => {
+                let key = trimmed.split('=').next().unwrap_or("").trim();
+                if let Some((_, comment)) = KEY_COMMENTS.iter().find(|(k, _)| *k == key) {
+                    out.push_str(" # ");
+                    out.push_str(comment);
+                }
+            }
+        }
+        out.push('\n');
+    }
+    Ok(out)
+}
+
+/// `key = 0.0000000000001` as `key = 1e-13`: a small number in exponent
+/// form, which reads the same (TOML floats may have an exponent).
+fn exponent_form(line: &str) -> String {
+    if let Some((key, value)) = line.split_once(" = ")
+        && let Ok(v) = value.trim().parse::<f64>()
+        && v != 0.0
+        && v.abs() < 1e-3
+        && value.contains('.')
+    {
+        return format!("{key} = {v:e}");
+    }
+    line.to_owned()
+}
+
+/// The geometry in a robot file's text, validated. Errors name `"robot file"`
+/// as their origin; see [`load`] for a path.
+pub fn parse(text: &str) -> Result<RobotGeometry<f64>, RobotFileError> {
+    parse_from(text, "robot file")
+}
+
+fn parse_from(text: &str, origin: &str) -> Result<RobotGeometry<f64>, RobotFileError> {
+    let file: RobotFile = toml::from_str(text).map_err(|e| parse_error(text, origin, e))?;
+    let geometry = file.to_geometry();
+    // Module by module, so that an instrument's error says which side.
+    let checks: [(&str, Result<(), parasils::kin::Error>); 3] = [
+        ("module1", geometry.module1.validate()),
+        ("left", geometry.left.validate()),
+        ("right", geometry.right.validate()),
+    ];
+    for (table, result) in checks {
+        if let Err(error) = result {
+            let place = locate(text, table, &error);
+            return Err(RobotFileError::Invalid {
+                origin: origin.into(),
+                line: place.as_ref().and_then(|p| p.line),
+                key: place.as_ref().map(|p| p.key.as_str().into()),
+                text: place.and_then(|p| p.text.map(String::into_boxed_str)),
+                error,
+            });
+        }
+    }
+    Ok(geometry)
+}
+
+/// Where a parameter sits in the file.
+struct Place {
+    key: String,
+    line: Option<usize>,
+    text: Option<String>,
+}
+
+/// The file's table, occurrence and key of the parameter a validation error
+/// names (`module1.guides[2].link_length` is `link_length_mm` in the third
+/// `[[module1.guides]]`), and its line.
+fn locate(text: &str, table: &str, error: &parasils::kin::Error) -> Option<Place> {
+    let what = match error {
+        parasils::kin::Error::InvalidParameter { what, .. }
+        | parasils::kin::Error::NonFinite { what, .. } => *what,
+        _ => return None,
+    };
+    let indexed = |prefix: &str| -> Option<(usize, &str)> {
+        let rest = what.strip_prefix(prefix)?;
+        let (index, field) = rest.split_once(']')?;
+        Some((index.parse().ok()?, field.trim_start_matches('.')))
+    };
+    let (header, occurrence, key, label): (&str, usize, &str, String) =
+        if let Some((j, field)) = indexed("module1.guides[") {
+            let key = match field.split('.').next().unwrap_or("") {
+                "point" => "point_mm",
+                "direction" => "direction",
+                "link_length" => "link_length_mm",
+                "stroke" => "stroke_mm",
+                _ => "",
+            };
+            (
+                "[[module1.guides]]",
+                j,
+                key,
+                format!(" #{} (q{})", j + 1, j + 1),
+            )
+        } else if let Some((i, _)) = indexed("module1.nodes[") {
+            ("[[module1.legs]]", i, "node_mm", format!(" #{}", i + 1))
+        } else if what == "module1.nodes" {
+            ("[[module1.legs]]", 0, "node_mm", String::from(" #1"))
+        } else if table == "module1" {
+            let key = match what {
+                "module1.thresholds.serial" => "serial_margin_min",
+                "module1.thresholds.parallel" => "parallel_margin_min",
+                "module1.thresholds.parallel_command" => "parallel_margin_command_min",
+                "module1.thresholds.euler" => "euler_cos_theta_min",
+                "module1.fk.tolerance" => "fk_tolerance_rel",
+                "module1.fk.max_iterations" => "fk_max_iterations",
+                _ => "",
+            };
+            ("[module1]", 0, key, String::new())
+        } else {
+            let field = what.strip_prefix("instrument.")?;
+            let key = match field.split('.').next().unwrap_or("") {
+                "alpha" => "alpha_deg",
+                "beta" => "beta_deg",
+                "radius" => "radius_mm",
+                "rcm" => "rcm_mm",
+                "limits" => match field {
+                    "limits.qs1" => "qs1_deg",
+                    "limits.qs2" => "qs2_deg",
+                    _ => "qs3_mm",
+                },
+                "thresholds" => match field {
+                    "thresholds.reach" => "reach_tolerance_rel",
+                    "thresholds.cos_qs2" => "cos_qs2_min",
+                    _ => "qs3_min_mm",
+                },
+                _ => "",
+            };
+            let header = if table == "left" { "[left]" } else { "[right]" };
+            (header, 0, key, String::new())
+        };
+    let mut seen = None;
+    let mut header_line = None;
+    let mut found = None;
+    for (n, line) in text.lines().enumerate() {
+        let content = line.split('#').next().unwrap_or("").trim();
+        if content.starts_with('[') {
+            if seen.is_some_and(|k| k == occurrence) && header_line.is_some() {
+                break;
+            }
+            if content == header {
+                seen = Some(seen.map_or(0, |k| k + 1));
+                if seen == Some(occurrence) {
+                    header_line = Some((n + 1, line));
+                }
+            }
+            continue;
+        }
+        if header_line.is_some() && !key.is_empty() {
+            let k = content.split('=').next().unwrap_or("").trim();
+            if k == key {
+                found = Some((n + 1, line));
+                break;
+            }
+        }
+    }
+    let at = found.or(header_line);
+    Some(Place {
+        key: format!("{header}{label} {key}").trim_end().to_owned(),
+        line: at.map(|(n, _)| n),
+        text: at.map(|(_, t)| t.to_owned()),
+    })
+}
+
+/// A [`RobotFileError::Parse`] with the line, column, key and text of the
+/// error's position.
+fn parse_error(text: &str, origin: &str, source: toml::de::Error) -> RobotFileError {
+    let position = source.span().map(|span| {
+        let start = span.start.min(text.len());
+        let before = &text[..start];
+        let line = before.matches('\n').count() + 1;
+        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+        let column = text[line_start..start].chars().count() + 1;
+        let line_text = text[line_start..].lines().next().unwrap_or("").to_owned();
+        (line, column, line_text)
+    });
+    let key = position.as_ref().and_then(|(_, _, t)| {
+        let (k, _) = t.split_once('=')?;
+        let k = k.trim();
+        (!k.is_empty() && !k.starts_with('#')).then(|| k.into())
+    });
+    RobotFileError::Parse {
+        origin: origin.into(),
+        line: position.as_ref().map(|p| p.0),
+        column: position.as_ref().map(|p| p.1),
+        key,
+        text: position.map(|p| p.2.into_boxed_str()),
+        error: Box::new(source),
+    }
+}
+
+/// The geometry in the robot file at `path`, validated.
+pub fn load(path: impl AsRef<Path>) -> Result<RobotGeometry<f64>, RobotFileError> {
+    let path = path.as_ref();
+    let text = std::fs::read_to_string(path).map_err(|error| RobotFileError::Io {
+        path: path.to_owned(),
+        error,
+    })?;
+    parse_from(&text, &path.display().to_string())
+}
+
+/// Writes `geometry` to `path` as [`to_toml_string`] gives it.
+pub fn save(path: impl AsRef<Path>, geometry: &RobotGeometry<f64>) -> Result<(), RobotFileError> {
+    let path = path.as_ref();
+    let text = to_toml_string(geometry)?;
+    std::fs::write(path, text).map_err(|error| RobotFileError::Io {
+        path: path.to_owned(),
+        error,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn degrees_read_back_exactly() {
+        for d in [10.0f64, -120.0, 80.0, 0.1, 33.333, 1e-7, 12.345_678_901] {
+            let r = d.to_radians();
+            assert_eq!(to_deg(r).to_radians().to_bits(), r.to_bits(), "{d}");
+        }
+        assert_eq!(to_deg(10f64.to_radians()).to_bits(), 10f64.to_bits());
+        assert_eq!(to_deg(f64::INFINITY).to_bits(), f64::INFINITY.to_bits());
+        // Any angle reads back within one unit in the last place.
+        for k in 0..10_000 {
+            let r = 0.123_456_789 + f64::from(k) * 1.234_567e-4;
+            let back = to_deg(r).to_radians();
+            assert!((back - r).abs() <= r.abs() * f64::EPSILON, "{r}");
+        }
+    }
+}

@@ -1,0 +1,207 @@
+//! A simulation's inputs, in the units people give them in: the start pose,
+//! the reorientation, the limits, the sampling rate, the tips and the robot.
+//!
+//! The defaults ([`Scenario::paper`]) are the paper's section 4, taken from
+//! [`parasils::paper`] and the kinematics' presets: the command line and the
+//! Python bindings start from them and change the fields their user gave.
+
+use nalgebra::Vector3;
+use parasils::kin::presets;
+use parasils::kin::{Pose, RobotGeometry, TipTargets, mirror_across_platform};
+use parasils::paper;
+use parasils::traj::{Limits, Synchronization};
+use serde::Serialize;
+
+/// The inputs of one endoscope reorientation (motion type 4), in user units:
+/// mm, degrees, deg/s, deg/s^2, Hz.
+///
+/// Build one from [`Scenario::paper`] and change what differs:
+///
+/// ```
+/// use parasils_sim::Scenario;
+///
+/// let s = Scenario {
+///     psi_deg: -10.0,
+///     rate_hz: 250.0,
+///     ..Scenario::paper()
+/// };
+/// assert_eq!(s.theta_deg, 25.0);
+/// assert_eq!(s.goal_rad()[0], s.start().psi + (-10f64).to_radians());
+/// ```
+///
+/// Nothing is checked here: [`Simulation::new`](crate::Simulation::new)
+/// validates the whole (finite numbers, positive limits and rate, a valid
+/// robot) and says what is wrong.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scenario {
+    /// The platform's pose at `t = 0`: `[x, y, z]` in mm, then
+    /// `[psi, theta, phi]` in degrees.
+    pub start_mm_deg: [f64; 6],
+    /// `psi`: the increment from the start (or, with `absolute`, the final
+    /// value), deg.
+    pub psi_deg: f64,
+    /// `theta`: the increment from the start (or, with `absolute`, the final
+    /// value), deg.
+    pub theta_deg: f64,
+    /// Whether `psi_deg` and `theta_deg` are final angles rather than
+    /// increments.
+    pub absolute: bool,
+    /// The velocity limit of each Euler angle, deg/s.
+    pub omega_max_deg_s: f64,
+    /// The acceleration limit of each Euler angle, deg/s^2.
+    pub eps_max_deg_s2: f64,
+    /// How the two angles are timed together.
+    pub sync: Synchronization,
+    /// Samples per second, Hz.
+    pub rate_hz: f64,
+    /// The left tip, held still, mm, fixed frame.
+    pub tip_left_mm: [f64; 3],
+    /// The right tip, held still, mm, fixed frame; `None` for the mirror
+    /// image of the left tip across the platform's `Y'Z'` plane at the start
+    /// pose.
+    pub tip_right_mm: Option<[f64; 3]>,
+    /// The robot: module 1 and both instrument modules (library units).
+    pub robot: RobotGeometry<f64>,
+}
+
+impl Default for Scenario {
+    /// [`Scenario::paper`].
+    fn default() -> Self {
+        Self::paper()
+    }
+}
+
+impl Scenario {
+    /// The paper's scenario: `P0 = (15, 20, -500 mm, -15, 10, -60 deg)`,
+    /// `psi` and `theta` increased by 15 and 25 deg within 10 deg/s and
+    /// 5 deg/s^2, phase-synchronised, the left tip at `(50, -50, -620)` mm and
+    /// the right one its mirror, sampled at 1 kHz, on the paper's robot
+    /// (module 1 assumed). See `docs/model.md`, *Check values*.
+    pub fn paper() -> Self {
+        Self {
+            start_mm_deg: presets::START_POSE_MM_DEG,
+            psi_deg: paper::PSI_DEG,
+            theta_deg: paper::THETA_DEG,
+            absolute: false,
+            omega_max_deg_s: paper::OMEGA_MAX_DEG_S,
+            eps_max_deg_s2: paper::EPS_MAX_DEG_S2,
+            sync: Synchronization::Phase,
+            rate_hz: paper::RATE_HZ,
+            tip_left_mm: TipTargets::<f64>::paper().left.into(),
+            tip_right_mm: None,
+            robot: RobotGeometry::paper(),
+        }
+    }
+
+    /// The start pose in library units (mm, rad).
+    pub fn start(&self) -> Pose<f64> {
+        let [x, y, z, psi, theta, phi] = self.start_mm_deg;
+        Pose::from_mm_deg(x, y, z, psi, theta, phi)
+    }
+
+    /// The final `[psi, theta]`, rad.
+    pub fn goal_rad(&self) -> [f64; 2] {
+        let [psi, theta] = [self.psi_deg.to_radians(), self.theta_deg.to_radians()];
+        if self.absolute {
+            [psi, theta]
+        } else {
+            let start = self.start();
+            [start.psi + psi, start.theta + theta]
+        }
+    }
+
+    /// The limits of each angle, rad/s and rad/s^2.
+    pub fn limits(&self) -> Limits<f64> {
+        Limits::new(
+            self.omega_max_deg_s.to_radians(),
+            self.eps_max_deg_s2.to_radians(),
+        )
+    }
+
+    /// The two tips the controller holds still, mm, fixed frame (the right
+    /// one resolved).
+    pub fn tips(&self) -> TipTargets<f64> {
+        let left = Vector3::from(self.tip_left_mm);
+        TipTargets {
+            left,
+            right: self.tip_right_mm.map_or_else(
+                || mirror_across_platform(&self.start(), &left),
+                Vector3::from,
+            ),
+        }
+    }
+
+    /// The scenario in library units (mm, rad, s), as the MCAP file's
+    /// `parasils.scenario` metadata records it.
+    pub fn library_units(&self) -> LibraryUnits<'_> {
+        let start = self.start();
+        let [psi, theta] = [self.psi_deg.to_radians(), self.theta_deg.to_radians()];
+        LibraryUnits {
+            start,
+            psi,
+            theta,
+            absolute: self.absolute,
+            omega_max: self.omega_max_deg_s.to_radians(),
+            eps_max: self.eps_max_deg_s2.to_radians(),
+            sync: self.sync,
+            rate_hz: self.rate_hz,
+            tip_left: self.tip_left_mm,
+            tip_right: self.tip_right_mm,
+            robot: &self.robot,
+        }
+    }
+}
+
+/// A [`Scenario`] in library units (mm, rad, s), for records: the MCAP
+/// file's `parasils.scenario` metadata is this, serialised as JSON.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct LibraryUnits<'a> {
+    /// The start pose, mm and rad.
+    pub start: Pose<f64>,
+    /// `psi`: increment (or final value), rad.
+    pub psi: f64,
+    /// `theta`: increment (or final value), rad.
+    pub theta: f64,
+    /// Whether `psi` and `theta` are final angles.
+    pub absolute: bool,
+    /// Velocity limit, rad/s.
+    pub omega_max: f64,
+    /// Acceleration limit, rad/s^2.
+    pub eps_max: f64,
+    /// Synchronisation.
+    pub sync: Synchronization,
+    /// Samples per second, Hz.
+    pub rate_hz: f64,
+    /// The left tip, mm.
+    pub tip_left: [f64; 3],
+    /// The right tip, mm, if given.
+    pub tip_right: Option<[f64; 3]>,
+    /// The robot.
+    pub robot: &'a RobotGeometry<f64>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_paper_start_is_the_kinematics_own() {
+        let s = Scenario::paper();
+        assert_eq!(s.start(), Pose::paper_start());
+        assert_eq!(s.tips(), TipTargets::paper());
+        let [psi, theta] = s.goal_rad();
+        assert_eq!(psi, Pose::<f64>::paper_start().psi + 15f64.to_radians());
+        assert_eq!(theta, Pose::<f64>::paper_start().theta + 25f64.to_radians());
+    }
+
+    #[test]
+    fn absolute_angles_are_the_goal() {
+        let s = Scenario {
+            absolute: true,
+            psi_deg: 5.0,
+            theta_deg: -5.0,
+            ..Scenario::paper()
+        };
+        assert_eq!(s.goal_rad(), [5f64.to_radians(), (-5f64).to_radians()]);
+    }
+}

@@ -1,0 +1,234 @@
+//! A run's summary for people: ranges and peak rates of every actuator and
+//! joint, the largest tip drift, the smallest margins. Accumulated record by
+//! record, in constant memory, over the CSV's columns; the text reads them
+//! through the [column table](crate::columns)'s named columns.
+
+use core::fmt;
+
+use crate::columns::{self, CSV_COUNT, Column};
+use crate::numbers::Fixed;
+use crate::record::Record;
+use crate::sink::Sink;
+
+/// Running extremes of every CSV column ([`columns::CSV`]).
+#[derive(Debug, Clone)]
+pub struct Summary {
+    count: usize,
+    min: [f64; CSV_COUNT],
+    max: [f64; CSV_COUNT],
+    /// Whether module 1 runs on the assumed default geometry (the text says
+    /// so).
+    pub module1_assumed: bool,
+}
+
+impl Default for Summary {
+    fn default() -> Self {
+        Self::new(false)
+    }
+}
+
+impl Sink for Summary {
+    type Error = core::convert::Infallible;
+
+    fn push(&mut self, record: &Record) -> Result<(), Self::Error> {
+        self.count += 1;
+        for (i, column) in columns::CSV.iter().enumerate() {
+            let v = column.value(record);
+            self.min[i] = self.min[i].min(v);
+            self.max[i] = self.max[i].max(v);
+        }
+        Ok(())
+    }
+}
+
+impl Summary {
+    /// An empty summary; `module1_assumed` says whether module 1's geometry
+    /// is the assumed one.
+    pub fn new(module1_assumed: bool) -> Self {
+        Self {
+            count: 0,
+            min: [f64::INFINITY; CSV_COUNT],
+            max: [f64::NEG_INFINITY; CSV_COUNT],
+            module1_assumed,
+        }
+    }
+
+    /// The number of records seen.
+    pub fn count(&self) -> usize {
+        self.count
+    }
+
+    /// `(min, max)` of a column, in its unit; `None` before the first record
+    /// or for a column the CSV does not have.
+    pub fn range(&self, column: &Column) -> Option<(f64, f64)> {
+        let i = columns::csv_index(column)?;
+        (self.count > 0).then_some((self.min[i], self.max[i]))
+    }
+
+    /// The largest absolute value of a column.
+    pub fn peak(&self, column: &Column) -> Option<f64> {
+        self.range(column).map(|(lo, hi)| lo.abs().max(hi.abs()))
+    }
+
+    /// The largest distance of each tip from its target, `[left, right]`, mm.
+    pub fn tip_drift(&self) -> [f64; 2] {
+        [&columns::LEFT, &columns::RIGHT].map(|m| self.range(&m.tip_err).map_or(f64::NAN, |r| r.1))
+    }
+
+    /// The largest tip drift of both modules, mm.
+    pub fn largest_tip_drift(&self) -> f64 {
+        let [l, r] = self.tip_drift();
+        l.max(r)
+    }
+}
+
+impl fmt::Display for Summary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let r = |c: &Column| self.range(c).unwrap_or((f64::NAN, f64::NAN));
+        let p = |c: &Column| Fixed(self.peak(c).unwrap_or(f64::NAN), 4);
+        let (t0, t1) = r(&columns::T_S);
+        writeln!(
+            f,
+            "duration {} s, {} samples ({} to {} s)",
+            Fixed(t1 - t0, 3),
+            self.count,
+            Fixed(t0, 3),
+            Fixed(t1, 3)
+        )?;
+        writeln!(f, "platform")?;
+        for (a, angle, rate, acc) in [
+            (
+                "psi",
+                &columns::PSI_DEG,
+                &columns::PSI_RATE_DEG_S,
+                &columns::PSI_ACC_DEG_S2,
+            ),
+            (
+                "theta",
+                &columns::THETA_DEG,
+                &columns::THETA_RATE_DEG_S,
+                &columns::THETA_ACC_DEG_S2,
+            ),
+        ] {
+            let (lo, hi) = r(angle);
+            writeln!(
+                f,
+                "  {a:<6} {:>9} .. {:>9} deg    peak rate {:>8} deg/s    peak acc {:>8} deg/s^2",
+                Fixed(lo, 4),
+                Fixed(hi, 4),
+                p(rate),
+                p(acc)
+            )?;
+        }
+        writeln!(f, "module 1 actuators")?;
+        if self.module1_assumed {
+            writeln!(
+                f,
+                "  (module 1 uses the ASSUMED default geometry: the real robot's dimensions are not published; pass --robot FILE.toml)"
+            )?;
+        }
+        for j in 0..6 {
+            let (lo, hi) = r(&columns::Q_MM[j]);
+            writeln!(
+                f,
+                "  q{}     {:>9} .. {:>9} mm     peak rate {:>8} mm/s     peak acc {:>8} mm/s^2",
+                j + 1,
+                Fixed(lo, 4),
+                Fixed(hi, 4),
+                p(&columns::Q_RATE_MM_S[j]),
+                p(&columns::Q_ACC_MM_S2[j])
+            )?;
+        }
+        for (side, m) in [("left", &columns::LEFT), ("right", &columns::RIGHT)] {
+            writeln!(f, "{side} instrument")?;
+            for (k, (joint, unit, rate_unit)) in [
+                ("qs1", "deg", "deg/s"),
+                ("qs2", "deg", "deg/s"),
+                ("qs3", "mm", "mm/s"),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                let (lo, hi) = r(&m.q[k]);
+                writeln!(
+                    f,
+                    "  {joint}    {:>9} .. {:>9} {unit:<3}    peak rate {:>8} {rate_unit}",
+                    Fixed(lo, 4),
+                    Fixed(hi, 4),
+                    p(&m.q_rate[k])
+                )?;
+            }
+        }
+        let [left, right] = self.tip_drift();
+        writeln!(
+            f,
+            "largest tip drift {:.3e} mm (left {left:.3e}, right {right:.3e})",
+            self.largest_tip_drift(),
+        )?;
+        let cos_l = r(&columns::LEFT.cos_qs2);
+        let cos_r = r(&columns::RIGHT.cos_qs2);
+        write!(
+            f,
+            "smallest margins: |cos qs2| left {}, right {}; module 1 serial {}, parallel {}",
+            Fixed(cos_l.0.abs().min(cos_l.1.abs()), 4),
+            Fixed(cos_r.0.abs().min(cos_r.1.abs()), 4),
+            Fixed(r(&columns::MODULE1_SERIAL_MARGIN).0, 4),
+            Fixed(r(&columns::MODULE1_PARALLEL_MARGIN).0, 4)
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_peaks_and_the_text() {
+        let mut s = Summary::new(true);
+        assert_eq!(s.range(&columns::T_S), None);
+        for k in 0..3 {
+            let mut r = Record {
+                t: f64::from(k),
+                angles_deg: [-15.0 + f64::from(k), 10.0, -60.0],
+                ..Record::default()
+            };
+            r.module1.q_dot[2] = -2.0 * f64::from(k);
+            r.right.tip_err = 1e-13 * f64::from(k);
+            s.push(&r).expect("infallible");
+        }
+        assert_eq!(s.count(), 3);
+        assert_eq!(s.range(&columns::PSI_DEG), Some((-15.0, -13.0)));
+        assert_eq!(s.peak(&columns::Q_RATE_MM_S[2]), Some(4.0));
+        assert_eq!(s.range(&columns::LEFT.tip[0]), None, "MCAP only");
+        assert_eq!(s.largest_tip_drift(), 2e-13);
+        let text = s.to_string();
+        assert!(
+            text.starts_with("duration 2.000 s, 3 samples (0.000 to 2.000 s)\n"),
+            "{text}"
+        );
+        assert!(
+            text.contains("  psi     -15.0000 ..  -13.0000 deg"),
+            "{text}"
+        );
+        assert!(text.contains("ASSUMED"));
+        assert!(text.contains("largest tip drift 2.000e-13 mm (left 0.000e0, right 2.000e-13)"));
+    }
+
+    #[test]
+    fn huge_values_stay_readable() {
+        let mut s = Summary::new(false);
+        for t in [0.0, 1e300] {
+            s.push(&Record {
+                t,
+                ..Record::default()
+            })
+            .expect("infallible");
+        }
+        let text = s.to_string();
+        assert!(
+            text.starts_with("duration 1.000e300 s, 2 samples (0.000 to 1.000e300 s)"),
+            "{text}"
+        );
+        assert!(text.len() < 2000, "{text}");
+    }
+}
