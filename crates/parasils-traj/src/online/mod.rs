@@ -44,9 +44,9 @@
 //! instead of overshooting by a rounding error and coming back.
 //!
 //! # Several axes
-//! [`OnlineMulti::new`] takes a [`Synchronization`] request and reports the
+//! [`OnlineMulti::new`] takes a [`Synchronization`](crate::Synchronization) request and reports the
 //! one it used ([`OnlineMulti::synchronization`]):
-//! - [`Synchronization::Phase`]: a straight line in joint space, possible
+//! - [`Synchronization::Phase`](crate::Synchronization::Phase): a straight line in joint space, possible
 //!   only when the current velocity is parallel (or anti-parallel) to the
 //!   remaining displacement, or when every axis is at rest, and when no axis
 //!   is faster than its `v_max` (up to 64 float epsilons, relative): an axis
@@ -57,10 +57,10 @@
 //!   of the displacement), and each axis follows it within its own limits.
 //!   Otherwise the request falls back to `Time`, and that is what is
 //!   reported.
-//! - [`Synchronization::Time`]: every axis arrives at the longest minimum time
+//! - [`Synchronization::Time`](crate::Synchronization::Time): every axis arrives at the longest minimum time
 //!   `T`, each keeping its `a_max` and lowering its cruise velocity (see
 //!   below).
-//! - [`Synchronization::None`]: each axis on its own minimum-time profile.
+//! - [`Synchronization::None`](crate::Synchronization::None): each axis on its own minimum-time profile.
 //!
 //! **Parallel, with tolerance.** The displacement `d_i = target_i - p0_i` is
 //! written `k_i S` with `S = max_i |d_i|` (or, when every `d_i` is zero, the
@@ -112,7 +112,7 @@
 //! that begins at a switch (right-continuous). The velocity of the first
 //! phase is clamped to the interval between `v0` and `v_c`, that of the last
 //! one to `|v_c|`, so rounding never exceeds the limits. Errors are typed
-//! ([`Error`]), never a panic or a NaN; the acceleration of the given start
+//! ([`Error`](crate::Error)), never a panic or a NaN; the acceleration of the given start
 //! state is not used.
 
 mod axis;
