@@ -3,8 +3,9 @@
 //! six actuators with rates, accelerations and margins (the parallel margin's
 //! 6x6 singular values included), and both instrument modules' joints with
 //! rates, accelerations and margins. `f64` and `f32`, at `t = 1 s` of the
-//! paper's motion; then the step's parts one by one, to show where the time
-//! goes.
+//! paper's motion; the online controller's cycle around it (the step and the
+//! margin supervisor) and a new goal while turning; then the step's parts one
+//! by one, to show where the time goes.
 //!
 //! `cargo bench -p parasils --bench controller`; results in `BENCHMARKS.md`.
 
@@ -12,7 +13,7 @@ mod common;
 
 use core::hint::black_box;
 
-use criterion::Criterion;
+use criterion::{BatchSize, Criterion};
 use parasils::kin::{TipMotion, frame::PlatformFrame};
 
 use common::paper_step_inputs;
@@ -27,6 +28,27 @@ fn bench_step<T: Real>(c: &mut Criterion, name: &str) {
             k = (k + 1) % 2;
             controller.step(black_box(&states[k]), black_box(&tips))
         })
+    });
+}
+
+/// The online controller's cycle: the step above and the margin supervisor
+/// (and the platform state of the active motion), at `t = 1 s` from the tick
+/// 1 ms earlier; and a new goal while turning (one two-axis online plan).
+/// Each call runs on a fresh copy (the controller's clock never runs
+/// backwards), made outside the timing.
+fn bench_online<T: Real>(c: &mut Criterion, name: &str) {
+    let online = common::paper_online::<T>();
+    let t = <T as parasils::kin::Real>::lit(1.0);
+    c.bench_function(&format!("controller/online_tick/{name}"), |b| {
+        b.iter_batched_ref(|| online, |o| o.tick(black_box(t)), BatchSize::SmallInput)
+    });
+    let goal = common::retarget::<T>();
+    c.bench_function(&format!("controller/online_command/{name}"), |b| {
+        b.iter_batched_ref(
+            || online,
+            |o| o.command(black_box(t), black_box(goal)),
+            BatchSize::SmallInput,
+        )
     });
 }
 
@@ -74,6 +96,8 @@ fn main() {
     let mut c = common::criterion();
     bench_step::<f64>(&mut c, "f64");
     bench_step::<f32>(&mut c, "f32");
+    bench_online::<f64>(&mut c, "f64");
+    bench_online::<f32>(&mut c, "f32");
     bench_parts::<f64>(&mut c, "f64");
     bench_parts::<f32>(&mut c, "f32");
     c.final_summary();

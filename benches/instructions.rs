@@ -19,12 +19,13 @@ use parasils::kin::{
     Actuators, AssemblyMode, ControlStep, Controller, FkSolution, InstrumentSolution, Joints,
     MarginTracker, ParallelSolution, PlatformFrame, PlatformState, Pose, TipMotion, TipTargets,
 };
-use parasils::traj::{Multi, State};
+use parasils::traj::{Multi, State, Synchronization};
+use parasils::{OnlineController, Setpoint};
 
-use common::{paper_motion, paper_step_inputs};
+use common::{paper_motion, paper_online, paper_step_inputs, retarget};
 
 /// The kernels, by name: what each call does.
-const KERNELS: [(&str, &str); 11] = [
+const KERNELS: [(&str, &str); 14] = [
     (
         "step_f64",
         "Controller::step (from the step 1 ms earlier), f64",
@@ -60,6 +61,18 @@ const KERNELS: [(&str, &str); 11] = [
     (
         "module1_fk_f64",
         "ParallelRobot::fk from the pose 1 ms earlier, f64",
+    ),
+    (
+        "online_tick_f64",
+        "OnlineController::tick (step and supervisor, from 1 ms earlier), f64",
+    ),
+    (
+        "online_tick_f32",
+        "OnlineController::tick (step and supervisor, from 1 ms earlier), f32",
+    ),
+    (
+        "online_command_f64",
+        "OnlineController::command while turning (a two-axis online plan), f64",
     ),
     ("trajectory_sample_f64", "Multi::sample, 2 trapezoids, f64"),
     (
@@ -144,6 +157,25 @@ fn kernel_module1_fk_f64(
 }
 
 #[inline(never)]
+fn kernel_online_tick_f64(o: &mut OnlineController<f64>, t: f64) -> Option<Setpoint<f64>> {
+    o.tick(t).ok()
+}
+
+#[inline(never)]
+fn kernel_online_tick_f32(o: &mut OnlineController<f32>, t: f32) -> Option<Setpoint<f32>> {
+    o.tick(t).ok()
+}
+
+#[inline(never)]
+fn kernel_online_command_f64(
+    o: &mut OnlineController<f64>,
+    t: f64,
+    goal: [f64; 2],
+) -> Option<Synchronization> {
+    o.command(t, goal).ok()
+}
+
+#[inline(never)]
 fn kernel_trajectory_sample_f64(m: &Multi<f64, 2>, t: f64) -> [State<f64>; 2] {
     m.sample(t)
 }
@@ -169,6 +201,11 @@ fn run(name: &str, n: usize) {
     let motion = paper_motion::<f64>();
     let previous = motion.state_at(0.999).pose;
     let q = c.module1.ik(&state.pose).expect("reachable");
+    // The online controller at 0.999 s: each call works on a copy (its clock
+    // never runs backwards), made outside the kernel.
+    let online = paper_online::<f64>();
+    let online32 = paper_online::<f32>();
+    let goal = retarget::<f64>();
     for i in 0..n {
         // The steps alternate t = 1 s and t = 0.999 s (see `paper_step_inputs`).
         let k = (i + 1) % 2;
@@ -212,6 +249,22 @@ fn run(name: &str, n: usize) {
                 black_box(&q),
                 black_box(&previous),
             ))),
+            "online_tick_f64" => {
+                let mut o = black_box(online);
+                let _ = black_box(kernel_online_tick_f64(&mut o, black_box(1.0)));
+            }
+            "online_tick_f32" => {
+                let mut o = black_box(online32);
+                let _ = black_box(kernel_online_tick_f32(&mut o, black_box(1.0)));
+            }
+            "online_command_f64" => {
+                let mut o = black_box(online);
+                let _ = black_box(kernel_online_command_f64(
+                    &mut o,
+                    black_box(1.0),
+                    black_box(goal),
+                ));
+            }
             "trajectory_sample_f64" => drop(black_box(kernel_trajectory_sample_f64(
                 black_box(motion.profile()),
                 black_box(1.0),

@@ -1,5 +1,7 @@
-//! The error of a motion run through the controller: the planner's or the
-//! kinematics'.
+//! The error of a motion run through the controller: the planner's, the
+//! kinematics', or the online controller's own.
+
+use crate::supervisor::Margin;
 
 /// What can fail when a trajectory drives the controller.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
@@ -11,4 +13,36 @@ pub enum Error {
     /// The trajectory cannot be planned or sampled (see [`parasils_traj::Error`]).
     #[error(transparent)]
     Trajectory(#[from] crate::traj::Error),
+    /// A time given to the [`OnlineController`](crate::OnlineController) is
+    /// infinite or NaN.
+    #[error("the time {value} s is not finite")]
+    NonFiniteTime {
+        /// The time given, s.
+        value: f64,
+    },
+    /// A time given to the [`OnlineController`](crate::OnlineController) is
+    /// earlier than one it was given before: its clock never runs backwards.
+    #[error("the time {t} s is before {last} s, the latest time given")]
+    TimeReversed {
+        /// The time given, s.
+        t: f64,
+        /// The latest time given before, s.
+        last: f64,
+    },
+    /// A threshold of a [`Supervisor`](crate::supervisor::Supervisor) is not
+    /// finite or not above the one it must exceed (a stop threshold the
+    /// solvers' hard one, a warning threshold the stop one).
+    #[error(
+        "the supervisor's {what} threshold of {margin} is {value}: it must be finite and above {min}"
+    )]
+    InvalidThreshold {
+        /// `"stop"` or `"warning"`.
+        what: &'static str,
+        /// Which margin.
+        margin: Margin,
+        /// The threshold given, in the margin's unit.
+        value: f64,
+        /// What it must exceed (a warning threshold may equal it).
+        min: f64,
+    },
 }

@@ -6,7 +6,9 @@
 //! [`parasils_traj`] (as [`traj`]), and the bridge between them:
 //! [`Reorientation`] turns a synchronised profile into the
 //! [`PlatformState`](kin::PlatformState)s the controller steps through, and
-//! [`paper`] states the paper's scenario once. `#![no_std]`, allocation-free,
+//! [`paper`] states the paper's scenario once; [`OnlineController`] is the
+//! per-cycle loop that accepts new goals and stops while the platform moves,
+//! watched by a margin [`Supervisor`]. `#![no_std]`, allocation-free,
 //! generic over `f32`/`f64` ([`Real`]). The README above is this crate's
 //! documentation, so its Rust examples run as doc-tests.
 #![no_std]
@@ -15,11 +17,15 @@ pub use parasils_kin as kin;
 pub use parasils_traj as traj;
 
 mod error;
+pub mod online;
 pub mod paper;
 pub mod reorientation;
+pub mod supervisor;
 
 pub use error::Error;
+pub use online::{MotionKind, OnlineController, Setpoint};
 pub use reorientation::Reorientation;
+pub use supervisor::Supervisor;
 
 /// A float type of both crates, [`f32`] or [`f64`]: what the kinematics
 /// ([`kin::Real`]) and the profiles ([`traj::Real`]) are both generic over.

@@ -8,8 +8,9 @@
 //! code measured is the general one.
 #![allow(dead_code, reason = "each bench uses a part")]
 
-use parasils::kin::{Controller, PlatformState, TipTargets};
-use parasils::{Real, Reorientation};
+use parasils::kin::{Controller, PlatformState, Pose, TipTargets};
+use parasils::traj::Limits;
+use parasils::{OnlineController, Real, Reorientation, Supervisor};
 
 /// The paper's reorientation: `psi` +15 deg, `theta` +25 deg from `P0`,
 /// 10 deg/s and 5 deg/s^2, phase-synchronised (4.5 s).
@@ -29,6 +30,41 @@ pub fn paper_step_inputs<T: Real>() -> (Controller<T>, TipTargets<T>, [PlatformS
     let tips = TipTargets::paper();
     controller.step(&states[0], &tips).expect("regular");
     (controller, tips, states)
+}
+
+/// The online controller of the paper's scenario (the paper's goal commanded
+/// at rest at `t = 0`, the default supervisor) having ticked at `0.998 s` and
+/// `0.999 s`: its tick at `t = 1 s` is the same cycle as the step of
+/// [`paper_step_inputs`], with the supervisor's rates from 1 ms earlier. A
+/// bench ticks (or commands) a copy of it at `t = 1 s`, since the
+/// controller's clock never runs backwards.
+pub fn paper_online<T: Real>() -> OnlineController<T> {
+    let lit = <T as parasils::kin::Real>::lit;
+    let rad = |deg: f64| lit(deg.to_radians());
+    let p0 = Pose::<T>::paper_start();
+    let mut online = OnlineController::new(
+        Controller::paper(),
+        TipTargets::paper(),
+        p0,
+        [Limits::new(rad(10.0), rad(5.0)); 2],
+        Supervisor::default(),
+    )
+    .expect("the paper's start is regular");
+    online
+        .command(T::zero(), [p0.psi + rad(15.0), p0.theta + rad(25.0)])
+        .expect("a finite goal");
+    for t in [0.998, 0.999] {
+        online.tick(lit(t)).expect("regular");
+    }
+    online
+}
+
+/// A new goal for [`paper_online`] at `t = 1 s`, while it turns: `psi` -10
+/// and `theta` +15 deg from `P0` (`psi` turns back; time-synchronised), rad.
+pub fn retarget<T: Real>() -> [T; 2] {
+    let p0 = Pose::<T>::paper_start();
+    let rad = |deg: f64| <T as parasils::kin::Real>::lit(deg.to_radians());
+    [p0.psi + rad(-10.0), p0.theta + rad(15.0)]
 }
 
 /// A short criterion configuration: these functions take nanoseconds, and

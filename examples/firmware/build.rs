@@ -1,21 +1,34 @@
-//! Computes the references the firmware checks itself against: the paper's
-//! reorientation ([`Reorientation::paper`]) run on the host in `f64` with the
-//! very same library (built here with `std`), written to
-//! `$OUT_DIR/reference.rs`. The build script is rerun whenever `parasils`,
-//! `parasils-kin` or `parasils-traj` change, so the references are always
-//! those of the code being embedded.
+//! Computes the references the firmware checks itself against: the command
+//! stream of `src/scenario.rs` run through the very same
+//! [`OnlineController`](parasils::OnlineController) on the host in `f64`
+//! (the library built here with `std`), written to `$OUT_DIR/reference.rs`.
+//! The build script is rerun whenever `parasils`, `parasils-kin` or
+//! `parasils-traj` change, so the references are always those of the code
+//! being embedded.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use parasils::Reorientation;
-use parasils::kin::{Controller, TipTargets};
+use parasils::traj::Synchronization;
 
 #[path = "src/scenario.rs"]
 #[allow(dead_code)]
 mod scenario;
 
-use scenario::{FIELD_COUNT, REFERENCE_EVERY, SAMPLE_COUNT};
+use scenario::{FIELD_COUNT, MAX_CYCLES};
+
+/// A compared cycle this close to a switch of the profile (s) could see its
+/// acceleration on the other side of the switch in `f32`.
+const SWITCH_CLEARANCE_S: f64 = 1e-5;
+
+fn sync_code(s: Option<Synchronization>) -> u8 {
+    match s {
+        None => 0,
+        Some(Synchronization::Phase) => 1,
+        Some(Synchronization::Time) => 2,
+        Some(Synchronization::None) => 3,
+    }
+}
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
@@ -27,51 +40,92 @@ fn main() {
     std::fs::copy("memory.x", out.join("memory.x")).expect("copy memory.x");
     println!("cargo:rustc-link-search={}", out.display());
 
-    let motion = Reorientation::<f64>::paper().expect("valid motion");
-    let mut controller = Controller::<f64>::paper();
-    let tips = TipTargets::<f64>::paper();
-    let mut peak = [0.0f64; FIELD_COUNT];
-    let mut references = Vec::new();
+    let mut online = scenario::online::<f64>().expect("valid controller");
+    let orders = scenario::orders::<f64>();
+    let last_command = orders.iter().map(|o| o.0).max().unwrap_or(0);
+    let mut next = orders.iter().peekable();
+    let mut syncs = Vec::new();
+    let mut cycles = Vec::new();
     let mut worst_drift = 0.0f64;
-    let mut count = 0;
-    for s in motion
-        .sampler(parasils::paper::RATE_HZ)
-        .expect("valid rate")
-    {
-        let pose = s.state.pose;
-        let step = controller
-            .step(&s.state, &tips)
-            .unwrap_or_else(|e| panic!("f64 step {} failed: {e}", s.index));
+    for k in 0..MAX_CYCLES {
+        let t = scenario::time::<f64>(k);
+        if let Some(&&(at, goal)) = next.peek()
+            && at == k
+        {
+            let sync = scenario::give(&mut online, t, goal)
+                .unwrap_or_else(|e| panic!("f64 command at cycle {k} failed: {e}"));
+            syncs.push(sync_code(sync));
+            next.next();
+        }
+        let s = online
+            .tick(t)
+            .unwrap_or_else(|e| panic!("f64 cycle {k} failed: {e}"));
+        assert!(
+            s.warnings.is_empty() && s.stop.is_empty(),
+            "cycle {k}: the supervisor warned or stopped ({:?}, {:?})",
+            s.warnings,
+            s.stop
+        );
+        let c = online.controller();
         for (m, q, target) in [
-            (&controller.left, &step.left.q, &tips.left),
-            (&controller.right, &step.right.q, &tips.right),
+            (&c.left, &s.step.left.q, &online.tips().left),
+            (&c.right, &s.step.right.q, &online.tips().right),
         ] {
-            let tip = m.fk(&pose, q).expect("finite joints");
+            let tip = m.fk(&s.state.pose, q).expect("finite joints");
             worst_drift = worst_drift.max((tip - target).norm());
         }
-        assert_eq!(scenario::values(&step).count(), FIELD_COUNT, "fields");
-        let v = scenario::fields(&step);
-        for (p, x) in peak.iter_mut().zip(&v) {
-            *p = p.max(x.abs());
+        // The acceleration of a compared cycle must not sit on a switch. (The
+        // last cycle, compared too, rests after its motion's end.)
+        let local = t - online.motion_start();
+        if scenario::compared(k, 0) && local > 0.0 {
+            for axis in online.motion().axes() {
+                for switch in axis.switches().into_iter().chain([axis.duration()]) {
+                    assert!(
+                        (local - switch).abs() > SWITCH_CLEARANCE_S,
+                        "cycle {k} is {:e} s from a switch of its profile",
+                        (local - switch).abs()
+                    );
+                }
+            }
         }
-        if s.index % REFERENCE_EVERY == 0 {
-            references.push((s.index, v));
+        cycles.push(s);
+        if k >= last_command && online.is_at_rest(t) {
+            break;
         }
-        count += 1;
     }
-    assert_eq!(count, SAMPLE_COUNT, "sample count of the paper's motion");
+    let count = cycles.len();
+    assert!(count < MAX_CYCLES, "the run did not come to rest");
+    assert_eq!(syncs.len(), orders.len(), "every command given");
     // The references' own error: 1e-9 mm in f64 (see `docs/model.md`,
     // *Check values*).
     assert!(worst_drift < 1e-9, "f64 tip drift {worst_drift} mm");
+
+    let mut peak = [0.0f64; FIELD_COUNT];
+    let mut references = Vec::new();
+    for (k, s) in cycles.iter().enumerate() {
+        assert_eq!(scenario::values(s).count(), FIELD_COUNT, "fields");
+        let v = scenario::fields(s);
+        for (p, x) in peak.iter_mut().zip(&v) {
+            *p = p.max(x.abs());
+        }
+        if scenario::compared(k, count) {
+            references.push((k, v));
+        }
+    }
 
     let mut src = String::new();
     let _ = writeln!(
         src,
         "// Generated by build.rs from parasils in f64 on the host.\n\
-         /// Per field, its largest magnitude over the motion (f64).\n\
+         /// The cycles of the run, the last one at rest on the last goal.\n\
+         pub const CYCLES: usize = {count};\n\
+         /// Per command, the synchronisation used (0 for the stop, 1 phase, 2 time, 3 none).\n\
+         pub const SYNCS: [u8; {}] = {syncs:?};\n\
+         /// Per field, its largest magnitude over the run (f64).\n\
          pub const PEAK: [f64; {FIELD_COUNT}] = {:?};\n\
-         /// `(sample index, fields)` every {REFERENCE_EVERY} samples (f64).\n\
+         /// `(cycle, fields)` of the compared cycles (f64).\n\
          pub const REFERENCES: [(usize, [f64; {FIELD_COUNT}]); {}] = [",
+        syncs.len(),
         peak,
         references.len()
     );

@@ -7,6 +7,7 @@ use anyhow::Result;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use parasils::paper;
 use parasils_sim::robot_file;
+use parasils_sim::scenario::Retarget;
 use parasils_sim::{Format, Scenario};
 
 /// Kinematics and motion of PARA-SILSROB, the parallel robot for
@@ -135,6 +136,22 @@ pub struct SimulateArgs {
     /// Samples per second, Hz.
     #[arg(long, value_name = "HZ", default_value_t = paper::RATE_HZ, allow_hyphen_values = true)]
     pub rate: f64,
+    /// A new goal commanded at T s while the platform moves: PSI,THETA read
+    /// like --psi and --theta (increments from the start pose, final angles
+    /// with --absolute), deg. It takes effect at the first sample at or after
+    /// T, replanned from the state of that sample. Repeatable, in time order.
+    /// With --retarget or --stop-at the run goes through the online
+    /// controller, whose margin supervisor stops the platform short of a
+    /// singularity or a limit; it ends once every command has taken effect
+    /// and the platform rests, and the output gets a `command` column (the
+    /// index of the active command).
+    #[arg(long, value_name = "T:PSI,THETA", value_parser = parse_retarget, allow_hyphen_values = true)]
+    pub retarget: Vec<Retarget>,
+    /// A controlled stop commanded at T s: psi and theta brought to rest
+    /// together at the acceleration limit, along their current direction. A
+    /// later --retarget replans from wherever the stop has got to.
+    #[arg(long, value_name = "T", value_parser = parse_finite, allow_hyphen_values = true)]
+    pub stop_at: Option<f64>,
     /// The start pose and the tips.
     #[command(flatten)]
     pub place: PlaceArgs,
@@ -169,6 +186,8 @@ impl SimulateArgs {
             tip_left_mm: self.place.tip_left.unwrap_or(paper.tip_left_mm),
             tip_right_mm: self.place.tip_right,
             robot: self.robot.geometry()?,
+            retargets: self.retarget.clone(),
+            stop_at_s: self.stop_at,
         })
     }
 
@@ -241,6 +260,28 @@ pub fn parse_floats<const N: usize>(s: &str) -> Result<[f64; N], String> {
     Ok(out)
 }
 
+/// Parses one finite float.
+pub fn parse_finite(s: &str) -> Result<f64, String> {
+    let [v] = parse_floats::<1>(s)?;
+    Ok(v)
+}
+
+/// Parses `T:PSI,THETA` (s; deg, deg), three finite floats.
+pub fn parse_retarget(s: &str) -> Result<Retarget, String> {
+    let Some((t, angles)) = s.split_once(':') else {
+        return Err(
+            "expected T:PSI,THETA (time in s, then the angles in deg), e.g. 1.2:5,10".into(),
+        );
+    };
+    let t_s = parse_finite(t)?;
+    let [psi_deg, theta_deg] = parse_floats::<2>(angles)?;
+    Ok(Retarget {
+        t_s,
+        psi_deg,
+        theta_deg,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -260,5 +301,53 @@ mod tests {
         assert!(parse_floats::<3>("1,2").is_err());
         assert!(parse_floats::<2>("1,nan").is_err());
         assert!(parse_floats::<1>("x").is_err());
+    }
+
+    #[test]
+    fn retargets_and_stops_parse_into_the_scenario() {
+        let cli = Cli::try_parse_from([
+            "parasils",
+            "simulate",
+            "--retarget",
+            "1.2:5,-10",
+            "--retarget",
+            "2: -1 , 2.5",
+            "--stop-at",
+            "3",
+        ])
+        .expect("parses");
+        let Command::Simulate(args) = cli.command else {
+            panic!("simulate expected");
+        };
+        let s = args.scenario().expect("scenario");
+        assert_eq!(
+            s.retargets,
+            [
+                Retarget {
+                    t_s: 1.2,
+                    psi_deg: 5.0,
+                    theta_deg: -10.0
+                },
+                Retarget {
+                    t_s: 2.0,
+                    psi_deg: -1.0,
+                    theta_deg: 2.5
+                }
+            ]
+        );
+        assert_eq!(s.stop_at_s, Some(3.0));
+        for bad in [
+            "1.2",
+            "1.2:5",
+            "1.2:5,6,7",
+            "x:5,6",
+            "1:nan,2",
+            "inf:1,2",
+            "",
+        ] {
+            assert!(parse_retarget(bad).is_err(), "{bad}");
+        }
+        assert!(parse_finite("nan").is_err());
+        assert_eq!(parse_finite("-1"), Ok(-1.0));
     }
 }

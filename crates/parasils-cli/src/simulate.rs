@@ -74,7 +74,7 @@ impl Sink for Progress {
 pub fn simulate(args: &SimulateArgs) -> Result<()> {
     let sim = Simulation::new(args.scenario()?)?;
     let assumed = sim.module1_assumed();
-    let mut summary = Summary::new(assumed);
+    let mut summary = Summary::for_simulation(&sim);
     // Files are written to a temporary file beside the target and renamed
     // on success: a failed run leaves nothing behind.
     let mut to_stdout = None;
@@ -85,7 +85,7 @@ pub fn simulate(args: &SimulateArgs) -> Result<()> {
             if args.format == Some(FormatArg::Mcap) {
                 bail!("MCAP cannot go to standard output: give a file name");
             }
-            let sink = CsvSink::new(BufWriter::new(stdout::stdout()))
+            let sink = CsvSink::for_scenario(BufWriter::new(stdout::stdout()), sim.scenario())
                 .map_err(|e| StdoutError(e.to_string()))?;
             to_stdout = Some(StdoutCsv(sink));
         }
@@ -122,10 +122,16 @@ pub fn simulate(args: &SimulateArgs) -> Result<()> {
     }
     if let Some(f) = file {
         let path = f.persist()?;
+        // The motion's duration; with commands, the time of the last record
+        // (a stop the supervisor demanded may end the run before the plan).
+        let seconds = match summary.range(&parasils_sim::columns::T_S) {
+            Some((_, last)) if sim.scenario().has_commands() => last,
+            _ => sim.duration(),
+        };
         eprintln!(
             "parasils: wrote {} samples ({} s) to {}",
             summary.count(),
-            Fixed(sim.duration(), 3),
+            Fixed(seconds, 3),
             path.display()
         );
     }

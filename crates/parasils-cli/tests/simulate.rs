@@ -466,3 +466,229 @@ fn an_unwritable_folder_is_named_once() {
         "parasils: error: cannot write in missing: No such file or directory (os error 2)\n"
     );
 }
+
+/// FNV-1a, 64 bits: a digest of a file, to compare it with a recorded one.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(*b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// The paper's CSV is the one `parasils simulate -o paper.csv` wrote before
+/// commands existed, byte for byte: its 53 columns, no `command`, every
+/// number to the last bit. The digest is of that file on Linux x86-64 (other
+/// platforms' maths libraries may round some functions differently). A
+/// change that means to alter the paper's numbers updates it, and says so.
+#[test]
+fn the_paper_csv_is_unchanged_byte_for_byte() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = parasils(&["simulate", "-o", "paper.csv"], dir.path());
+    assert!(out.status.success());
+    let bytes = std::fs::read(dir.path().join("paper.csv")).expect("paper.csv");
+    let header = bytes.split(|b| *b == b'\n').next().expect("a header");
+    assert_eq!(header.split(|b| *b == b',').count(), 53);
+    assert!(!header.windows(7).any(|w| w == b"command"));
+    assert_eq!(bytes.len(), 4_003_152);
+    if cfg!(all(target_os = "linux", target_arch = "x86_64")) {
+        assert_eq!(
+            fnv1a(&bytes),
+            0x3140_e691_69d4_96cf,
+            "the paper's CSV changed"
+        );
+    }
+}
+
+/// The acceptance run's flags: the paper's reorientation, a new goal at
+/// 1.2 s while turning, a stop at 3 s while turning, a last goal at 3.5 s
+/// while stopping.
+const COMMANDS: &[&str] = &[
+    "--retarget",
+    "1.2:25,15",
+    "--stop-at",
+    "3",
+    "--retarget",
+    "3.5:5,30",
+];
+
+#[test]
+fn retargets_and_a_stop() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = parasils(
+        &[&["simulate"], COMMANDS, &["-o", "-"]].concat(),
+        dir.path(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).expect("utf8");
+    let t = Table::parse(&text);
+    assert_eq!(t.header.len(), 54);
+    assert_eq!(t.header.last().map(String::as_str), Some("command"));
+    // The index as an integer, grown by one at each command's sample.
+    assert!(text.lines().nth(1).is_some_and(|r| r.ends_with(",0")));
+    let (time, command) = (t.col("t_s"), t.col("command"));
+    for (k, c) in command.iter().enumerate() {
+        let want = [1.2, 3.0, 3.5].iter().filter(|s| time[k] >= **s).count();
+        assert_eq!(*c, want as f64, "at {}", time[k]);
+    }
+    // Continuous at every command, within the limits (10 deg/s, 5 deg/s^2,
+    // 1 ms), the tips still.
+    for axis in ["psi", "theta"] {
+        let (angle, rate) = (
+            t.col(&format!("{axis}_deg")),
+            t.col(&format!("{axis}_rate_deg_s")),
+        );
+        for k in [1200, 3000, 3500] {
+            assert!((angle[k] - angle[k - 1]).abs() <= 0.01 * (1.0 + 1e-9));
+            assert!((rate[k] - rate[k - 1]).abs() <= 0.005 * (1.0 + 1e-9));
+        }
+        let acc = t.col(&format!("{axis}_acc_deg_s2"));
+        assert!(acc.iter().all(|a| a.abs() <= 5.0 * (1.0 + 1e-9)));
+    }
+    for side in ["left", "right"] {
+        let worst = t
+            .col(&format!("{side}_tip_err_mm"))
+            .into_iter()
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-9, "{side} drift {worst} mm");
+    }
+    // At rest on the last goal: psi -15 + 5, theta 10 + 30.
+    assert!((t.col("psi_deg").last().expect("rows") + 10.0).abs() < 1e-9);
+    assert!((t.col("theta_deg").last().expect("rows") - 40.0).abs() < 1e-9);
+
+    // The summary lists the commands; the MCAP file is written.
+    let out = parasils(&[&["simulate"], COMMANDS].concat(), dir.path());
+    let summary = String::from_utf8(out.stdout).expect("utf8");
+    assert!(summary.contains("\ncommands (each active"), "{summary}");
+    assert!(
+        summary.contains("  3   retarget        at    3.500 s, active from    3.500 s: psi +5.0000, theta +30.0000 deg\n"),
+        "{summary}"
+    );
+    let out = parasils(
+        &[&["simulate"], COMMANDS, &["-o", "run.mcap"]].concat(),
+        dir.path(),
+    );
+    assert!(out.status.success());
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "parasils: wrote 8895 samples (8.894 s) to run.mcap\n"
+    );
+}
+
+#[test]
+fn retargets_read_like_psi_and_theta() {
+    // With --absolute, the retarget's angles are final ones too.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = parasils(
+        &[
+            "simulate",
+            "--absolute",
+            "--psi",
+            "0",
+            "--theta",
+            "30",
+            "--retarget",
+            "1:-10,20",
+            "--rate",
+            "100",
+            "-o",
+            "-",
+        ],
+        dir.path(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let t = Table::parse(&String::from_utf8(out.stdout).expect("utf8"));
+    assert!((t.col("psi_deg").last().expect("rows") + 10.0).abs() < 1e-9);
+    assert!((t.col("theta_deg").last().expect("rows") - 20.0).abs() < 1e-9);
+    assert_eq!(t.col("command").last(), Some(&1.0));
+}
+
+#[test]
+fn bad_commands() {
+    for (args, needle) in [
+        (&["--retarget", "1.2"][..], "expected T:PSI,THETA"),
+        (
+            &["--retarget", "1.2:5"],
+            "expected 2 comma-separated numbers",
+        ),
+        (&["--retarget", "x:5,6"], "`x` is not a number"),
+        (&["--retarget", "1:nan,2"], "`nan` is not a finite number"),
+        (&["--stop-at", "inf"], "`inf` is not a finite number"),
+        (&["--stop-at", "soon"], "`soon` is not a number"),
+        (
+            &["--retarget", "-1:5,6"],
+            "error: commands: retarget 1: t = -1 s is before the start (t = 0)\n",
+        ),
+        (
+            &["--retarget", "2:5,6", "--retarget", "1:5,6"],
+            "error: commands: retarget 2 at t = 1 s comes before retarget 1 at t = 2 s: give the retargets in time order\n",
+        ),
+        (
+            &["--stop-at", "2", "--retarget", "2:5,6"],
+            "error: commands: retarget 1 at t = 2 s takes effect at the same sample as the stop at t = 2 s (t = 2 s at 1000 Hz): give each command a sample of its own\n",
+        ),
+        (
+            &[
+                "--retarget",
+                "0.51:5,6",
+                "--retarget",
+                "0.55:5,6",
+                "--rate",
+                "10",
+            ],
+            "retarget 2 at t = 0.55 s takes effect at the same sample as retarget 1 at t = 0.51 s (t = 0.6 s at 10 Hz)",
+        ),
+    ] {
+        for output in ["x.csv", "x.mcap"] {
+            fails_cleanly(
+                &[&["simulate"], args, &["-o", output]].concat(),
+                needle,
+                |_| {},
+            );
+        }
+    }
+    // One line each.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = parasils(&["simulate", "--stop-at", "-2"], dir.path());
+    assert!(!out.status.success());
+    assert_eq!(
+        String::from_utf8(out.stderr).expect("utf8"),
+        "parasils: error: commands: the stop: t = -2 s is before the start (t = 0)\n"
+    );
+}
+
+#[test]
+fn the_supervisor_stops_where_the_plain_run_fails() {
+    // Without commands this turn fails at module 1's parallel singularity
+    // (`trajectory_through_a_joint_limit` above); with a command it runs
+    // through the online controller, whose supervisor stops the platform.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = parasils(
+        &[
+            "simulate",
+            "--psi",
+            "0",
+            "--theta",
+            "60",
+            "--stop-at",
+            "10",
+            "--rate",
+            "100",
+        ],
+        dir.path(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).expect("utf8");
+    assert!(text.contains("  1   supervisor_stop demanded,"), "{text}");
+    assert!(text.contains("supervisor warnings on "), "{text}");
+}

@@ -3,7 +3,9 @@
 //!
 //! The arguments build a [`Scenario`] directly (user units, like the CLI's
 //! flags); the library's [`Simulation::run`] is the loop, the same as the
-//! CLI's, into a [`Tee`] of the output file (if any) and the table.
+//! CLI's, into a [`Tee`] of the output file (if any) and the table. A run
+//! with commands (`retarget=`, `stop_at_s=`) has the CLI's `command` column
+//! too, as integers.
 
 use core::convert::Infallible;
 use std::path::PathBuf;
@@ -11,6 +13,7 @@ use std::path::PathBuf;
 use numpy::IntoPyArray;
 use parasils_kin::RobotGeometry;
 use parasils_sim::numbers::AtTime;
+use parasils_sim::scenario::Retarget;
 use parasils_sim::{
     Format, OutputError, OutputFile, Record, RunError, Scenario, Simulation, SimulationError, Tee,
     columns, robot_file,
@@ -18,7 +21,7 @@ use parasils_sim::{
 use parasils_traj::Synchronization;
 use pyo3::exceptions::{PyMemoryError, PyOSError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyString};
 
 use crate::batch::{ArrayArg, Rows};
 use crate::errors;
@@ -77,13 +80,48 @@ fn simulation_error(py: Python<'_>, error: &SimulationError) -> PyErr {
     }
 }
 
+/// `retarget=`: a sequence of `(t_s, psi_deg, theta_deg)` triples.
+fn retargets(value: Option<Bound<'_, PyAny>>) -> PyResult<Vec<Retarget>> {
+    let Some(value) = value else {
+        return Ok(Vec::new());
+    };
+    let shape = "retarget must be a sequence of (t_s, psi_deg, theta_deg) triples, \
+                 e.g. [(1.2, 25.0, 15.0)]";
+    if value.is_instance_of::<PyString>() {
+        return Err(PyTypeError::new_err(shape));
+    }
+    let items = value.try_iter().map_err(|_| PyTypeError::new_err(shape))?;
+    let mut out = Vec::new();
+    for (k, item) in items.enumerate() {
+        let item = item?;
+        let [t_s, psi_deg, theta_deg] = item.extract::<[f64; 3]>().map_err(|_| {
+            PyValueError::new_err(format!(
+                "{shape}; item {k} is {}",
+                item.repr()
+                    .map_or_else(|_| "not one".to_owned(), |r| r.to_string())
+            ))
+        })?;
+        out.push(Retarget {
+            t_s,
+            psi_deg,
+            theta_deg,
+        });
+    }
+    Ok(out)
+}
+
 /// Runs the simulation through the library's loop, keeping every record's
 /// CSV row column by column, and streaming the records to `out` as well.
-fn run(scenario: Scenario, out: Option<(PathBuf, Format)>) -> Result<Vec<Vec<f64>>, Failure> {
+/// Returns the table and its columns.
+fn run(
+    scenario: Scenario,
+    out: Option<(PathBuf, Format)>,
+) -> Result<(Vec<Vec<f64>>, &'static [columns::Column]), Failure> {
     let sim = Simulation::new(scenario).map_err(Failure::Simulation)?;
     let n = sim.sample_count();
-    let mut table: Vec<Vec<f64>> = Vec::with_capacity(columns::CSV_COUNT);
-    for _ in 0..columns::CSV_COUNT {
+    let csv = columns::csv_columns(sim.scenario().has_commands());
+    let mut table: Vec<Vec<f64>> = Vec::with_capacity(csv.len());
+    for _ in csv {
         let mut c = Vec::new();
         c.try_reserve_exact(n).map_err(|_| Failure::Memory(n))?;
         table.push(c);
@@ -99,7 +137,7 @@ fn run(scenario: Scenario, out: Option<(PathBuf, Format)>) -> Result<Vec<Vec<f64
         None => (None, PathBuf::new()),
     };
     let mut keep = |r: &Record| {
-        for (values, column) in table.iter_mut().zip(&columns::CSV) {
+        for (values, column) in table.iter_mut().zip(csv) {
             values.push(column.value(r));
         }
         Ok::<(), Infallible>(())
@@ -125,7 +163,7 @@ fn run(scenario: Scenario, out: Option<(PathBuf, Format)>) -> Result<Vec<Vec<f64
     if let Some(f) = file {
         f.finish().map_err(|e| Failure::Output(e, path))?;
     }
-    Ok(table)
+    Ok((table, csv))
 }
 
 /// The paper's scenario in the units of `simulate`'s arguments: the defaults
@@ -162,6 +200,8 @@ pub(crate) fn paper_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     robot = None,
     out = None,
     format = None,
+    retarget = None,
+    stop_at_s = None,
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn simulate<'py>(
@@ -179,6 +219,8 @@ pub(crate) fn simulate<'py>(
     robot: Option<Bound<'py, PyAny>>,
     out: Option<PathBuf>,
     format: Option<&str>,
+    retarget: Option<Bound<'py, PyAny>>,
+    stop_at_s: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let sync = match sync {
         "phase" => Synchronization::Phase,
@@ -216,6 +258,7 @@ pub(crate) fn simulate<'py>(
             })?),
         },
     };
+    let retargets = retargets(retarget)?;
     let paper = Scenario::paper();
     let start_mm_deg = fixed::<6>(pose_mm_deg, "pose_mm_deg")?;
     let tip_left_mm = fixed::<3>(tip_left_mm, "tip_left_mm")?;
@@ -237,6 +280,8 @@ pub(crate) fn simulate<'py>(
         tip_left_mm: tip_left_mm.unwrap_or(paper.tip_left_mm),
         tip_right_mm,
         robot,
+        retargets,
+        stop_at_s,
     };
     let out = match out {
         Some(p) => {
@@ -249,7 +294,7 @@ pub(crate) fn simulate<'py>(
         None => None,
     };
     let result = py.detach(move || run(scenario, out));
-    let table = result.map_err(|f| match f {
+    let (table, csv) = result.map_err(|f| match f {
         Failure::Simulation(e) => simulation_error(py, &e),
         Failure::Output(e, path) => output_error(py, &e, &path),
         Failure::Memory(n) => PyMemoryError::new_err(format!(
@@ -258,8 +303,15 @@ pub(crate) fn simulate<'py>(
         )),
     })?;
     let dict = PyDict::new(py);
-    for (name, values) in columns::CSV_NAMES.iter().zip(table) {
-        dict.set_item(*name, values.into_pyarray(py))?;
+    for (column, values) in csv.iter().zip(table) {
+        if column.integer {
+            // The command index: a u32 widened to f64, exactly.
+            #[allow(clippy::cast_possible_truncation, reason = "whole numbers")]
+            let ints: Vec<i64> = values.iter().map(|v| *v as i64).collect();
+            dict.set_item(column.name, ints.into_pyarray(py))?;
+        } else {
+            dict.set_item(column.name, values.into_pyarray(py))?;
+        }
     }
     Ok(dict)
 }

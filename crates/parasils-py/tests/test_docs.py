@@ -51,6 +51,8 @@ def test_signatures_are_visible():
         ("tip_left_mm", None),
         ("tip_right_mm", None),
         ("out", None),
+        ("retarget", None),
+        ("stop_at_s", None),
     ]:
         assert sig.parameters[name].default == default, name
         assert sig.parameters[name].kind is inspect.Parameter.KEYWORD_ONLY

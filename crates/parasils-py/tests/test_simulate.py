@@ -115,6 +115,91 @@ def test_pandas_dataframe():
     assert list(df.columns) == list(parasils.COLUMNS) and len(df) == 46
 
 
+# --- commands: retargets and a stop --------------------------------------------
+
+#: The paper's reorientation, a new goal at 1.2 s while turning, a stop at 3 s,
+#: a last goal at 3.5 s while stopping: as keyword arguments and as CLI flags.
+COMMANDS = dict(retarget=[(1.2, 25.0, 15.0), (3.5, 5.0, 30.0)], stop_at_s=3.0)
+COMMAND_FLAGS = ["--retarget", "1.2:25,15", "--stop-at", "3", "--retarget", "3.5:5,30"]
+
+
+def test_commands_equal_the_cli_csv_to_the_last_bit(run_cli, tmp_path):
+    path = tmp_path / "cli.csv"
+    run_cli("simulate", *COMMAND_FLAGS, "--rate", "200", "-o", path)
+    table = parasils.simulate(rate_hz=200.0, **COMMANDS)
+    expected = read_csv(path)
+    assert list(table) == list(expected) == [*parasils.COLUMNS, "command"]
+    for name in parasils.COLUMNS:
+        assert table[name].dtype == np.float64, name
+        assert np.array_equal(table[name].view(np.uint64), expected[name].view(np.uint64)), name
+    command = table["command"]
+    assert command.dtype == np.int64
+    assert np.array_equal(command, expected["command"].astype(np.int64))
+    t = table["t_s"]
+    assert np.array_equal(command, (t >= 1.2).astype(int) + (t >= 3.0) + (t >= 3.5))
+    assert command[0] == 0 and command[-1] == 3
+
+
+def test_commands_keep_the_motion_continuous_and_the_tips_still():
+    table = parasils.simulate(**COMMANDS)
+    changes = np.flatnonzero(np.diff(table["command"])) + 1
+    assert list(changes) == [1200, 3000, 3500]
+    for axis in ("psi", "theta"):
+        angle, rate, acc = (table[f"{axis}{s}"] for s in ("_deg", "_rate_deg_s", "_acc_deg_s2"))
+        assert np.all(np.abs(acc) <= 5.0 * (1 + 1e-9))
+        assert np.all(np.abs(np.diff(angle)[changes - 1]) <= 10.0 * 1e-3 * (1 + 1e-9))
+        assert np.all(np.abs(np.diff(rate)[changes - 1]) <= 5.0 * 1e-3 * (1 + 1e-9))
+    assert max(table["left_tip_err_mm"].max(), table["right_tip_err_mm"].max()) < 1e-9
+    # At rest on the last goal, read like psi_deg and theta_deg: -15 + 5, 10 + 30.
+    assert table["psi_deg"][-1] == pytest.approx(-10.0, abs=1e-9)
+    assert table["theta_deg"][-1] == pytest.approx(40.0, abs=1e-9)
+
+
+@pytest.mark.parametrize("ext", ["csv", "mcap"])
+def test_commands_out_writes_the_same_file_as_the_cli(run_cli, tmp_path, ext):
+    cli_path, py_path = tmp_path / f"cli.{ext}", tmp_path / f"py.{ext}"
+    run_cli("simulate", *COMMAND_FLAGS, "--rate", "100", "-o", cli_path)
+    parasils.simulate(rate_hz=100.0, out=py_path, **COMMANDS)
+    assert py_path.read_bytes() == cli_path.read_bytes()
+
+
+def test_a_stop_alone_and_absolute_retargets():
+    table = parasils.simulate(stop_at_s=2.0, rate_hz=100.0)
+    assert table["command"][-1] == 1 and table["t_s"][-1] == pytest.approx(4.0, abs=1e-12)
+    table = parasils.simulate(
+        absolute=True, psi_deg=0.0, theta_deg=30.0, retarget=np.array([[1.0, -10.0, 20.0]]), rate_hz=100.0
+    )
+    assert (table["psi_deg"][-1], table["theta_deg"][-1]) == pytest.approx((-10.0, 20.0), abs=1e-9)
+    # Without commands, no command column.
+    assert "command" not in parasils.simulate(rate_hz=10.0, retarget=[])
+
+
+def test_bad_commands(cli, tmp_path):
+    out = tmp_path / "run.csv"
+    with pytest.raises(ValueError, match="give the retargets in time order") as e:
+        parasils.simulate(retarget=[(2.0, 5, 6), (1.0, 5, 6)], out=out)
+    assert str(e.value) == cli_error(cli, "--retarget", "2:5,6", "--retarget", "1:5,6")
+    with pytest.raises(ValueError, match=r"the stop: t = -1 s is before the start"):
+        parasils.simulate(stop_at_s=-1.0)
+    with pytest.raises(ValueError, match="the stop: t = NaN is not a finite number"):
+        parasils.simulate(stop_at_s=float("nan"))
+    with pytest.raises(ValueError, match="retarget 1: theta = inf is not a finite number"):
+        parasils.simulate(retarget=[(1.0, 0.0, float("inf"))])
+    with pytest.raises(ValueError, match="the same sample"):
+        parasils.simulate(retarget=[(1.0, 0.0, 0.0)], stop_at_s=1.0)
+    with pytest.raises(ValueError, match=r"\(t_s, psi_deg, theta_deg\) triples.*item 0 is 1.2"):
+        parasils.simulate(retarget=(1.2, 5.0, 10.0))  # one triple, not a list of them
+    with pytest.raises(ValueError, match="item 1 is"):
+        parasils.simulate(retarget=[(1.2, 5.0, 10.0), (2.0, 1.0)])
+    with pytest.raises(TypeError, match="retarget must be"):
+        parasils.simulate(retarget="1.2:5,10")
+    with pytest.raises(TypeError, match="retarget must be"):
+        parasils.simulate(retarget=3)
+    with pytest.raises(TypeError):
+        parasils.simulate(stop_at_s="soon")
+    assert list(tmp_path.iterdir()) == []
+
+
 # --- errors -------------------------------------------------------------------
 
 

@@ -8,6 +8,12 @@
 //! the Python bindings' `COLUMNS` and arrays. Adding a column is one entry
 //! here: a named constant, listed in [`ALL`].
 //!
+//! One column is not in [`ALL`]: [`COMMAND`], the index of the active
+//! command, which only runs with commands (retargets, a stop) have. Their
+//! CSV is [`CSV_WITH_COMMAND`], the 53 columns of [`CSV`] and `command` last,
+//! and their MCAP file has it on `/motion`; a run without commands writes
+//! exactly what it wrote before commands existed ([`csv_columns`] picks).
+//!
 //! Angles are written in degrees, lengths in mm, times in s; margins are
 //! dimensionless. Rates are `_rate_` and accelerations `_acc_` in the names.
 //! The Euler angles are written as [`Record::angles_deg`], which gives back
@@ -94,11 +100,15 @@ pub struct Column {
     /// The unit, for people: `"deg/s^2"`, `"1 (dimensionless)"`.
     pub unit: &'static str,
     /// The MCAP channel; `None` for the time, the first field of every
-    /// channel.
+    /// channel, and for [`COMMAND`], which is on `/motion` (see
+    /// [`mcap`](crate::mcap)).
     pub channel: Option<Channel>,
     /// Whether the CSV (and the Python table) has the column; `false` for
     /// the MCAP's recomputed tip positions.
     pub csv: bool,
+    /// Whether the values are whole numbers, written without a fraction
+    /// (`2`, not `2.0`): [`COMMAND`].
+    pub integer: bool,
     /// The value in the column's unit.
     pub get: fn(&Record) -> f64,
 }
@@ -119,6 +129,7 @@ const DEG: &str = "deg";
 const DEG_S: &str = "deg/s";
 const DEG_S2: &str = "deg/s^2";
 const ONE: &str = "1 (dimensionless)";
+const INDEX: &str = "index";
 
 const fn col(
     name: &'static str,
@@ -131,6 +142,7 @@ const fn col(
         unit,
         channel: Some(channel),
         csv: true,
+        integer: false,
         get,
     }
 }
@@ -153,6 +165,7 @@ pub const T_S: Column = Column {
     unit: S,
     channel: None,
     csv: true,
+    integer: false,
     get: |r| r.t,
 };
 /// `X_P`, mm.
@@ -371,6 +384,19 @@ pub const ALL: [Column; 59] = [
     RIGHT.tip[2],
 ];
 
+/// The index of the active command (see
+/// [`Command`](crate::scenario::Command)): 0 for the reorientation, one more
+/// at each retarget and at each stop. Only runs with commands have it: the
+/// last column of [`CSV_WITH_COMMAND`], and `/motion` in MCAP.
+pub const COMMAND: Column = Column {
+    name: "command",
+    unit: INDEX,
+    channel: None,
+    csv: true,
+    integer: true,
+    get: |r| f64::from(r.command),
+};
+
 /// The number of CSV columns.
 pub const CSV_COUNT: usize = {
     let mut n = 0;
@@ -410,8 +436,38 @@ pub const CSV_NAMES: [&str; CSV_COUNT] = {
     out
 };
 
+/// The CSV's columns in a run with commands: [`CSV`], then [`COMMAND`].
+pub const CSV_WITH_COMMAND: [Column; CSV_COUNT + 1] = {
+    let mut out = [COMMAND; CSV_COUNT + 1];
+    let mut k = 0;
+    while k < CSV_COUNT {
+        out[k] = CSV[k];
+        k += 1;
+    }
+    out
+};
+
+/// The header of a run with commands: [`CSV_NAMES`], then `command`.
+pub const CSV_WITH_COMMAND_NAMES: [&str; CSV_COUNT + 1] = {
+    let mut out = [COMMAND.name; CSV_COUNT + 1];
+    let mut k = 0;
+    while k < CSV_COUNT {
+        out[k] = CSV_NAMES[k];
+        k += 1;
+    }
+    out
+};
+
+/// The CSV's columns of a run: [`CSV_WITH_COMMAND`] when it has commands
+/// (retargets or a stop), [`CSV`] otherwise. `command` is left out of runs
+/// without commands, where it would be 0 on every row, so that their files
+/// stay as they were, byte for byte.
+pub fn csv_columns(commands: bool) -> &'static [Column] {
+    if commands { &CSV_WITH_COMMAND } else { &CSV }
+}
+
 /// The position of `column` among the [`CSV`] columns (by name, which is
-/// unique); `None` for an MCAP-only column.
+/// unique); `None` for an MCAP-only column and for [`COMMAND`].
 pub fn csv_index(column: &Column) -> Option<usize> {
     CSV_NAMES.iter().position(|n| *n == column.name)
 }
@@ -468,6 +524,23 @@ mod tests {
         assert_eq!(CSV_NAMES[52], "right_tip_err_mm");
         assert_eq!(csv_index(&LEFT.q[0]), Some(31));
         assert_eq!(csv_index(&LEFT.tip[0]), None);
+    }
+
+    #[test]
+    fn the_command_column_comes_last_and_only_with_commands() {
+        assert_eq!(csv_columns(false).len(), 53);
+        assert_eq!(csv_columns(true).len(), 54);
+        assert_eq!(CSV_WITH_COMMAND_NAMES[..53], CSV_NAMES);
+        assert_eq!(CSV_WITH_COMMAND_NAMES[53], "command");
+        assert!(csv_columns(true)[53].integer);
+        assert!(csv_columns(true)[..53].iter().all(|c| !c.integer));
+        assert!(ALL.iter().all(|c| c.name != COMMAND.name));
+        assert_eq!(csv_index(&COMMAND), None);
+        let r = Record {
+            command: 3,
+            ..Record::default()
+        };
+        assert_eq!(COMMAND.value(&r), 3.0);
     }
 
     #[test]

@@ -1,38 +1,70 @@
-//! The CSV writer: a header row (the names of [`columns::CSV`]), then one
-//! row per record, every float in its shortest round-trip form.
+//! The CSV writer: a header row (the names of the run's columns,
+//! [`columns::csv_columns`]), then one row per record, every float in its
+//! shortest round-trip form, the `command` index as an integer.
 
 use std::io::Write;
 
-use crate::columns;
+use crate::columns::{self, Column};
 use crate::record::Record;
+use crate::scenario::Scenario;
 use crate::sink::Sink;
 
 /// Streams records as CSV rows to any writer.
 pub struct CsvSink<W: Write> {
     out: csv::Writer<W>,
+    columns: &'static [Column],
     buf: ryu::Buffer,
+    int: itoa::Buffer,
 }
 
 impl<W: Write> core::fmt::Debug for CsvSink<W> {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.debug_struct("CsvSink").finish_non_exhaustive()
+        f.debug_struct("CsvSink")
+            .field("columns", &self.columns.len())
+            .finish_non_exhaustive()
     }
 }
 
 impl<W: Write> CsvSink<W> {
-    /// Writes the header row and returns the sink.
+    /// Writes the header row of the 53 columns of [`columns::CSV`] (a run
+    /// without commands) and returns the sink.
     ///
     /// # Errors
     /// The writer's I/O error.
     pub fn new(writer: W) -> csv::Result<Self> {
+        Self::with_columns(writer, &columns::CSV)
+    }
+
+    /// Writes the header row of `scenario`'s columns
+    /// ([`columns::csv_columns`]: `command` last when it has commands) and
+    /// returns the sink.
+    ///
+    /// # Errors
+    /// The writer's I/O error.
+    pub fn for_scenario(writer: W, scenario: &Scenario) -> csv::Result<Self> {
+        Self::with_columns(writer, columns::csv_columns(scenario.has_commands()))
+    }
+
+    /// Writes the header row of `columns` and returns the sink.
+    ///
+    /// # Errors
+    /// The writer's I/O error.
+    pub fn with_columns(writer: W, columns: &'static [Column]) -> csv::Result<Self> {
         let mut out = csv::WriterBuilder::new()
             .buffer_capacity(1 << 16)
             .from_writer(writer);
-        out.write_record(columns::CSV_NAMES)?;
+        out.write_record(columns.iter().map(|c| c.name))?;
         Ok(Self {
             out,
+            columns,
             buf: ryu::Buffer::new(),
+            int: itoa::Buffer::new(),
         })
+    }
+
+    /// The columns written, in order.
+    pub fn columns(&self) -> &'static [Column] {
+        self.columns
     }
 
     /// Flushes and returns the writer.
@@ -51,10 +83,21 @@ impl<W: Write> Sink for CsvSink<W> {
     type Error = csv::Error;
 
     fn push(&mut self, record: &Record) -> csv::Result<()> {
-        for column in &columns::CSV {
-            // ryu prints the shortest decimal that reads back to the same f64.
-            self.out
-                .write_field(self.buf.format(column.value(record)))?;
+        for column in self.columns {
+            let value = column.value(record);
+            if column.integer {
+                // A command index: a u32, exactly an integer-valued f64.
+                #[allow(
+                    clippy::cast_possible_truncation,
+                    clippy::cast_sign_loss,
+                    reason = "the value is a u32 widened to f64"
+                )]
+                let v = value as u32;
+                self.out.write_field(self.int.format(v))?;
+            } else {
+                // ryu prints the shortest decimal that reads back to the same f64.
+                self.out.write_field(self.buf.format(value))?;
+            }
         }
         self.out.write_record(None::<&[u8]>)
     }
@@ -87,5 +130,29 @@ mod tests {
             .map(|v| v.parse().expect("a float"))
             .collect();
         assert_eq!(row, columns::csv_row(&r).to_vec());
+    }
+
+    #[test]
+    fn a_run_with_commands_ends_with_the_integer_index() {
+        let r = Record {
+            command: 2,
+            ..Record::default()
+        };
+        let scenario = Scenario {
+            stop_at_s: Some(1.0),
+            ..Scenario::paper()
+        };
+        let mut sink = CsvSink::for_scenario(Vec::new(), &scenario).expect("header");
+        sink.push(&r).expect("row");
+        let text = String::from_utf8(sink.finish().expect("flush")).expect("utf8");
+        let mut lines = text.lines();
+        assert!(
+            lines
+                .next()
+                .is_some_and(|h| h.ends_with(",right_tip_err_mm,command"))
+        );
+        assert!(lines.next().is_some_and(|row| row.ends_with(",0.0,2")));
+        let paper = CsvSink::for_scenario(Vec::new(), &Scenario::paper()).expect("header");
+        assert_eq!(paper.columns().len(), 53);
     }
 }

@@ -1,6 +1,22 @@
-//! The engine: a [`Scenario`] planned into a [`Reorientation`], sampled at a
-//! fixed rate through the controller's per-cycle call, one [`Record`] at a
-//! time.
+//! The engine: a [`Scenario`] planned and sampled at a fixed rate through
+//! the controller's per-cycle call, one [`Record`] at a time.
+//!
+//! Two paths, one loop shape:
+//! - **Without commands** (the paper's run), the reorientation is planned
+//!   rest to rest as a [`Reorientation`] and each sample's state goes through
+//!   [`Controller::step`]: the records are those of every earlier release,
+//!   to the last bit.
+//! - **With commands** (retargets, a stop; see [`Command`]), the run is an
+//!   [`OnlineController`] loop, as a robot's controller runs it: the
+//!   reorientation is commanded at `t = 0`, and each command at the first
+//!   sample at or after its time, replanned from the state of that sample
+//!   (position and velocity continuous; the acceleration may jump, and is 0
+//!   at the sample a motion starts on, as at the start of every profile).
+//!   The run ends at the first sample at which every command has taken
+//!   effect and the last motion is at rest. The controller's margin
+//!   [`Supervisor`] watches every cycle and stops the platform before a
+//!   margin reaches its hard threshold (a [`CommandKind::SupervisorStop`]),
+//!   where the rest-to-rest path would fail there with an error.
 //!
 //! Nothing is integrated: every record is computed from the trajectory's
 //! analytic state at its time, so the tips' drift is the kinematics' rounding
@@ -9,22 +25,24 @@
 //! however long the run.
 
 use nalgebra::Vector3;
-use parasils::Reorientation;
 use parasils::kin::{
-    AssemblyMode, Controller, Instrument, InstrumentSolution, PlatformState, TipTargets,
+    AssemblyMode, ControlStep, Controller, Instrument, InstrumentSolution, PlatformState,
+    TipTargets,
 };
-use parasils::traj::{Sample, Sampler};
+use parasils::supervisor::{MarginSet, Margins};
+use parasils::traj::Sampler;
+use parasils::{MotionKind, OnlineController, Reorientation, Supervisor};
 
-use crate::numbers::AtTime;
+use crate::numbers::{AtTime, Num};
 use crate::record::{InstrumentRecord, Module1Record, Record};
-use crate::scenario::Scenario;
+use crate::scenario::{Command, CommandKind, Scenario};
 use crate::sink::Sink;
 
 /// What can stop a simulation.
 ///
 /// Each message names its subject once: the robot's geometry, the
-/// trajectory, or the sample's time followed by the kinematics' own message
-/// (which names the module).
+/// trajectory, the commands, or the sample's time followed by the
+/// kinematics' own message (which names the module).
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum SimulationError {
@@ -46,6 +64,105 @@ pub enum SimulationError {
         /// What failed.
         error: parasils::kin::Error,
     },
+    /// The retargets or the stop cannot be scheduled.
+    #[error("commands: {0}")]
+    Commands(CommandError),
+    /// The online controller refused a call for another reason than the
+    /// kinematics or the trajectory (for instance, a supervisor threshold).
+    #[error("{}{error}", AtTime(*t))]
+    Controller {
+        /// The sample's time, s.
+        t: f64,
+        /// The sample's index.
+        sample: Option<usize>,
+        /// What failed.
+        error: parasils::Error,
+    },
+}
+
+/// A command as the errors name it: `the reorientation`, `retarget 2` (the
+/// second given, counting from 1), `the stop`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CommandName {
+    /// The scenario's reorientation.
+    Reorientation,
+    /// The retarget given in this place, from 1.
+    Retarget(usize),
+    /// The stop.
+    Stop,
+}
+
+impl core::fmt::Display for CommandName {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            CommandName::Reorientation => f.write_str("the reorientation"),
+            CommandName::Retarget(n) => write!(f, "retarget {n}"),
+            CommandName::Stop => f.write_str("the stop"),
+        }
+    }
+}
+
+/// Why the commands of a scenario cannot be scheduled.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum CommandError {
+    /// A time or an angle is NaN or infinite.
+    #[error("{command}: {what} = {} is not a finite number", Num(*value))]
+    NonFinite {
+        /// The command.
+        command: CommandName,
+        /// `"t"`, `"psi"` or `"theta"`.
+        what: &'static str,
+        /// The value.
+        value: f64,
+    },
+    /// A time is negative.
+    #[error("{command}: t = {} s is before the start (t = 0)", Num(*t))]
+    BeforeStart {
+        /// The command.
+        command: CommandName,
+        /// Its time, s.
+        t: f64,
+    },
+    /// The retargets are not given in time order.
+    #[error(
+        "{command} at t = {} s comes before {previous} at t = {} s: give the retargets in time order",
+        Num(*t),
+        Num(*previous_t)
+    )]
+    OutOfOrder {
+        /// The retarget out of order.
+        command: CommandName,
+        /// Its time, s.
+        t: f64,
+        /// The retarget given before it.
+        previous: CommandName,
+        /// That one's time, s.
+        previous_t: f64,
+    },
+    /// Two commands take effect at the same sample: the first would never
+    /// be active, and the output could not show it.
+    #[error(
+        "{command} at t = {} s takes effect at the same sample as {previous} at t = {} s (t = {} s at {} Hz): give each command a sample of its own",
+        Num(*t),
+        Num(*previous_t),
+        Num(*sample_t),
+        Num(*rate)
+    )]
+    SameSample {
+        /// The later command.
+        command: CommandName,
+        /// Its time, s.
+        t: f64,
+        /// The command before it.
+        previous: CommandName,
+        /// That one's time, s.
+        previous_t: f64,
+        /// The sample's time, s.
+        sample_t: f64,
+        /// The sampling rate, Hz.
+        rate: f64,
+    },
 }
 
 /// A run's failure: the engine's, or the sink's.
@@ -60,27 +177,120 @@ pub enum RunError<E> {
     Sink(E),
 }
 
+/// A command with the sample it takes effect at.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scheduled {
+    /// The command as given.
+    pub command: Command,
+    /// Its goal `[psi, theta]` as final angles, rad; `None` for the stop.
+    pub goal_rad: Option<[f64; 2]>,
+    /// The first sample at or after its time: where it takes effect.
+    pub sample: usize,
+    /// That sample's time, `sample / rate`, s.
+    pub t_s: f64,
+}
+
+/// How the samples are computed.
+#[derive(Debug, Clone)]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "one per simulation, never in a collection"
+)]
+enum Plan {
+    /// Without commands: the rest-to-rest reorientation.
+    Rest(Sampler<f64, Reorientation<f64>>),
+    /// With commands: the online controller, at rest at the start, and the
+    /// sampling rate.
+    Online(OnlineController<f64>, f64),
+}
+
 /// A scenario, validated and planned, ready to run.
 #[derive(Debug, Clone)]
 pub struct Simulation {
     scenario: Scenario,
     controller: Controller<f64>,
     tips: TipTargets<f64>,
-    sampler: Sampler<f64, Reorientation<f64>>,
+    plan: Plan,
+    schedule: Vec<Scheduled>,
+    count: usize,
+    duration: f64,
     /// The start's Euler angles, deg (the user's) and rad.
     start_deg: [f64; 3],
     start_rad: [f64; 3],
 }
 
+/// The supervisor of `controller`: [`Supervisor::default`], each stop
+/// threshold raised to at least 3 times the solvers' hard one and each
+/// warning threshold to at least 10 times, so that a robot file with higher
+/// hard thresholds than the paper's robot keeps the same proportions.
+fn supervisor_for(controller: &Controller<f64>) -> Supervisor<f64> {
+    let hard = Margins::hard(controller);
+    let mut s = Supervisor::<f64>::default();
+    for (k, h) in hard.0.iter().enumerate() {
+        if let (Some(stop), Some(warn)) = (s.stop.0.get_mut(k), s.warn.0.get_mut(k)) {
+            *stop = stop.max(3.0 * h);
+            *warn = warn.max(10.0 * h);
+        }
+    }
+    s
+}
+
+/// The first sample index `k >= from` whose time `k / rate` satisfies
+/// `ready` (monotone: false, then true), starting the search near `guess`
+/// s; `None` when it does not fit `usize`.
+fn first_sample(rate: f64, from: usize, guess: f64, ready: impl Fn(f64) -> bool) -> Option<usize> {
+    let x = (guess * rate).ceil();
+    // From 2^53 on, not every index is an f64 of its own: refuse them.
+    if !(x.is_finite() && x < 9.007_199_254_740_992e15) {
+        return None;
+    }
+    // In range: checked just above (and `max(0)`).
+    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+    let mut k = (x.max(0.0) as usize).max(from);
+    let time = |k: usize| k as f64 / rate;
+    // The guess is within a sample or two of the answer (rounding): a few
+    // steps back, then forward until `ready` holds (a step or two in
+    // practice; `ready` is true from the guess's time on, up to rounding).
+    for _ in 0..4 {
+        if k > from && ready(time(k - 1)) {
+            k -= 1;
+        }
+    }
+    while !ready(time(k)) {
+        k = k.checked_add(1)?;
+    }
+    Some(k)
+}
+
+/// The kinematics' error of an online call at sample `k`, time `t`.
+fn online_error(error: parasils::Error, t: f64, k: usize) -> SimulationError {
+    match error {
+        parasils::Error::Kinematics(error) => SimulationError::Kinematics {
+            t,
+            sample: Some(k),
+            error,
+        },
+        parasils::Error::Trajectory(e) => SimulationError::Trajectory(e),
+        error => SimulationError::Controller {
+            t,
+            sample: Some(k),
+            error,
+        },
+    }
+}
+
 impl Simulation {
-    /// Validates the scenario and plans the trajectory through
-    /// [`Reorientation::new`].
+    /// Validates the scenario and plans the trajectory: through
+    /// [`Reorientation::new`] without commands; with commands, through an
+    /// [`OnlineController`] given every command at its sample (the kinematics
+    /// solved once, at the start pose), which tells the run's length.
     ///
     /// # Errors
     /// [`SimulationError::Geometry`] for an invalid robot,
     /// [`SimulationError::Trajectory`] for angles, limits or a rate that
     /// cannot be planned, [`SimulationError::Kinematics`] for a non-finite
-    /// tip target.
+    /// tip target (or, with commands, a start pose that cannot be solved),
+    /// [`SimulationError::Commands`] for commands that cannot be scheduled.
     pub fn new(scenario: Scenario) -> Result<Self, SimulationError> {
         let controller =
             Controller::from_geometry(&scenario.robot).map_err(SimulationError::Geometry)?;
@@ -92,9 +302,6 @@ impl Simulation {
             scenario.sync,
         )
         .map_err(SimulationError::Trajectory)?;
-        let sampler = reorientation
-            .sampler(scenario.rate_hz)
-            .map_err(SimulationError::Trajectory)?;
         let tips = scenario.tips();
         for (what, v) in [("left tip", tips.left), ("right tip", tips.right)] {
             if let Some(value) = v.iter().copied().find(|x| !x.is_finite()) {
@@ -105,6 +312,21 @@ impl Simulation {
                 });
             }
         }
+        let (plan, schedule, count, duration) = if scenario.has_commands() {
+            Self::plan_online(&scenario, controller, tips)?
+        } else {
+            let sampler = reorientation
+                .sampler(scenario.rate_hz)
+                .map_err(SimulationError::Trajectory)?;
+            let schedule = vec![Scheduled {
+                command: scenario.commands()[0],
+                goal_rad: Some(scenario.goal_rad()),
+                sample: 0,
+                t_s: 0.0,
+            }];
+            let (count, duration) = (sampler.sample_count(), reorientation.duration());
+            (Plan::Rest(sampler), schedule, count, duration)
+        };
         let [_, _, _, psi, theta, phi] = scenario.start_mm_deg;
         Ok(Self {
             start_deg: [psi, theta, phi],
@@ -112,8 +334,51 @@ impl Simulation {
             scenario,
             controller,
             tips,
-            sampler,
+            plan,
+            schedule,
+            count,
+            duration,
         })
+    }
+
+    /// The online plan: the commands validated and scheduled, the
+    /// controller at rest at the start, the planned sample count and the
+    /// time the last motion comes to rest.
+    fn plan_online(
+        scenario: &Scenario,
+        controller: Controller<f64>,
+        tips: TipTargets<f64>,
+    ) -> Result<(Plan, Vec<Scheduled>, usize, f64), SimulationError> {
+        let rate = scenario.rate_hz;
+        if !(rate.is_finite() && rate > 0.0) {
+            return Err(SimulationError::Trajectory(
+                parasils::traj::Error::InvalidRate { value: rate },
+            ));
+        }
+        let schedule = schedule(scenario)?;
+        let online = OnlineController::new(
+            controller,
+            tips,
+            scenario.start(),
+            [scenario.limits(); 2],
+            supervisor_for(&controller),
+        )
+        .map_err(|e| online_error(e, 0.0, 0))?;
+        // The run planned: every command at its sample, no cycle run (the
+        // supervisor, which needs the kinematics, can only end it sooner
+        // or start a later command from rest).
+        let mut dry = online;
+        for s in &schedule {
+            apply(&mut dry, s, scenario).map_err(|e| online_error(e, s.t_s, s.sample))?;
+        }
+        let too_many = |duration: f64| {
+            SimulationError::Trajectory(parasils::traj::Error::TooManySamples { duration, rate })
+        };
+        let last = schedule.last().map_or(0, |s| s.sample);
+        let end = dry.motion_end();
+        let n = first_sample(rate, last, end, |t| dry.is_at_rest(t)).ok_or(too_many(end))?;
+        let count = n.checked_add(1).ok_or(too_many(end))?;
+        Ok((Plan::Online(online, rate), schedule, count, end))
     }
 
     /// The scenario.
@@ -136,24 +401,47 @@ impl Simulation {
         &self.controller
     }
 
-    /// The motion's duration, s.
+    /// The commands with the samples they take effect at: the reorientation
+    /// at sample 0, then, in a run with commands, each retarget and the stop
+    /// in time order.
+    pub fn schedule(&self) -> &[Scheduled] {
+        &self.schedule
+    }
+
+    /// The motion's duration, s: the reorientation's; with commands, the
+    /// time the last motion comes to rest as planned (a stop demanded by
+    /// the supervisor can change it).
     pub fn duration(&self) -> f64 {
-        parasils::traj::Motion::duration(self.sampler.motion())
+        self.duration
     }
 
     /// The number of records: `t = k / rate` for `k = 0..n`, the last one at
-    /// the end of the motion (see `parasils_traj::sampler`).
+    /// the end of the motion (see `parasils_traj::sampler`); with commands,
+    /// the first sample at which every command has taken effect and the last
+    /// motion is at rest, as planned (a stop demanded by the supervisor can
+    /// change it).
     pub fn sample_count(&self) -> usize {
-        self.sampler.sample_count()
+        self.count
     }
 
     /// The records, computed one at a time. Each call starts the controller
     /// afresh (module 1's margin tracked from the first sample).
-    pub fn samples(&self) -> impl Iterator<Item = Result<Record, SimulationError>> + '_ {
-        let mut controller = self.controller;
-        self.sampler
-            .clone()
-            .map(move |s| self.record(&mut controller, &s))
+    pub fn samples(&self) -> Records<'_> {
+        let inner = match &self.plan {
+            Plan::Rest(sampler) => Inner::Rest {
+                sampler: sampler.clone(),
+                controller: self.controller,
+            },
+            Plan::Online(online, rate) => Inner::Online(OnlineRun {
+                controller: *online,
+                rate: *rate,
+                next: 0,
+                pending: 0,
+                kind: CommandKind::Reorient,
+                done: false,
+            }),
+        };
+        Records { sim: self, inner }
     }
 
     /// Runs the whole motion into `sink`, record by record; stops at the
@@ -169,20 +457,19 @@ impl Simulation {
         Ok(())
     }
 
+    /// The record of sample `index` at `t`: the platform `state` and the
+    /// controller's `out` for it, under command `command` of kind `kind`.
+    #[allow(clippy::too_many_arguments)]
     fn record(
         &self,
-        controller: &mut Controller<f64>,
-        sample: &Sample<f64, PlatformState<f64>>,
-    ) -> Result<Record, SimulationError> {
-        let (t, state) = (sample.time, &sample.state);
-        let out =
-            controller
-                .step(state, &self.tips)
-                .map_err(|error| SimulationError::Kinematics {
-                    t,
-                    sample: Some(sample.index),
-                    error,
-                })?;
+        index: usize,
+        t: f64,
+        state: &PlatformState<f64>,
+        out: &ControlStep<f64>,
+        command: u32,
+        kind: CommandKind,
+        warnings: MarginSet,
+    ) -> Record {
         let module = |m: &Instrument<f64>,
                       sol: &InstrumentSolution<f64>,
                       mode: AssemblyMode,
@@ -209,8 +496,8 @@ impl Simulation {
         };
         let p = &state.pose;
         let m1 = &out.module1;
-        Ok(Record {
-            index: sample.index,
+        Record {
+            index,
             t,
             pose: p.to_array(),
             angles_deg: Record::degrees_from_start(
@@ -243,7 +530,230 @@ impl Simulation {
                 self.controller.modes[1],
                 self.tips.right,
             ),
-        })
+            command,
+            kind,
+            warnings,
+        }
+    }
+}
+
+/// The commands of `scenario`, validated, with their samples.
+fn schedule(scenario: &Scenario) -> Result<Vec<Scheduled>, SimulationError> {
+    let fail = SimulationError::Commands;
+    let finite = |command, what, value: f64| {
+        if value.is_finite() {
+            Ok(())
+        } else {
+            Err(fail(CommandError::NonFinite {
+                command,
+                what,
+                value,
+            }))
+        }
+    };
+    let mut previous: Option<(CommandName, f64)> = None;
+    for (k, r) in scenario.retargets.iter().enumerate() {
+        let name = CommandName::Retarget(k + 1);
+        finite(name, "t", r.t_s)?;
+        finite(name, "psi", r.psi_deg)?;
+        finite(name, "theta", r.theta_deg)?;
+        if r.t_s < 0.0 {
+            return Err(fail(CommandError::BeforeStart {
+                command: name,
+                t: r.t_s,
+            }));
+        }
+        if let Some((p, t)) = previous
+            && r.t_s < t
+        {
+            return Err(fail(CommandError::OutOfOrder {
+                command: name,
+                t: r.t_s,
+                previous: p,
+                previous_t: t,
+            }));
+        }
+        previous = Some((name, r.t_s));
+    }
+    if let Some(t) = scenario.stop_at_s {
+        finite(CommandName::Stop, "t", t)?;
+        if t < 0.0 {
+            return Err(fail(CommandError::BeforeStart {
+                command: CommandName::Stop,
+                t,
+            }));
+        }
+    }
+    let rate = scenario.rate_hz;
+    let mut out: Vec<Scheduled> = Vec::with_capacity(scenario.retargets.len() + 2);
+    let mut retargets = 0;
+    let mut names = Vec::with_capacity(out.capacity());
+    for command in scenario.commands() {
+        let name = match command.kind {
+            CommandKind::Reorient => CommandName::Reorientation,
+            CommandKind::Retarget => {
+                retargets += 1;
+                CommandName::Retarget(retargets)
+            }
+            _ => CommandName::Stop,
+        };
+        let from = out.last().map_or(0, |s| s.sample);
+        let sample = first_sample(rate, from, command.t_s, |t| t >= command.t_s).ok_or(
+            SimulationError::Trajectory(parasils::traj::Error::TooManySamples {
+                duration: command.t_s,
+                rate,
+            }),
+        )?;
+        let t_s = sample as f64 / rate;
+        if let (Some(p), Some(&pname)) = (out.last(), names.last())
+            && p.sample == sample
+        {
+            return Err(fail(CommandError::SameSample {
+                command: name,
+                t: command.t_s,
+                previous: pname,
+                previous_t: p.command.t_s,
+                sample_t: t_s,
+                rate,
+            }));
+        }
+        names.push(name);
+        out.push(Scheduled {
+            command,
+            goal_rad: command.goal_deg.map(|g| scenario.angles_rad(g)),
+            sample,
+            t_s,
+        });
+    }
+    Ok(out)
+}
+
+/// Gives `s`'s command to `online` at its sample's time.
+fn apply(
+    online: &mut OnlineController<f64>,
+    s: &Scheduled,
+    scenario: &Scenario,
+) -> Result<(), parasils::Error> {
+    match s.goal_rad {
+        Some(goal) => online
+            .command_synchronized(s.t_s, goal, scenario.sync)
+            .map(|_| ()),
+        None => online.stop(s.t_s),
+    }
+}
+
+/// The records of a [`Simulation`], computed one at a time
+/// ([`Simulation::samples`]).
+#[derive(Debug)]
+pub struct Records<'a> {
+    sim: &'a Simulation,
+    inner: Inner,
+}
+
+#[derive(Debug)]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "one per run, never in a collection"
+)]
+enum Inner {
+    Rest {
+        sampler: Sampler<f64, Reorientation<f64>>,
+        controller: Controller<f64>,
+    },
+    Online(OnlineRun),
+}
+
+/// An online run under way.
+#[derive(Debug)]
+struct OnlineRun {
+    controller: OnlineController<f64>,
+    rate: f64,
+    /// The next sample's index.
+    next: usize,
+    /// The next scheduled command to give.
+    pending: usize,
+    /// What the active command is.
+    kind: CommandKind,
+    /// Whether the last record has been given (or a failure).
+    done: bool,
+}
+
+impl Iterator for Records<'_> {
+    type Item = Result<Record, SimulationError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        let sim = self.sim;
+        match &mut self.inner {
+            Inner::Rest {
+                sampler,
+                controller,
+            } => {
+                let s = sampler.next()?;
+                let (t, k) = (s.time, s.index);
+                Some(
+                    controller
+                        .step(&s.state, &sim.tips)
+                        .map(|out| {
+                            sim.record(
+                                k,
+                                t,
+                                &s.state,
+                                &out,
+                                0,
+                                CommandKind::Reorient,
+                                MarginSet::EMPTY,
+                            )
+                        })
+                        .map_err(|error| SimulationError::Kinematics {
+                            t,
+                            sample: Some(k),
+                            error,
+                        }),
+                )
+            }
+            Inner::Online(run) => {
+                if run.done {
+                    return None;
+                }
+                let r = run.step(sim);
+                if r.is_err() {
+                    run.done = true;
+                }
+                Some(r)
+            }
+        }
+    }
+}
+
+impl OnlineRun {
+    /// The next sample: the commands due at it given, then one cycle.
+    fn step(&mut self, sim: &Simulation) -> Result<Record, SimulationError> {
+        let k = self.next;
+        let t = k as f64 / self.rate;
+        while let Some(s) = sim.schedule.get(self.pending).filter(|s| s.sample <= k) {
+            apply(&mut self.controller, s, &sim.scenario).map_err(|e| online_error(e, t, k))?;
+            self.kind = s.command.kind;
+            self.pending += 1;
+        }
+        let cycle = self.controller.tick(t).map_err(|e| online_error(e, t, k))?;
+        if cycle.kind == MotionKind::SupervisorStop {
+            self.kind = CommandKind::SupervisorStop;
+        }
+        let record = sim.record(
+            k,
+            t,
+            &cycle.state,
+            &cycle.step,
+            cycle.command,
+            self.kind,
+            cycle.warnings,
+        );
+        let finished = self.pending >= sim.schedule.len() && self.controller.is_at_rest(t);
+        match k.checked_add(1) {
+            Some(next) if !finished => self.next = next,
+            _ => self.done = true,
+        }
+        Ok(record)
     }
 }
 

@@ -12,6 +12,14 @@
 //! run in memory. Every writer reads the records through one table of
 //! [`columns`] (name, unit, MCAP channel, value).
 //!
+//! A scenario may also command new goals and a stop while the platform
+//! moves ([`Scenario::retargets`], [`Scenario::stop_at_s`]): such a run goes
+//! through the online controller ([`parasils::OnlineController`], with its
+//! margin supervisor), each command taking effect at the first sample at or
+//! after its time, and its output has one more column, `command`, the index
+//! of the active command (the CSV's last column, and `/motion` in MCAP). A
+//! run without commands is written exactly as before they existed.
+//!
 //! The paper's run, written as CSV in memory:
 //!
 //! ```
@@ -34,8 +42,8 @@
 //! # Modules
 //! | module | concept |
 //! |---|---|
-//! | [`scenario`] | the inputs in user units (mm, deg, deg/s, deg/s^2, Hz), the defaults stated once |
-//! | [`engine`] | [`Simulation`]: validation, planning, the one run loop |
+//! | [`scenario`] | the inputs in user units (mm, deg, deg/s, deg/s^2, Hz), the defaults stated once, the commands |
+//! | [`engine`] | [`Simulation`]: validation, planning, the commands' schedule, the one run loop |
 //! | [`record`] | [`Record`]: one instant, typed, in library units |
 //! | [`columns`] | the one table of output columns |
 //! | [`sink`] | [`Sink`] and [`Tee`] |
@@ -44,7 +52,7 @@
 //! | [`robot_file`] | the robot's geometry as TOML |
 //! | [`numbers`] | numbers in messages, readable whatever their size |
 //!
-//! Imports go one way: `numbers`, `record` < `columns`, `scenario`, `sink` <
+//! Imports go one way: `numbers`, `scenario` < `record` < `columns`, `sink` <
 //! `engine` < the sinks < `output`; `robot_file` stands alone.
 //!
 //! The robot's geometry (module 1 and both instrument modules, with their

@@ -226,7 +226,8 @@ impl Flushed {
 
 impl OutputFile {
     /// Starts writing `scenario`'s records to `path` in `format`: the CSV
-    /// header, or the MCAP file's header, channels and scenario.
+    /// header (with `command` last when the scenario has commands), or the
+    /// MCAP file's header, channels and scenario.
     ///
     /// # Errors
     /// [`OutputError::Create`] when the folder cannot be written in, and the
@@ -239,12 +240,12 @@ impl OutputFile {
         };
         let file = BufWriter::new(tmp.reopen().map_err(io)?);
         let writer = match format {
-            Format::Csv => Writer::Csv(Box::new(CsvSink::new(file).map_err(|error| {
-                OutputError::Csv {
+            Format::Csv => Writer::Csv(Box::new(CsvSink::for_scenario(file, scenario).map_err(
+                |error| OutputError::Csv {
                     path: path.to_owned(),
                     error,
-                }
-            })?)),
+                },
+            )?)),
             Format::Mcap => Writer::Mcap(Box::new(McapSink::new(file, scenario).map_err(
                 |error| OutputError::Mcap {
                     path: path.to_owned(),

@@ -6,6 +6,9 @@
 //! the sinks read records through it.
 
 use nalgebra::Vector3;
+use parasils::supervisor::MarginSet;
+
+use crate::scenario::CommandKind;
 
 /// Module 1 (the parallel robot) at one instant.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -65,6 +68,17 @@ pub struct Record {
     pub left: InstrumentRecord,
     /// The right instrument module.
     pub right: InstrumentRecord,
+    /// The index of the active command: 0 for the reorientation, one more
+    /// at each retarget and at each stop (see
+    /// [`Command`](crate::scenario::Command)). Always 0 in a run without
+    /// commands.
+    pub command: u32,
+    /// What the active command is.
+    pub kind: CommandKind,
+    /// The margins below the online controller's warning thresholds (see
+    /// `parasils::supervisor`); always empty in a run without commands,
+    /// which has no supervisor.
+    pub warnings: MarginSet,
 }
 
 impl Record {

@@ -1,5 +1,6 @@
 //! A simulation's inputs, in the units people give them in: the start pose,
-//! the reorientation, the limits, the sampling rate, the tips and the robot.
+//! the reorientation, the limits, the sampling rate, the tips, the robot, and
+//! the commands given while the platform moves (new goals, a stop).
 //!
 //! The defaults ([`Scenario::paper`]) are the paper's section 4, taken from
 //! [`parasils::paper`] and the kinematics' presets: the command line and the
@@ -62,6 +63,85 @@ pub struct Scenario {
     pub tip_right_mm: Option<[f64; 3]>,
     /// The robot: module 1 and both instrument modules (library units).
     pub robot: RobotGeometry<f64>,
+    /// New goals commanded while the platform moves, in time order (none in
+    /// the paper's scenario). See [`Command`].
+    pub retargets: Vec<Retarget>,
+    /// The time of a controlled stop, s from the start; `None` for no stop.
+    pub stop_at_s: Option<f64>,
+}
+
+/// A new goal commanded at `t_s`: `psi_deg` and `theta_deg` are read like
+/// [`Scenario::psi_deg`] and [`Scenario::theta_deg`], increments from the
+/// start pose (not from the previous goal), or final angles with
+/// [`Scenario::absolute`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Retarget {
+    /// When the goal is commanded, s from the start.
+    pub t_s: f64,
+    /// `psi`: increment from the start pose (or final value), deg.
+    pub psi_deg: f64,
+    /// `theta`: increment from the start pose (or final value), deg.
+    pub theta_deg: f64,
+}
+
+/// What a command asks for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CommandKind {
+    /// The scenario's own reorientation, commanded at `t = 0`: command 0.
+    #[default]
+    Reorient,
+    /// A new goal ([`Retarget`]), replanned from the state of the motion.
+    Retarget,
+    /// The controlled stop: psi and theta to rest together, the one needing
+    /// longer at its acceleration limit, along the direction of their
+    /// velocity.
+    Stop,
+    /// A controlled stop the online controller's margin supervisor demanded
+    /// (not a command of the scenario): a margin was heading below its stop
+    /// threshold.
+    #[serde(rename = "supervisor_stop")]
+    SupervisorStop,
+}
+
+impl CommandKind {
+    /// The name written out: `"reorient"`, `"retarget"`, `"stop"`,
+    /// `"supervisor_stop"`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            CommandKind::Reorient => "reorient",
+            CommandKind::Retarget => "retarget",
+            CommandKind::Stop => "stop",
+            CommandKind::SupervisorStop => "supervisor_stop",
+        }
+    }
+}
+
+impl core::fmt::Display for CommandKind {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.pad(self.name())
+    }
+}
+
+/// One command of a run, in time order: the reorientation at `t = 0`
+/// (index 0), then each retarget and the stop, numbered from 1 in the order
+/// they are commanded. The index is what the output's `command` column
+/// holds while the command's motion is the active one.
+///
+/// A command takes effect at the first sample at or after its time `t_s`;
+/// the motion is replanned from the state the active motion has at that
+/// sample, so that position and velocity stay continuous.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Command {
+    /// The index: 0 for the reorientation, then 1, 2, ...
+    pub index: u32,
+    /// What it asks for.
+    pub kind: CommandKind,
+    /// When it is commanded, s from the start.
+    pub t_s: f64,
+    /// The goal `[psi, theta]` as given (increments from the start, or final
+    /// angles with `absolute`), deg; `None` for the stop.
+    pub goal_deg: Option<[f64; 2]>,
 }
 
 impl Default for Scenario {
@@ -90,7 +170,56 @@ impl Scenario {
             tip_left_mm: TipTargets::<f64>::paper().left.into(),
             tip_right_mm: None,
             robot: RobotGeometry::paper(),
+            retargets: Vec::new(),
+            stop_at_s: None,
         }
+    }
+
+    /// Whether the scenario commands anything besides its reorientation (a
+    /// retarget or a stop): such a run goes through the online controller,
+    /// and its output has the `command` column.
+    pub fn has_commands(&self) -> bool {
+        !self.retargets.is_empty() || self.stop_at_s.is_some()
+    }
+
+    /// The commands in the order they are given: the reorientation at
+    /// `t = 0`, then the retargets and the stop merged by time (the stop
+    /// before a retarget given for the same time; such a scenario does not
+    /// validate).
+    pub fn commands(&self) -> Vec<Command> {
+        let mut out = Vec::with_capacity(self.retargets.len() + 2);
+        out.push(Command {
+            index: 0,
+            kind: CommandKind::Reorient,
+            t_s: 0.0,
+            goal_deg: Some([self.psi_deg, self.theta_deg]),
+        });
+        let mut stop = self.stop_at_s;
+        let push = |out: &mut Vec<Command>, kind, t_s, goal_deg| {
+            let index = u32::try_from(out.len()).unwrap_or(u32::MAX);
+            out.push(Command {
+                index,
+                kind,
+                t_s,
+                goal_deg,
+            });
+        };
+        for r in &self.retargets {
+            if let Some(t) = stop.filter(|t| *t <= r.t_s) {
+                push(&mut out, CommandKind::Stop, t, None);
+                stop = None;
+            }
+            push(
+                &mut out,
+                CommandKind::Retarget,
+                r.t_s,
+                Some([r.psi_deg, r.theta_deg]),
+            );
+        }
+        if let Some(t) = stop {
+            push(&mut out, CommandKind::Stop, t, None);
+        }
+        out
     }
 
     /// The start pose in library units (mm, rad).
@@ -101,7 +230,14 @@ impl Scenario {
 
     /// The final `[psi, theta]`, rad.
     pub fn goal_rad(&self) -> [f64; 2] {
-        let [psi, theta] = [self.psi_deg.to_radians(), self.theta_deg.to_radians()];
+        self.angles_rad([self.psi_deg, self.theta_deg])
+    }
+
+    /// `[psi, theta]` given as the scenario reads them (increments from the
+    /// start pose in deg, or final angles with `absolute`) as final angles,
+    /// rad: the goal of the reorientation or of a [`Retarget`].
+    pub fn angles_rad(&self, [psi_deg, theta_deg]: [f64; 2]) -> [f64; 2] {
+        let [psi, theta] = [psi_deg.to_radians(), theta_deg.to_radians()];
         if self.absolute {
             [psi, theta]
         } else {
@@ -148,13 +284,36 @@ impl Scenario {
             tip_left: self.tip_left_mm,
             tip_right: self.tip_right_mm,
             robot: &self.robot,
+            retargets: self
+                .retargets
+                .iter()
+                .map(|r| RetargetUnits {
+                    t: r.t_s,
+                    psi: r.psi_deg.to_radians(),
+                    theta: r.theta_deg.to_radians(),
+                })
+                .collect(),
+            stop_at: self.stop_at_s,
         }
     }
 }
 
-/// A [`Scenario`] in library units (mm, rad, s), for records: the MCAP
-/// file's `parasils.scenario` metadata is this, serialised as JSON.
+/// A [`Retarget`] in library units (s, rad), for records.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct RetargetUnits {
+    /// When the goal is commanded, s.
+    pub t: f64,
+    /// `psi`: increment (or final value), rad.
+    pub psi: f64,
+    /// `theta`: increment (or final value), rad.
+    pub theta: f64,
+}
+
+/// A [`Scenario`] in library units (mm, rad, s), for records: the MCAP
+/// file's `parasils.scenario` metadata is this, serialised as JSON (the
+/// commands only when there are some, so that a run without them is
+/// recorded as before they existed).
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LibraryUnits<'a> {
     /// The start pose, mm and rad.
     pub start: Pose<f64>,
@@ -178,6 +337,12 @@ pub struct LibraryUnits<'a> {
     pub tip_right: Option<[f64; 3]>,
     /// The robot.
     pub robot: &'a RobotGeometry<f64>,
+    /// The retargets (times in s, angles in rad), if any.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub retargets: Vec<RetargetUnits>,
+    /// The time of the stop, s, if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stop_at: Option<f64>,
 }
 
 #[cfg(test)]

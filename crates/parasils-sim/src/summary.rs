@@ -1,16 +1,23 @@
 //! A run's summary for people: ranges and peak rates of every actuator and
-//! joint, the largest tip drift, the smallest margins. Accumulated record by
-//! record, in constant memory, over the CSV's columns; the text reads them
-//! through the [column table](crate::columns)'s named columns.
+//! joint, the largest tip drift, the smallest margins, and in a run with
+//! commands, each command with the time it took effect and the supervisor's
+//! warnings. Accumulated record by record, in constant memory (one entry per
+//! command), over the CSV's columns; the text reads them through the
+//! [column table](crate::columns)'s named columns.
 
 use core::fmt;
 
+use parasils::supervisor::MarginSet;
+
 use crate::columns::{self, CSV_COUNT, Column};
+use crate::engine::{Scheduled, Simulation};
 use crate::numbers::Fixed;
 use crate::record::Record;
+use crate::scenario::CommandKind;
 use crate::sink::Sink;
 
-/// Running extremes of every CSV column ([`columns::CSV`]).
+/// Running extremes of every CSV column ([`columns::CSV`]), and the
+/// commands as they took effect.
 #[derive(Debug, Clone)]
 pub struct Summary {
     count: usize,
@@ -19,6 +26,17 @@ pub struct Summary {
     /// Whether module 1 runs on the assumed default geometry (the text says
     /// so).
     pub module1_assumed: bool,
+    /// The commands scheduled, in a run with commands (else empty), and
+    /// whether their angles are final ones.
+    schedule: Vec<Scheduled>,
+    absolute: bool,
+    /// The commands as they took effect: index, kind, first time.
+    effective: Vec<(u32, CommandKind, f64)>,
+    /// Samples with a supervisor warning, the first one's time, and the
+    /// margins warned about.
+    warned: usize,
+    first_warning: Option<f64>,
+    warnings: MarginSet,
 }
 
 impl Default for Summary {
@@ -32,6 +50,14 @@ impl Sink for Summary {
 
     fn push(&mut self, record: &Record) -> Result<(), Self::Error> {
         self.count += 1;
+        if self.effective.last().is_none_or(|c| c.0 != record.command) {
+            self.effective.push((record.command, record.kind, record.t));
+        }
+        if !record.warnings.is_empty() {
+            self.warned += 1;
+            self.first_warning.get_or_insert(record.t);
+            self.warnings = self.warnings.union(record.warnings);
+        }
         for (i, column) in columns::CSV.iter().enumerate() {
             let v = column.value(record);
             self.min[i] = self.min[i].min(v);
@@ -50,7 +76,38 @@ impl Summary {
             min: [f64::INFINITY; CSV_COUNT],
             max: [f64::NEG_INFINITY; CSV_COUNT],
             module1_assumed,
+            schedule: Vec::new(),
+            absolute: false,
+            effective: Vec::new(),
+            warned: 0,
+            first_warning: None,
+            warnings: MarginSet::EMPTY,
         }
+    }
+
+    /// An empty summary of `sim`'s run: whether module 1's geometry is
+    /// assumed and, in a run with commands, the commands, which the text
+    /// lists with the times they took effect.
+    pub fn for_simulation(sim: &Simulation) -> Self {
+        let mut s = Self::new(sim.module1_assumed());
+        if sim.scenario().has_commands() {
+            s.schedule = sim.schedule().to_vec();
+            s.absolute = sim.scenario().absolute;
+        }
+        s
+    }
+
+    /// The commands as they took effect, in order: the index (the `command`
+    /// column), what it is, and the time of the first record it was active
+    /// at, s.
+    pub fn commands(&self) -> &[(u32, CommandKind, f64)] {
+        &self.effective
+    }
+
+    /// The number of records with a margin below its supervisor warning
+    /// threshold, and the margins that were.
+    pub fn warnings(&self) -> (usize, MarginSet) {
+        (self.warned, self.warnings)
     }
 
     /// The number of records seen.
@@ -174,7 +231,71 @@ impl fmt::Display for Summary {
             Fixed(cos_r.0.abs().min(cos_r.1.abs()), 4),
             Fixed(r(&columns::MODULE1_SERIAL_MARGIN).0, 4),
             Fixed(r(&columns::MODULE1_PARALLEL_MARGIN).0, 4)
-        )
+        )?;
+        if !self.schedule.is_empty() {
+            self.write_commands(f)?;
+        }
+        Ok(())
+    }
+}
+
+impl Summary {
+    /// The commands and the supervisor's warnings, after the margins.
+    fn write_commands(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "\ncommands (each active from the first sample at or after its time)"
+        )?;
+        let goal = |s: &Scheduled| match s.command.goal_deg {
+            Some([psi, theta]) if self.absolute => {
+                format!(": psi = {psi:.4}, theta = {theta:.4} deg")
+            }
+            Some([psi, theta]) => format!(": psi {psi:+.4}, theta {theta:+.4} deg"),
+            None => String::new(),
+        };
+        let mut planned = self.schedule.iter();
+        for (index, kind, t) in &self.effective {
+            if *kind == CommandKind::SupervisorStop {
+                write!(
+                    f,
+                    "\n  {index:<3} {:<15} {:<15}active from {:>8} s",
+                    kind.name(),
+                    "demanded,",
+                    Fixed(*t, 3)
+                )?;
+            } else if let Some(s) = planned.next() {
+                write!(
+                    f,
+                    "\n  {index:<3} {:<15} at {:>8} s, active from {:>8} s{}",
+                    kind.name(),
+                    Fixed(s.command.t_s, 3),
+                    Fixed(*t, 3),
+                    goal(s)
+                )?;
+            }
+        }
+        for s in planned {
+            write!(
+                f,
+                "\n      {:<15} at {:>8} s, not reached{}",
+                s.command.kind.name(),
+                Fixed(s.command.t_s, 3),
+                goal(s)
+            )?;
+        }
+        match self.first_warning {
+            None => write!(f, "\nsupervisor warnings: none"),
+            Some(t) => {
+                let names: Vec<&str> = self.warnings.iter().map(|m| m.name()).collect();
+                write!(
+                    f,
+                    "\nsupervisor warnings on {} samples, the first at {} s: {}",
+                    self.warned,
+                    Fixed(t, 3),
+                    names.join(", ")
+                )
+            }
+        }
     }
 }
 

@@ -1,24 +1,34 @@
-//! The paper's reorientation on a Cortex-M4F: `parasils` (the kinematics,
-//! the profiles and the bridge between them) embedded as a user's
-//! motor-control firmware would embed it, run on QEMU's `mps2-an386` board.
+//! The online controller on a Cortex-M4F: `parasils` (the kinematics, the
+//! profiles and the controller over them) embedded as a user's motor-control
+//! firmware would embed it, run on QEMU's `mps2-an386` board.
 //!
-//! Every 1 ms control cycle ([`parasils_control_step`]) takes the next
-//! platform state of the motion ([`Reorientation::paper`], sampled at
-//! 1 kHz), solves module 1 (actuators, rates, accelerations, margins) and
-//! both instrument modules (joints, rates, accelerations, margins), watches
-//! the margins, and recomputes both tips from the joints (forward
-//! kinematics), all in `f32`. The harness around it checks, at each of the
-//! 4501 cycles, that the tips stay within 2e-3 mm of their targets, and every
-//! 250 cycles that the results match the `f64` references that `build.rs`
-//! computed on the host with the same library; it reports the cost of a cycle
-//! (instructions, counted by QEMU with `-icount`) and the stack used, and
-//! exits through semihosting with a failure code on any mismatch.
+//! Every 1 ms control cycle ([`parasils_control_step`]) gives the controller
+//! the command due at that cycle, if any (a new goal or the controlled stop,
+//! replanned from the state of the motion at that instant), then runs one
+//! [`OnlineController::tick`]: the platform state of the active motion,
+//! module 1 (actuators, rates, accelerations, margins), both instrument
+//! modules (joints, rates, accelerations, margins) and the margin
+//! supervisor; it then recomputes both tips from the joints (forward
+//! kinematics), all in `f32`. The command stream is that of
+//! [`scenario`]: the paper's goal at 0 s, a new goal at 1.2 s while turning,
+//! a stop at 3.0 s, a third goal at 3.5 s, until rest.
+//!
+//! The harness around it checks, at every cycle, that the tips stay within
+//! 2e-3 mm of their targets, that both angles keep within their velocity and
+//! acceleration limits and move continuously, that each command starts from
+//! the state the motion had at its instant, and that the supervisor raises
+//! nothing; at every command and every 250 cycles, that the results match
+//! the `f64` references that `build.rs` computed on the host with the same
+//! library. It reports the cost of every cycle (instructions, counted by
+//! QEMU with `-icount`), the worst against the mean, the cost of each
+//! command, and the stack used, and exits through semihosting with a failure
+//! code on any mismatch.
 //!
 //! **No panics.** The panic handler calls a function that exists nowhere, so
 //! the firmware links only if the optimiser has removed every panicking branch
 //! of the whole program, control step included. The control step's inputs go
 //! through `black_box` and the step is an exported, never-inlined function, so
-//! its code is the general one, for any geometry, tips and motion: not one
+//! its code is the general one, for any geometry, tips and commands: not one
 //! specialised for the constants of this scenario.
 
 #![no_std]
@@ -33,10 +43,11 @@ use cortex_m::peripheral::SYST;
 use cortex_m::peripheral::syst::SystClkSource;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
-use parasils::Reorientation;
 use parasils::kin::nalgebra::{ComplexField, Vector3};
-use parasils::kin::{ControlStep, Controller, Error, PlatformState, TipTargets};
-use parasils::traj::{Sample, Sampler};
+use parasils::kin::{Error as KinError, PlatformState};
+use parasils::supervisor::Margins;
+use parasils::traj::Synchronization;
+use parasils::{Error, OnlineController, Setpoint};
 
 mod out;
 mod scenario;
@@ -48,114 +59,75 @@ mod reference {
 }
 
 use out::Out;
-use scenario::{FIELD_COUNT, FIELD_KINDS, FIELD_NAMES, Kind, REFERENCE_EVERY, SAMPLE_COUNT};
+use scenario::{COMMANDS, FIELD_COUNT, FIELD_KINDS, FIELD_NAMES, Kind, MAX_CYCLES};
 
-// One reference every REFERENCE_EVERY samples, the first and the last included.
-const _: () = assert!(reference::REFERENCES.len() == (SAMPLE_COUNT - 1) / REFERENCE_EVERY + 1);
+/// The commands, as the controller takes them.
+const COMMAND_COUNT: usize = COMMANDS.len();
 
 // ---------------------------------------------------------------------------
 // The control step: what a user's firmware runs every cycle.
 // ---------------------------------------------------------------------------
 
-/// The margins below which this firmware stops the motion: a supervisor's
-/// choice, far above the solvers' own singularity thresholds (1e-6). Along
-/// the paper's motion the smallest are 0.53 (parallel), 0.73 (serial), 0.47
-/// and 0.78 (`|cos qs2|` left and right).
-#[derive(Clone, Copy)]
-pub struct Watch {
-    /// Smallest module-1 parallel margin (dimensionless).
-    pub parallel: f32,
-    /// Smallest module-1 serial margin (dimensionless).
-    pub serial: f32,
-    /// Smallest `|cos qs2|` of either instrument module.
-    pub cos_qs2: f32,
-    /// Smallest distance of any actuator to the ends of its stroke, mm.
-    pub stroke_mm: f32,
-}
-
-/// Everything the control loop needs: solvers, targets and the motion.
+/// Everything the control loop needs: the controller and the commands.
 pub struct Runtime {
-    controller: Controller<f32>,
-    tips: TipTargets<f32>,
-    samples: Sampler<f32, Reorientation<f32>>,
-    watch: Watch,
+    online: OnlineController<f32>,
+    /// `(cycle, goal)`: the goal `[psi, theta]` in rad, `None` for the stop.
+    orders: [(usize, Option<[f32; 2]>); COMMAND_COUNT],
+    /// The next command to give.
+    next: usize,
+    /// The next cycle.
+    cycle: usize,
 }
 
-/// Why the loop stops early.
-pub enum Fault {
-    /// A solver refused the pose or a tip (the error says which and why).
-    Kinematics(Error),
-    /// A margin ran below the watch's threshold.
-    Margin {
-        /// Which margin.
-        what: &'static str,
-        /// Its value.
-        value: f32,
-    },
-}
+/// Why the loop stops early: the controller refused a command or a cycle
+/// (the error says which and why).
+pub struct Fault(pub Error);
 
 /// One control cycle's result.
 pub struct Cycle {
-    /// The sample's index, from 0.
+    /// The cycle's index, from 0.
     pub index: usize,
-    /// Module 1 and both instrument modules.
-    pub step: ControlStep<f32>,
+    /// The platform state, module 1, both instrument modules, the supervisor.
+    pub setpoint: Setpoint<f32>,
+    /// The synchronisation of the command given at this cycle (`Some(None)`
+    /// for a stop), `None` when no command was.
+    pub command: Option<Option<Synchronization>>,
     /// Distance of each tip, recomputed from the joints, to its target, mm.
     pub drift_mm: [f32; 2],
 }
 
-/// One control cycle: the next platform state of the motion, the controller,
-/// the margin watch and both tips' forward kinematics. `None` once the motion
-/// is over.
+/// One control cycle: the command due now, if any; the controller's tick
+/// (platform state, kinematics, supervisor); both tips' forward kinematics.
 #[unsafe(no_mangle)]
 #[inline(never)]
-pub fn parasils_control_step(rt: &mut Runtime) -> Option<Result<Cycle, Fault>> {
-    let sample = rt.samples.next()?;
-    Some(cycle(rt, &sample))
-}
-
-#[inline(always)]
-fn cycle(rt: &mut Runtime, sample: &Sample<f32, PlatformState<f32>>) -> Result<Cycle, Fault> {
-    let pose = &sample.state.pose;
-    let step = rt
-        .controller
-        .step(&sample.state, &rt.tips)
-        .map_err(Fault::Kinematics)?;
-    watch(&rt.watch, &step)?;
-    let c = &rt.controller;
-    let left = c.left.fk(pose, &step.left.q).map_err(Fault::Kinematics)?;
-    let right = c.right.fk(pose, &step.right.q).map_err(Fault::Kinematics)?;
+pub fn parasils_control_step(rt: &mut Runtime) -> Result<Cycle, Fault> {
+    let index = rt.cycle;
+    let t = scenario::time::<f32>(index);
+    let mut command = None;
+    if let Some(&(at, goal)) = rt.orders.get(rt.next)
+        && at == index
+    {
+        command = Some(scenario::give(&mut rt.online, t, goal).map_err(Fault)?);
+        rt.next += 1;
+    }
+    let setpoint = rt.online.tick(t).map_err(Fault)?;
+    rt.cycle += 1;
+    let pose = &setpoint.state.pose;
+    let c = rt.online.controller();
+    let tips = rt.online.tips();
+    let kin = |e| Fault(Error::Kinematics(e));
+    let left = c.left.fk(pose, &setpoint.step.left.q).map_err(kin)?;
+    let right = c.right.fk(pose, &setpoint.step.right.q).map_err(kin)?;
     Ok(Cycle {
-        index: sample.index,
-        step,
-        drift_mm: [
-            distance(&left, &rt.tips.left),
-            distance(&right, &rt.tips.right),
-        ],
+        index,
+        setpoint,
+        command,
+        drift_mm: [distance(&left, &tips.left), distance(&right, &tips.right)],
     })
 }
 
 fn distance(a: &Vector3<f32>, b: &Vector3<f32>) -> f32 {
     (a - b).norm()
-}
-
-/// `!(x >= min)` so that a NaN margin stops the motion too.
-#[inline(always)]
-fn watch(w: &Watch, step: &ControlStep<f32>) -> Result<(), Fault> {
-    let m1 = &step.module1.margins;
-    let stroke = m1.stroke.iter().fold(f32::INFINITY, |m, &s| m.min(s));
-    for (what, value, min) in [
-        ("module 1 parallel margin", m1.parallel, w.parallel),
-        ("module 1 serial margin", m1.serial_min, w.serial),
-        ("module 1 stroke margin", stroke, w.stroke_mm),
-        ("left |cos qs2|", step.left.margins.cos_qs2, w.cos_qs2),
-        ("right |cos qs2|", step.right.margins.cos_qs2, w.cos_qs2),
-    ] {
-        if !(value >= min) {
-            return Err(Fault::Margin { what, value });
-        }
-    }
-    Ok(())
 }
 
 // ---------------------------------------------------------------------------
@@ -169,10 +141,10 @@ const DRIFT_MAX_MM: f64 = 2e-3;
 /// The tolerance of a field against its f64 reference.
 ///
 /// Angles 1e-4 rad and lengths 2e-3 mm (the budget); rates and accelerations
-/// 1e-4 of the field's peak magnitude over the motion; margins 1e-4. On the
-/// host the f32 run's worst errors over all 4501 samples are 4e-7 rad,
-/// 8e-5 mm, 6.3e-6 of the peak for rates and 8e-7 for margins: each tolerance
-/// leaves at least a factor 16.
+/// 1e-4 of the field's peak magnitude over the run; margins 1e-4. Over the
+/// compared cycles of this run the worst errors are 1.6e-7 rad, 4.6e-5 mm,
+/// 2.0e-6 of the peak for rates and 1.2e-7 for margins: each tolerance
+/// leaves at least a factor 40.
 fn tolerance(kind: Kind, peak: f64) -> f64 {
     match kind {
         Kind::Angle => 1e-4,
@@ -296,6 +268,106 @@ fn main() -> ! {
     }
 }
 
+/// The synchronisation as the references code it (0 for the stop).
+fn sync_code(s: Option<Synchronization>) -> u8 {
+    match s {
+        None => 0,
+        Some(Synchronization::Phase) => 1,
+        Some(Synchronization::Time) => 2,
+        Some(Synchronization::None) => 3,
+    }
+}
+
+fn sync_name(code: u8) -> &'static str {
+    match code {
+        0 => "stop",
+        1 => "phase-synchronised",
+        2 => "time-synchronised",
+        _ => "not synchronised",
+    }
+}
+
+/// The largest move between two cycles seen so far, as a fraction of what
+/// the limits allow: position against `v_max dt`, velocity against
+/// `a_max dt`; and the largest velocity and acceleration against their limits.
+#[derive(Clone, Copy, Default)]
+struct Steps {
+    position: f64,
+    velocity: f64,
+    v_peak: f64,
+    a_peak: f64,
+}
+
+/// Rounding allowed on the ratios of [`Steps`] (a few `f32` ulps of the
+/// angles and rates, relative to one cycle's move).
+const STEP_SLACK: f64 = 2e-3;
+
+/// Limits and continuity of one cycle against the previous one; `false`
+/// (with a report) on a violation.
+fn check_motion(
+    out: &mut Out,
+    limits: &[parasils::traj::Limits<f32>; 2],
+    previous: Option<&Setpoint<f32>>,
+    s: &Setpoint<f32>,
+    steps: &mut Steps,
+) -> bool {
+    let eps = f64::from(f32::EPSILON);
+    let now = [
+        (
+            s.state.pose.psi,
+            s.state.velocity.psi,
+            s.state.acceleration.psi,
+        ),
+        (
+            s.state.pose.theta,
+            s.state.velocity.theta,
+            s.state.acceleration.theta,
+        ),
+    ];
+    let before = previous.map(|p| {
+        [
+            (p.state.pose.psi, p.state.velocity.psi, p.t),
+            (p.state.pose.theta, p.state.velocity.theta, p.t),
+        ]
+    });
+    let mut ok = true;
+    for (i, (&(p, v, a), l)) in now.iter().zip(limits).enumerate() {
+        let (v_max, a_max) = (f64::from(l.v_max), f64::from(l.a_max));
+        let v_ratio = f64::from(v).abs() / v_max;
+        let a_ratio = f64::from(a).abs() / a_max;
+        steps.v_peak = steps.v_peak.max(v_ratio);
+        steps.a_peak = steps.a_peak.max(a_ratio);
+        // `!(x <= 1)` catches NaN too.
+        if !(v_ratio <= 1.0 + 16.0 * eps && a_ratio <= 1.0 + 16.0 * eps) {
+            out.str("MISMATCH: angle ")
+                .u64(i as u64)
+                .str(" beyond its limits at t = ");
+            out.fixed(f64::from(s.t), 3).str(" s").nl();
+            ok = false;
+        }
+        if let Some(b) = before
+            && let Some(&(p0, v0, t0)) = b.get(i)
+        {
+            let dt = f64::from(s.t) - f64::from(t0);
+            let dp = (f64::from(p) - f64::from(p0)).abs() / (v_max * dt);
+            let dv = (f64::from(v) - f64::from(v0)).abs() / (a_max * dt);
+            steps.position = steps.position.max(dp);
+            steps.velocity = steps.velocity.max(dv);
+            if !(dp <= 1.0 + STEP_SLACK && dv <= 1.0 + STEP_SLACK) {
+                out.str("MISMATCH: angle ")
+                    .u64(i as u64)
+                    .str(" jumps at t = ");
+                out.fixed(f64::from(s.t), 3).str(" s").nl();
+                ok = false;
+            }
+        }
+    }
+    ok
+}
+
+/// The bound on the worst cycle: this many times the mean.
+const WORST_OVER_MEAN_MAX: f64 = 1.3;
+
 /// The whole check; `true` when everything passed.
 fn run(out: &mut Out) -> bool {
     // SAFETY: the only user of the peripherals in this program.
@@ -311,31 +383,34 @@ fn run(out: &mut Out) -> bool {
     out.str(" SysTick ticks per 1000 instructions (1600 expected)")
         .nl();
 
-    let Ok(motion) = Reorientation::<f32>::paper() else {
-        out.str("error: the paper's motion is invalid").nl();
-        return false;
-    };
-    let Ok(samples) = motion.sampler(parasils::paper::RATE_HZ as f32) else {
-        out.str("error: invalid rate").nl();
-        return false;
+    let online = match scenario::online::<f32>() {
+        Ok(o) => o,
+        Err(e) => {
+            report_fault(out, 0, &Fault(e));
+            return false;
+        }
     };
     // black_box: the step must not be compiled for these constants.
     let mut rt = black_box(Runtime {
-        controller: Controller::paper(),
-        tips: TipTargets::paper(),
-        samples,
-        watch: Watch {
-            parallel: 0.2,
-            serial: 0.2,
-            cos_qs2: 0.2,
-            stroke_mm: 0.0,
-        },
+        online,
+        orders: scenario::orders(),
+        next: 0,
+        cycle: 0,
     });
+    let limits = *rt.online.limits();
 
     let caller_sp = stack::sp();
     let mut cost = Cost::new();
+    let mut worst_cycle = 0usize;
+    // Per command: the plan alone, and the whole cycle it was given in (ticks).
+    let mut plans = [0u32; COMMAND_COUNT];
+    let mut command_cycles = [0u32; COMMAND_COUNT];
+    let mut syncs = [u8::MAX; COMMAND_COUNT];
+    let mut given = 0usize;
     let mut cycles = 0usize;
     let mut drift = [0.0f64; 2];
+    let mut steps = Steps::default();
+    let mut previous: Option<Setpoint<f32>> = None;
     let mut references = reference::REFERENCES.iter().peekable();
     let mut compared = 0usize;
     let mut worst = [Worst {
@@ -345,27 +420,71 @@ fn run(out: &mut Out) -> bool {
         index: 0,
     }; 4];
     let mut ok = true;
-    loop {
+    let mut at_rest = false;
+    for _ in 0..MAX_CYCLES {
+        // A command is due: time its plan alone, on a copy of the controller.
+        let due = rt.orders.get(rt.next).copied().filter(|o| o.0 == rt.cycle);
+        let t = scenario::time::<f32>(rt.cycle);
+        let before = rt.online.state_at(t);
+        if let (Some((_, goal)), Some(plan)) = (due, plans.get_mut(given)) {
+            let mut copy = black_box(rt.online);
+            let t = black_box(t);
+            let t0 = systick();
+            let r = scenario::give(&mut copy, t, goal);
+            let t1 = systick();
+            let _ = black_box(r);
+            *plan = elapsed(t0, t1);
+        }
+
         let t0 = systick();
         let result = parasils_control_step(&mut rt);
         let t1 = systick();
         let c = match result {
-            None => break,
-            Some(Err(fault)) => {
+            Err(fault) => {
                 report_fault(out, cycles, &fault);
                 return false;
             }
-            Some(Ok(c)) => c,
+            Ok(c) => c,
         };
-        cost.add(elapsed(t0, t1));
+        let ticks = elapsed(t0, t1);
+        if ticks > cost.max {
+            worst_cycle = c.index;
+        }
+        cost.add(ticks);
         cycles += 1;
+        let s = &c.setpoint;
+
+        if let Some(sync) = c.command {
+            if let (Some(slot), Some(code)) = (command_cycles.get_mut(given), syncs.get_mut(given))
+            {
+                *slot = ticks;
+                *code = sync_code(sync);
+            }
+            given += 1;
+            // The new motion starts from the old one's state at this instant.
+            if !(s.state.pose == before.pose && s.state.velocity == before.velocity) {
+                out.str("MISMATCH: the command at cycle ")
+                    .u64(c.index as u64);
+                out.str(" does not start from the motion's state").nl();
+                ok = false;
+            }
+        }
+        ok &= check_motion(out, &limits, previous.as_ref(), s, &mut steps);
+        if !(s.warnings.is_empty() && s.stop.is_empty()) {
+            out.str("MISMATCH: the supervisor warned or stopped at cycle ");
+            out.u64(c.index as u64)
+                .str(" (bits ")
+                .u64(s.warnings.bits().into());
+            out.str(", ").u64(s.stop.bits().into()).str(")").nl();
+            ok = false;
+        }
         for (d, x) in drift.iter_mut().zip(c.drift_mm) {
             let x = f64::from(x);
             // `!(x <= max)` catches NaN too.
             if !(x <= DRIFT_MAX_MM) {
                 if ok {
                     out.str("MISMATCH: tip drift ").fixed(x * 1e6, 1);
-                    out.str(" nm at sample ").u64(c.index as u64).nl();
+                    out.str(" nm at cycle ").u64(c.index as u64).nl();
                 }
                 ok = false;
             }
@@ -378,19 +497,64 @@ fn run(out: &mut Out) -> bool {
             ok &= compare(out, &c, expected, &mut worst);
             references.next();
         }
+        previous = Some(c.setpoint);
+        if given == COMMAND_COUNT && rt.online.is_at_rest(s.t) {
+            at_rest = true;
+            break;
+        }
     }
     let lowest = stack::lowest();
 
+    for (i, cmd) in COMMANDS.iter().enumerate() {
+        let (plan, cycle, sync) = (
+            plans.get(i).copied().unwrap_or(0),
+            command_cycles.get(i).copied().unwrap_or(0),
+            syncs.get(i).copied().unwrap_or(u8::MAX),
+        );
+        out.str("command ").u64(i as u64).str(" at t = ");
+        out.fixed(scenario::time::<f64>(cmd.cycle), 3)
+            .str(" s, ")
+            .str(cmd.label);
+        out.str(" (").str(sync_name(sync)).str("): plan ");
+        out.u64(instructions(plan.into(), calibration));
+        out.str(" instructions, its cycle ")
+            .u64(instructions(cycle.into(), calibration));
+        out.str(" instructions").nl();
+        if reference::SYNCS.get(i) != Some(&sync) {
+            out.str("MISMATCH: command ").u64(i as u64);
+            out.str(" synchronised otherwise than in f64").nl();
+            ok = false;
+        }
+    }
     out.str("cycles: ")
         .u64(cycles as u64)
         .str(" (")
-        .u64(SAMPLE_COUNT as u64);
-    out.str(" expected), references compared: ")
-        .u64(compared as u64);
+        .u64(reference::CYCLES as u64);
+    out.str(" expected, at rest: ")
+        .str(if at_rest { "yes" } else { "NO" });
+    out.str("), references compared: ").u64(compared as u64);
     out.str(" of ").u64(reference::REFERENCES.len() as u64).nl();
-    if cycles != SAMPLE_COUNT || compared != reference::REFERENCES.len() {
+    // The references are those of `scenario::compared`, the same cycles as here.
+    let expected = (0..cycles)
+        .filter(|&k| scenario::compared(k, cycles))
+        .count();
+    if cycles != reference::CYCLES
+        || compared != reference::REFERENCES.len()
+        || compared != expected
+        || !at_rest
+    {
         ok = false;
     }
+    out.str("limits: peak |rate| ")
+        .fixed(steps.v_peak * 100.0, 4)
+        .str(" %, peak |acceleration| ");
+    out.fixed(steps.a_peak * 100.0, 4)
+        .str(" % of the limits; largest move between cycles: ");
+    out.fixed(steps.position * 100.0, 3)
+        .str(" % of v_max dt (angle), ");
+    out.fixed(steps.velocity * 100.0, 3)
+        .str(" % of a_max dt (rate)")
+        .nl();
     out.str("tip drift max: left ")
         .fixed(drift[0] * 1e6, 1)
         .str(" nm, right ");
@@ -409,10 +573,22 @@ fn run(out: &mut Out) -> bool {
             .fixed(w.ratio * 100.0, 2)
             .str(" % of the tolerance (");
         out.str(name(w.field))
-            .str(" at sample ")
+            .str(" at cycle ")
             .u64(w.index as u64)
             .str(")")
             .nl();
+    }
+
+    // Every cycle's parallel margin tracked from the previous one: the only
+    // full decomposition is the seed, in `OnlineController::new`.
+    let (margins, full) = rt.online.controller().margin_tracker().counts();
+    out.str("module 1 parallel margins: ").u64(margins);
+    out.str(", by the full SVD: ").u64(full);
+    out.str(" (the seed before the loop; every cycle tracked)")
+        .nl();
+    if full != 1 || margins != cycles as u64 + 1 {
+        out.str("MISMATCH: a cycle took the full SVD").nl();
+        ok = false;
     }
 
     let per = |t: u64| instructions(t, calibration);
@@ -424,6 +600,27 @@ fn run(out: &mut Out) -> bool {
         .str(" max ")
         .u64(per(cost.max.into()));
     out.str(" (over ").u64(cost.n).str(" steps)").nl();
+    let (mean_i, worst_i) = (per(mean), per(cost.max.into()));
+    out.str("instructions per cycle: mean ").u64(mean_i);
+    out.str(", worst ").u64(worst_i).nl();
+    let ratio = if mean_i > 0 {
+        worst_i as f64 / mean_i as f64
+    } else {
+        f64::INFINITY
+    };
+    out.str("worst cycle: ")
+        .u64(worst_cycle as u64)
+        .str(" (t = ");
+    out.fixed(scenario::time::<f64>(worst_cycle), 3)
+        .str(" s), ");
+    out.fixed(ratio, 3).str(" times the mean (bound ");
+    out.fixed(WORST_OVER_MEAN_MAX, 2).str(")").nl();
+    if !(ratio <= WORST_OVER_MEAN_MAX) {
+        out.str("MISMATCH: the worst cycle is above ")
+            .fixed(WORST_OVER_MEAN_MAX, 2);
+        out.str(" times the mean").nl();
+        ok = false;
+    }
 
     let used = stack::top().saturating_sub(lowest);
     let step_stack = caller_sp.saturating_sub(lowest);
@@ -431,7 +628,7 @@ fn run(out: &mut Out) -> bool {
     out.str(" (whole firmware; below the control step's caller: ");
     out.u64(step_stack as u64).str(")").nl();
 
-    breakdown(out, &rt, calibration);
+    breakdown(out, calibration);
     ok
 }
 
@@ -446,7 +643,7 @@ fn compare(
     expected: &[f64; FIELD_COUNT],
     worst: &mut [Worst; 4],
 ) -> bool {
-    let got = scenario::fields(&c.step);
+    let got = scenario::fields(&c.setpoint);
     let mut ok = true;
     let fields = got
         .iter()
@@ -458,7 +655,7 @@ fn compare(
         let ratio = err / tol;
         // `!(ratio <= 1)` catches NaN too.
         if !(ratio <= 1.0) {
-            out.str("MISMATCH at sample ")
+            out.str("MISMATCH at cycle ")
                 .u64(c.index as u64)
                 .str(": ")
                 .str(name(field));
@@ -485,36 +682,38 @@ fn compare(
 
 fn report_fault(out: &mut Out, cycle: usize, fault: &Fault) {
     out.str("FAULT at cycle ").u64(cycle as u64).str(": ");
-    match fault {
-        Fault::Margin { what, value } => {
-            out.str(what)
-                .str(" = ")
-                .fixed(f64::from(*value), 6)
-                .str(" below its threshold");
-        }
-        Fault::Kinematics(e) => {
-            out.str(match e {
-                Error::NonFinite { what, .. } => what,
-                Error::OutOfReach { .. } => "instrument tip out of reach",
-                Error::Singular { .. } => "instrument module singular",
-                Error::JointLimit { .. } => "instrument joint beyond its limit",
-                Error::LegOutOfReach { .. } => "module 1 leg out of reach",
-                Error::ActuatorLimit { .. } => "module 1 actuator beyond its stroke",
-                Error::SerialSingular { .. } => "module 1 serial singularity",
-                Error::ParallelSingular { .. } => "module 1 parallel singularity",
-                _ => "kinematics error",
-            });
-        }
-    }
+    out.str(match fault.0 {
+        Error::Kinematics(e) => match e {
+            KinError::NonFinite { what, .. } => what,
+            KinError::OutOfReach { .. } => "instrument tip out of reach",
+            KinError::Singular { .. } => "instrument module singular",
+            KinError::JointLimit { .. } => "instrument joint beyond its limit",
+            KinError::LegOutOfReach { .. } => "module 1 leg out of reach",
+            KinError::ActuatorLimit { .. } => "module 1 actuator beyond its stroke",
+            KinError::SerialSingular { .. } => "module 1 serial singularity",
+            KinError::ParallelSingular { .. } => "module 1 parallel singularity",
+            _ => "kinematics error",
+        },
+        Error::Trajectory(_) => "the command cannot be planned",
+        Error::NonFiniteTime { .. } | Error::TimeReversed { .. } => "invalid time",
+        Error::InvalidThreshold { .. } => "invalid supervisor threshold",
+        _ => "controller error",
+    });
     out.nl();
 }
 
-/// Where a cycle's instructions go: each part timed alone over the whole
-/// motion (mean instructions per cycle).
-fn breakdown(out: &mut Out, rt: &Runtime, calibration: u32) {
-    let motion = rt.samples.motion();
-    let c = &rt.controller;
-    // Module 1's margin tracked from cycle to cycle, as `Controller::step` does.
+/// Where a cycle's instructions go: the run replayed, each part timed alone
+/// (mean instructions per cycle; the plans per command).
+fn breakdown(out: &mut Out, calibration: u32) {
+    let Ok(mut online) = scenario::online::<f32>() else {
+        return;
+    };
+    let orders = scenario::orders::<f32>();
+    let c = *online.controller();
+    let supervisor = *online.supervisor();
+    let tips = *online.tips();
+    // Module 1's margin tracked from cycle to cycle, seeded as
+    // `OnlineController::new` does.
     let mut tracker = parasils::kin::MarginTracker::new();
     let mut parts = [
         Cost::new(),
@@ -523,12 +722,37 @@ fn breakdown(out: &mut Out, rt: &Runtime, calibration: u32) {
         Cost::new(),
         Cost::new(),
         Cost::new(),
+        Cost::new(),
+        Cost::new(),
     ];
-    let [traj, frame_cost, module1, instruments, fk, trig] = &mut parts;
-    for k in 0..SAMPLE_COUNT {
-        let t = black_box(k as f32 / parasils::paper::RATE_HZ as f32);
+    let [
+        plan,
+        traj,
+        frame_cost,
+        module1,
+        instruments,
+        fk,
+        watch,
+        trig,
+    ] = &mut parts;
+    let mut previous: Option<Margins<f32>> = None;
+    let mut next = 0usize;
+    for k in 0..reference::CYCLES {
+        let t = black_box(scenario::time::<f32>(k));
+        if let Some(&(at, goal)) = orders.get(next)
+            && at == k
+        {
+            let t0 = systick();
+            let r = black_box(scenario::give(&mut online, t, goal));
+            let t1 = systick();
+            plan.add(elapsed(t0, t1));
+            next += 1;
+            if r.is_err() {
+                return;
+            }
+        }
         let t0 = systick();
-        let state = black_box(motion.state_at(t));
+        let state: PlatformState<f32> = black_box(online.state_at(t));
         let t1 = systick();
         traj.add(elapsed(t0, t1));
         let pose = &state.pose;
@@ -542,23 +766,26 @@ fn breakdown(out: &mut Out, rt: &Runtime, calibration: u32) {
         frame_cost.add(elapsed(t0, t1));
         let Ok(frame) = frame else { return };
         let t0 = systick();
-        let _ = black_box(c.module1.solve_tracking(black_box(&frame), &mut tracker));
+        let m1 = black_box(c.module1.solve_tracking(black_box(&frame), &mut tracker));
         let t1 = systick();
-        module1.add(elapsed(t0, t1));
+        // The first replayed cycle seeds the tracker: not a cycle's cost.
+        if k > 0 {
+            module1.add(elapsed(t0, t1));
+        }
         let t0 = systick();
         let left = black_box(c.left.solve(
             black_box(&frame),
-            &parasils::kin::TipMotion::still(rt.tips.left),
+            &parasils::kin::TipMotion::still(tips.left),
             c.modes[0],
         ));
         let right = black_box(c.right.solve(
             black_box(&frame),
-            &parasils::kin::TipMotion::still(rt.tips.right),
+            &parasils::kin::TipMotion::still(tips.right),
             c.modes[1],
         ));
         let t1 = systick();
         instruments.add(elapsed(t0, t1));
-        let (Ok(left), Ok(right)) = (left, right) else {
+        let (Ok(m1), Ok(left), Ok(right)) = (m1, left, right) else {
             return;
         };
         let t0 = systick();
@@ -566,23 +793,52 @@ fn breakdown(out: &mut Out, rt: &Runtime, calibration: u32) {
         let _ = black_box(c.right.fk(black_box(pose), &right.q));
         let t1 = systick();
         fk.add(elapsed(t0, t1));
+        let step = black_box(parasils::kin::ControlStep {
+            frame,
+            module1: m1,
+            left,
+            right,
+        });
+        let t0 = systick();
+        let now = Margins::of(&step);
+        let mut rates = Margins::splat(0.0f32);
+        if let Some(p) = previous {
+            for ((r, m), q) in rates.0.iter_mut().zip(now.0).zip(p.0) {
+                *r = (m - q) * black_box(1000.0);
+            }
+        }
+        let verdict = black_box(supervisor.check_ahead(&now, &rates, black_box(1.0)));
+        let t1 = systick();
+        watch.add(elapsed(t0, t1));
+        let _ = verdict;
+        previous = Some(now);
     }
     out.str("cost.breakdown (mean instructions):");
     for (label, part) in [
-        (" trajectory (platform state) ", &parts[0]),
-        (", frame ", &parts[1]),
+        (" trajectory (platform state) ", &parts[1]),
+        (", frame ", &parts[2]),
         (
             ", module 1 (IK, rates, margins, the parallel one tracked) ",
-            &parts[2],
+            &parts[3],
         ),
-        (", both instrument modules ", &parts[3]),
-        (", both tips FK ", &parts[4]),
-        ("; one f32 sin_cos (libm) ", &parts[5]),
+        (", both instrument modules ", &parts[4]),
+        (", both tips FK ", &parts[5]),
+        (", supervisor ", &parts[6]),
+        ("; one f32 sin_cos (libm) ", &parts[7]),
     ] {
         let mean = part.sum.checked_div(part.n).unwrap_or(0);
         out.str(label).u64(instructions(mean, calibration));
     }
     out.nl();
+    let p = &parts[0];
+    out.str("cost.plan (instructions per command): mean ");
+    out.u64(instructions(
+        p.sum.checked_div(p.n).unwrap_or(0),
+        calibration,
+    ));
+    out.str(", max ")
+        .u64(instructions(p.max.into(), calibration));
+    out.str(" (").u64(p.n).str(" commands)").nl();
 }
 
 /// Release builds without `panic-report`: the link-time no-panic check.

@@ -1,27 +1,146 @@
 //! What the firmware (`f32`, on the MCU) and `build.rs` (`f64`, on the host,
-//! for the references) share word for word: how many samples the paper's
-//! reorientation has, which of them are compared, and the values of a control
-//! step that are compared. The motion itself is
-//! [`Reorientation::paper`](parasils::Reorientation::paper), sampled at
-//! [`parasils::paper::RATE_HZ`] (see `docs/model.md`, *Check values*).
+//! for the references) share word for word: the command stream, the
+//! controller it drives, which cycles are compared, and the values of a
+//! cycle that are compared.
+//!
+//! The stream, at [`RATE_HZ`] (1 kHz) from `P0` ([`Pose::paper_start`]), each
+//! angle within 10 deg/s and 5 deg/s^2:
+//!
+//! | cycle | t | command |
+//! |---|---|---|
+//! | 0 | 0 s | the paper's goal: `psi` +15, `theta` +25 deg from `P0` |
+//! | 1200 | 1.2 s | a new goal while turning: `psi` -10, `theta` +15 deg (`psi` turns back) |
+//! | 3000 | 3.0 s | the controlled stop, while moving towards it |
+//! | 3500 | 3.5 s | a third goal while still braking: `psi` +5, `theta` +10 deg |
+//!
+//! and the loop runs until the platform rests on the third goal. See
+//! `docs/model.md`, *Trajectories* and *Check values*.
 
-use parasils::Real;
-use parasils::kin::ControlStep;
+use parasils::kin::{ControlStep, Controller, Pose, TipTargets};
+use parasils::traj::{Limits, Synchronization};
+use parasils::{Error, OnlineController, Real, Setpoint, Supervisor};
 
-/// The samples of the motion at [`parasils::paper::RATE_HZ`] (1 kHz):
-/// `t = 0, 1 ms, ..., 4.5 s`.
-pub const SAMPLE_COUNT: usize = 4501;
+/// The control rate, Hz.
+pub const RATE_HZ: f64 = parasils::paper::RATE_HZ;
 
-/// Every how many samples the firmware compares its `f32` results with the
-/// host's `f64` references (indices 0, 250, ..., 4500: 19 samples, among them
-/// the profile's switch instants 2000 and 2500).
+/// The velocity and acceleration limits of `psi` and `theta`, deg/s and
+/// deg/s^2 (the paper's).
+pub const LIMITS_DEG: [f64; 2] = [
+    parasils::paper::OMEGA_MAX_DEG_S,
+    parasils::paper::EPS_MAX_DEG_S2,
+];
+
+/// A command of the stream: at `cycle`, a goal (`[psi, theta]`, deg from
+/// `P0`) or the controlled stop (`None`); `label` for the report.
+#[derive(Clone, Copy)]
+pub struct Command {
+    /// The cycle it is given at (`t = cycle / RATE_HZ`).
+    pub cycle: usize,
+    /// The goal, deg from `P0`; `None` for the stop.
+    pub goal_deg: Option<[f64; 2]>,
+    /// What it is, for the report.
+    pub label: &'static str,
+}
+
+/// The stream (see the [module docs](self)).
+pub const COMMANDS: [Command; 4] = [
+    Command {
+        cycle: 0,
+        goal_deg: Some([15.0, 25.0]),
+        label: "the paper's goal, psi +15 theta +25 deg",
+    },
+    Command {
+        cycle: 1200,
+        goal_deg: Some([-10.0, 15.0]),
+        label: "new goal while turning, psi -10 theta +15 deg",
+    },
+    Command {
+        cycle: 3000,
+        goal_deg: None,
+        label: "controlled stop",
+    },
+    Command {
+        cycle: 3500,
+        goal_deg: Some([5.0, 10.0]),
+        label: "third goal while braking, psi +5 theta +10 deg",
+    },
+];
+
+/// An upper bound of the run's cycles (rest comes at cycle 6510): the loop
+/// never runs longer, whatever happens.
+pub const MAX_CYCLES: usize = 10_000;
+
+/// Every how many cycles the firmware compares its `f32` results with the
+/// host's `f64` references; every command's cycle and the last cycle are
+/// compared too.
 pub const REFERENCE_EVERY: usize = 250;
 
-/// How many values of a control step are compared, see [`fields`].
-pub const FIELD_COUNT: usize = 40;
+/// Whether cycle `k` of a run of `cycles` is compared with its reference.
+pub fn compared(k: usize, cycles: usize) -> bool {
+    k.is_multiple_of(REFERENCE_EVERY) || k + 1 == cycles || COMMANDS.iter().any(|c| c.cycle == k)
+}
+
+/// The time of cycle `k`, s.
+pub fn time<T: Real>(k: usize) -> T {
+    <T as parasils::traj::Real>::from_index(k) / <T as parasils::kin::Real>::lit(RATE_HZ)
+}
+
+/// The controller at rest at `P0`, holding the paper's tips, with the limits
+/// [`LIMITS_DEG`] and the default supervisor.
+pub fn online<T: Real>() -> Result<OnlineController<T>, Error> {
+    let [v, a] = LIMITS_DEG.map(|x| <T as parasils::kin::Real>::lit(x.to_radians()));
+    OnlineController::new(
+        Controller::paper(),
+        TipTargets::paper(),
+        Pose::paper_start(),
+        [Limits::new(v, a); 2],
+        Supervisor::default(),
+    )
+}
+
+/// The commands as the controller takes them: `(cycle, goal)`, the goal in
+/// rad (absolute) or `None` for the stop. Computed once, outside the loop.
+pub fn orders<T: Real>() -> [(usize, Option<[T; 2]>); 4] {
+    let p0 = Pose::<f64>::paper_start();
+    let lit = |x: f64| <T as parasils::kin::Real>::lit(x);
+    COMMANDS.map(|c| {
+        (
+            c.cycle,
+            c.goal_deg.map(|[psi, theta]| {
+                [
+                    lit(p0.psi + psi.to_radians()),
+                    lit(p0.theta + theta.to_radians()),
+                ]
+            }),
+        )
+    })
+}
+
+/// Gives `order` to the controller at `t`: the synchronisation of a goal,
+/// `None` for the stop.
+#[inline(always)]
+pub fn give<T: Real>(
+    online: &mut OnlineController<T>,
+    t: T,
+    goal: Option<[T; 2]>,
+) -> Result<Option<Synchronization>, Error> {
+    match goal {
+        Some(g) => online.command(t, g).map(Some),
+        None => online.stop(t).map(|()| None),
+    }
+}
+
+/// How many values of a cycle are compared, see [`fields`].
+pub const FIELD_COUNT: usize = 46;
 
 /// The names of the values of [`fields`], in order (units: mm, rad, s).
 pub const FIELD_NAMES: [&str; FIELD_COUNT] = [
+    "psi",
+    "theta",
+    "psi_dot",
+    "theta_dot",
+    "psi_ddot",
+    "theta_ddot", //
     "m1.q1",
     "m1.q2",
     "m1.q3",
@@ -72,7 +191,7 @@ pub enum Kind {
     /// A length, mm: absolute tolerance.
     Length,
     /// A rate or an acceleration: tolerance relative to the field's peak
-    /// magnitude over the whole motion.
+    /// magnitude over the whole run.
     Rate,
     /// A dimensionless margin: absolute tolerance.
     Margin,
@@ -82,6 +201,7 @@ pub enum Kind {
 pub const FIELD_KINDS: [Kind; FIELD_COUNT] = {
     use Kind::{Angle as A, Length as L, Margin as M, Rate as R};
     [
+        A, A, R, R, R, R, //
         L, L, L, L, L, L, R, R, R, R, R, R, R, R, R, R, R, R, //
         A, A, L, R, R, R, R, R, R, //
         A, A, L, R, R, R, R, R, R, //
@@ -89,10 +209,24 @@ pub const FIELD_KINDS: [Kind; FIELD_COUNT] = {
     ]
 };
 
-/// The values of one control step that the firmware compares with the
-/// host's, in the order of [`FIELD_NAMES`] (`build.rs` checks that there are
-/// exactly [`FIELD_COUNT`]).
-pub fn values<T: Real>(out: &ControlStep<T>) -> impl Iterator<Item = T> {
+/// The values of one cycle that the firmware compares with the host's, in
+/// the order of [`FIELD_NAMES`] (`build.rs` checks that there are exactly
+/// [`FIELD_COUNT`]).
+pub fn values<T: Real>(s: &Setpoint<T>) -> impl Iterator<Item = T> {
+    let p = &s.state;
+    [
+        p.pose.psi,
+        p.pose.theta,
+        p.velocity.psi,
+        p.velocity.theta,
+        p.acceleration.psi,
+        p.acceleration.theta,
+    ]
+    .into_iter()
+    .chain(step_values(&s.step))
+}
+
+fn step_values<T: Real>(out: &ControlStep<T>) -> impl Iterator<Item = T> {
     let m1 = &out.module1;
     let (l, r) = (&out.left, &out.right);
     m1.q.0
@@ -114,9 +248,9 @@ pub fn values<T: Real>(out: &ControlStep<T>) -> impl Iterator<Item = T> {
 }
 
 /// [`values`] as an array.
-pub fn fields<T: Real>(out: &ControlStep<T>) -> [T; FIELD_COUNT] {
+pub fn fields<T: Real>(s: &Setpoint<T>) -> [T; FIELD_COUNT] {
     let mut v = [T::zero(); FIELD_COUNT];
-    for (slot, x) in v.iter_mut().zip(values(out)) {
+    for (slot, x) in v.iter_mut().zip(values(s)) {
         *slot = x;
     }
     v

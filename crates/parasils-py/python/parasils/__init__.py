@@ -11,7 +11,8 @@ CLI's units, which its argument names and column names carry).
 - :func:`simulate`: the simulation library's run, as ``parasils simulate``
   does it, returning its CSV table as a dict of NumPy columns
   (``pandas.DataFrame(parasils.simulate())``), and writing CSV or MCAP with
-  ``out=``.
+  ``out=``; new goals and a stop commanded while the platform moves with
+  ``retarget=`` and ``stop_at_s=``.
 - :data:`COLUMNS`: the names of those columns, each with its unit.
 - :func:`batch_threads`: the number of threads a large batch runs on
   (``PARASILS_NUM_THREADS``, else the CPUs available).
@@ -72,6 +73,8 @@ def simulate(
     robot=None,
     out=None,
     format=None,
+    retarget=None,
+    stop_at_s=None,
     pose=None,
 ):
     """Simulates an endoscope reorientation (motion type 4) with the
@@ -104,21 +107,43 @@ def simulate(
       ``parasils simulate -o out`` does: CSV or MCAP from the extension
       (.csv, .mcap), through a temporary file renamed on success.
     - format: "csv" or "mcap", overriding the extension (--format).
+    - retarget: new goals commanded while the platform moves, a sequence of
+      (t_s, psi_deg, theta_deg) triples in time order (--retarget
+      T:PSI,THETA): at t_s (s), the goal becomes (psi_deg, theta_deg), read
+      like psi_deg and theta_deg (increments from the start pose, final
+      angles with absolute=True). Each takes effect at the first sample at
+      or after t_s, replanned from the state of that sample: the angles and
+      their rates stay continuous.
+    - stop_at_s: a controlled stop commanded at this time, s (--stop-at):
+      psi and theta brought to rest together at the acceleration limit,
+      along their current direction; a later retarget replans from wherever
+      the stop has got to.
     - pose: deprecated name of pose_mm_deg (a DeprecationWarning; removed in
       the next release).
+
+    A run with commands (retarget or stop_at_s) goes through the online
+    controller, as a robot's controller runs it, with its margin supervisor:
+    a margin heading below its stop threshold stops the platform (a
+    "supervisor_stop") instead of failing at the hard threshold. It ends at
+    the first sample at which every command has taken effect and the last
+    motion is at rest.
 
     Returns a dict of 1-D float64 arrays keyed by the CSV's column names, in
     the CSV's order and units (t_s, x_mm, ..., psi_deg, ..., q1_mm, ...,
     left_qs1_deg, ..., right_tip_err_mm; rates are ``_rate_``, accelerations
     ``_acc_``): the CLI's CSV to the last bit. The Euler angle columns start
-    on the start pose's own degrees. ``pandas.DataFrame(parasils.simulate())``
+    on the start pose's own degrees. A run with commands has one more
+    column, last: ``command``, an int64 array, the index of the active
+    command (0 for the reorientation, one more at each retarget and at each
+    stop), as in the CLI's CSV. ``pandas.DataFrame(parasils.simulate())``
     makes it a table.
 
     Raises a KinematicsError subclass when a sample fails (with .row, the
     sample's index, and .t, its time in s), TrajectoryError for limits or a
     rate that cannot be planned, RobotFileError or OSError for the robot
     file, OSError when ``out`` cannot be written, ValueError for a bad
-    argument. The simulation runs without the GIL.
+    argument (retargets out of time order, a negative or non-finite time,
+    two commands on one sample). The simulation runs without the GIL.
     """
     if pose is not None:
         if pose_mm_deg is not None:
@@ -144,6 +169,8 @@ def simulate(
         robot=robot,
         out=out,
         format=format,
+        retarget=retarget,
+        stop_at_s=stop_at_s,
     )
 
 

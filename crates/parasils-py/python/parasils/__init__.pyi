@@ -168,12 +168,18 @@ def simulate(
     robot: Union[_Path, Robot, None] = None,
     out: Optional[_Path] = None,
     format: Optional[Literal["csv", "mcap"]] = None,
+    retarget: Optional[Sequence[Tuple[float, float, float]]] = None,
+    stop_at_s: Optional[float] = None,
     pose: Optional[Sequence[float]] = None,
-) -> Dict[str, _F64]:
+) -> Dict[str, npt.NDArray[Any]]:
     """``parasils simulate`` from the simulation library: the CSV table as
-    NumPy columns keyed by COLUMNS. ``pose_mm_deg`` is (x, y, z mm, psi,
-    theta, phi deg) like the CLI's ``--pose``; ``pose`` is its deprecated
-    name (a DeprecationWarning). The defaults are the paper's scenario."""
+    NumPy columns keyed by COLUMNS (float64). ``pose_mm_deg`` is (x, y, z mm,
+    psi, theta, phi deg) like the CLI's ``--pose``; ``pose`` is its deprecated
+    name (a DeprecationWarning). ``retarget`` is a sequence of (t_s, psi_deg,
+    theta_deg) goals commanded while the platform moves (``--retarget``),
+    ``stop_at_s`` a controlled stop's time, s (``--stop-at``); a run with
+    either has one more column, ``command`` (int64, the index of the active
+    command). The defaults are the paper's scenario."""
 
 def batch_threads() -> int:
     """The number of threads a batch of 4096 rows or more runs on:

@@ -25,6 +25,13 @@
 //! recomputed from the joints by forward kinematics (fixed frame, MCAP only)
 //! and their distances to the targets.
 //!
+//! A run with commands (retargets, a stop) has one more channel, `/motion`
+//! (schema `parasils.Motion`), with one message per record:
+//! `{"t_s": .., "command": 2, "kind": "stop"}`, the index of the active
+//! command (the CSV's `command` column) and what it is (`reorient`,
+//! `retarget` or `stop`). Its channel comes after `/scene`, so the other
+//! channels keep their ids; a run without commands has no `/motion`.
+//!
 //! For the 3D view, in metres as Foxglove expects:
 //! - `/tf`, `foxglove.FrameTransforms`: `world -> platform` (`P` and `R`),
 //!   `platform -> left_rcm`, `platform -> right_rcm` (the ports), and
@@ -50,7 +57,9 @@
 //! [`SceneGeometry`] as JSON (mm), the resolved tips, whether module 1's
 //! geometry is assumed, the channels' units. A record `parasils.run`, written
 //! by [`McapSink::finish`]: the number of records and the first and last
-//! times.
+//! times, and in a run with commands, `commands`: a JSON list of the
+//! commands as they took effect, `{"command": 1, "kind": "retarget",
+//! "t_s": 1.2}` (`t_s` the first sample each was active at).
 //!
 //! # Memory and threads
 //! The writer holds one chunk (about [`McapOptions::chunk_size`] bytes) and
@@ -88,11 +97,14 @@ use nalgebra::Vector3;
 
 pub use error::McapError;
 pub use scene::{SCENE_TOPIC, SceneGeometry, TF_TOPIC};
+
+/// The topic of the active command, in runs with commands.
+pub const MOTION_TOPIC: &str = "/motion";
 pub use schema::{FRAME_TRANSFORMS_SCHEMA, SCENE_UPDATE_SCHEMA};
 
 use crate::columns::Channel;
 use crate::record::Record;
-use crate::scenario::Scenario;
+use crate::scenario::{CommandKind, Scenario};
 use crate::sink::Sink;
 use json::{log_time, push_num};
 use schema::Field;
@@ -158,6 +170,11 @@ pub struct McapSink<W: Write + Seek> {
     data: Vec<DataChannel>,
     tf: (u16, u32),
     scene: (u16, u32),
+    /// `/motion`'s channel id and next sequence number, in a run with
+    /// commands.
+    motion: Option<(u16, u32)>,
+    /// The commands as they took effect: index, kind, first time.
+    commands: Vec<(u32, CommandKind, f64)>,
     geometry: SceneGeometry,
     targets: [Vector3<f64>; 2],
     options: McapOptions,
@@ -301,6 +318,16 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
             SCENE_UPDATE_SCHEMA.as_bytes(),
         )?;
         let scene = writer.add_channel(scene_schema, SCENE_TOPIC, "json", &no_meta)?;
+        let motion = if scenario.has_commands() {
+            let schema = serde_json::to_vec_pretty(&schema::motion_schema())?;
+            let schema_id = writer.add_schema(schema::MOTION_SCHEMA_NAME, "jsonschema", &schema)?;
+            Some((
+                writer.add_channel(schema_id, MOTION_TOPIC, "json", &no_meta)?,
+                0,
+            ))
+        } else {
+            None
+        };
 
         let tips = scenario.tips();
         let thread = WriterThread::spawn(writer)?;
@@ -310,6 +337,8 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
             data,
             tf: (tf, 0),
             scene: (scene, 0),
+            motion,
+            commands: Vec::new(),
             geometry,
             targets: [tips.left, tips.right],
             options,
@@ -358,6 +387,16 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
         if let (Some(first), Some((last, _, _))) = (self.first_t, &self.last) {
             meta.insert("t_first_s".to_owned(), ryu.format(first).to_owned());
             meta.insert("t_last_s".to_owned(), ryu.format(last.t).to_owned());
+        }
+        if self.motion.is_some() {
+            let list: Vec<serde_json::Value> = self
+                .commands
+                .iter()
+                .map(|(index, kind, t)| {
+                    serde_json::json!({"command": index, "kind": kind.name(), "t_s": t})
+                })
+                .collect();
+            meta.insert("commands".to_owned(), serde_json::to_string(&list)?);
         }
         write_run_metadata(&mut writer, meta)?;
         writer.finish()?;
@@ -441,6 +480,30 @@ impl<W: Write + Seek + Send + 'static> Sink for McapSink<W> {
             let (id, seq) = (ch.id, ch.sequence);
             self.write(id, seq, ns);
             self.data[k].sequence = seq.wrapping_add(1);
+        }
+
+        if let Some((id, seq)) = self.motion {
+            self.buf.clear();
+            self.buf.extend_from_slice(b"{\"t_s\":");
+            if let Err(value) = push_num(&mut self.buf, &mut self.ryu, record.t) {
+                return Err(McapError::NonFinite {
+                    topic: MOTION_TOPIC,
+                    field: "t_s",
+                    t: record.t,
+                    value,
+                });
+            }
+            self.buf.extend_from_slice(b",\"command\":");
+            self.buf
+                .extend_from_slice(itoa::Buffer::new().format(record.command).as_bytes());
+            self.buf.extend_from_slice(b",\"kind\":\"");
+            self.buf.extend_from_slice(record.kind.name().as_bytes());
+            self.buf.extend_from_slice(b"\"}");
+            self.write(id, seq, ns);
+            self.motion = Some((id, seq.wrapping_add(1)));
+            if self.commands.last().is_none_or(|c| c.0 != record.command) {
+                self.commands.push((record.command, record.kind, record.t));
+            }
         }
 
         let publish = self.last.is_none() || ns >= self.next_scene_ns;

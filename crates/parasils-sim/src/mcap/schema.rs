@@ -61,6 +61,35 @@ pub(crate) fn data_schema(channel: Channel, fields: &[Field]) -> serde_json::Val
     })
 }
 
+/// The name of `/motion`'s JSON schema.
+pub(crate) const MOTION_SCHEMA_NAME: &str = "parasils.Motion";
+
+/// The JSON Schema of `/motion`'s messages: `t_s`, the active command's
+/// index and what it is.
+pub(crate) fn motion_schema() -> serde_json::Value {
+    serde_json::json!({
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "title": MOTION_SCHEMA_NAME,
+        "description": "The active command: its index (0 for the reorientation, one more at each retarget and at each stop) and what it is",
+        "type": "object",
+        "properties": {
+            "t_s": {"type": "number", "description": "unit: s"},
+            "command": {
+                "type": "integer",
+                "minimum": 0,
+                "description": "index of the active command (the CSV's command column)",
+            },
+            "kind": {
+                "type": "string",
+                "enum": ["reorient", "retarget", "stop", "supervisor_stop"],
+                "description": "reorient: the scenario's reorientation; retarget: a new goal; stop: the controlled stop commanded; supervisor_stop: a controlled stop the margin supervisor demanded",
+            },
+        },
+        "required": ["t_s", "command", "kind"],
+        "additionalProperties": false,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,0 +1,407 @@
+//! The margin supervisor: warnings, and stops demanded before a margin runs
+//! out.
+//!
+//! Every cycle of [`Controller::step`](crate::kin::Controller::step) reports
+//! how far the robot is from each of its hard limits: the instrument modules'
+//! singularities (`|cos qs2|`, `qs3`) and joint limits, module 1's serial and
+//! parallel singularities and actuator strokes. The solvers refuse a pose
+//! beyond a hard threshold with an error, which in a running loop is too
+//! late: the platform is moving and needs distance to stop. A [`Supervisor`]
+//! watches the same margins ([`Margins`], one value per [`Margin`]) against
+//! two thresholds of its own, each above the hard one:
+//!
+//! - a **warning** threshold: a margin below it is reported (a
+//!   [`MarginSet`] of warnings), and nothing else happens;
+//! - a **stop** threshold, between the warning and the hard one: a margin
+//!   that would end below it if a controlled stop began now demands that
+//!   stop.
+//!
+//! "Would end below it" is a first-order prediction: a controlled stop
+//! decelerates every axis uniformly to rest in `T_stop` (see
+//! [`OnlineMulti::stop`](crate::traj::OnlineMulti::stop)), covering half the
+//! distance it would at constant velocity, so a margin `m` changing at the
+//! rate `m'` ends near `m + m' T_stop / 2`. A stop is demanded for a margin
+//! that decreases (`m' < 0`) and whose predicted end is below the stop
+//! threshold ([`Supervisor::check_ahead`]); a margin that is low but
+//! growing, as when the platform leaves a singularity it was stopped near,
+//! demands nothing. [`OnlineController`](crate::OnlineController) runs
+//! this check every cycle with the rates from the previous cycle's margins
+//! and carries the stop out; [`Supervisor::check`] is the static test
+//! (`m` below the stop threshold), for a loop that knows no rates.
+//!
+//! # Default thresholds
+//! [`Supervisor::default`], for the default hard thresholds (see
+//! `docs/model.md`, *Singularities and thresholds*):
+//!
+//! | margin | unit | hard | stop | warning |
+//! |---|---|---|---|---|
+//! | `|cos qs2|`, each instrument module | - | `1e-6` | `0.05` | `0.1` |
+//! | `qs3`, each instrument module | mm | `1e-6` | `2` | `5` |
+//! | `qs1`, `qs2` to their limits, each module | rad | `0` | `1 deg` | `5 deg` |
+//! | `qs3` to its limits, each module | mm | `0` | `2` | `10` |
+//! | module 1's smallest serial margin | - | `1e-6` | `0.05` | `0.1` |
+//! | module 1's parallel margin | - | `1e-2` | `0.03` | `0.1` |
+//! | module 1's actuators to their stroke ends | mm | `0` | `2` | `10` |
+//!
+//! The parallel margin's stop and warning are 3 and 10 times the hard
+//! threshold (`ParallelThresholds::parallel_command`); the dimensionless
+//! singularity margins stop where joint rates are amplified about 20 times
+//! (`1 / 0.05`) and warn at 10 times. Along the paper's reorientation the
+//! smallest margins are 0.53 (parallel), 0.73 (serial), 0.47 (`|cos qs2|`),
+//! 18 deg (`qs2` to its limit) and about 50 mm (strokes): no warning.
+//!
+//! ```
+//! use parasils::kin::{Controller, PlatformState, Pose, TipTargets};
+//! use parasils::supervisor::{Margin, Margins, Supervisor};
+//!
+//! let mut controller = Controller::<f64>::paper();
+//! let step = controller.step(&PlatformState::at_rest(Pose::paper_start()), &TipTargets::paper())?;
+//! let margins = Margins::of(&step);
+//! assert!(margins[Margin::Parallel] > 0.7);
+//! let verdict = Supervisor::default().check(&margins);
+//! assert!(verdict.warnings.is_empty() && verdict.stop.is_empty());
+//! # Ok::<(), parasils::kin::Error>(())
+//! ```
+
+use core::ops::{Index, IndexMut};
+
+use crate::Real;
+use crate::error::Error;
+use crate::kin::{ControlStep, Controller};
+
+/// One margin the supervisor watches (see the [module docs](self)); the
+/// index into [`Margins`] and [`MarginSet`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[repr(u8)]
+pub enum Margin {
+    /// The left module's `|cos qs2|` (dimensionless; 0 at its singularity).
+    LeftCosQs2 = 0,
+    /// The left module's `qs3`, mm (0 with the tip at the RCM).
+    LeftQs3 = 1,
+    /// The left module's `qs1` and `qs2`, the nearer to its limit: distance, rad.
+    LeftAngleLimits = 2,
+    /// The left module's `qs3` to its nearer limit, mm.
+    LeftQs3Limits = 3,
+    /// The right module's `|cos qs2|`.
+    RightCosQs2 = 4,
+    /// The right module's `qs3`, mm.
+    RightQs3 = 5,
+    /// The right module's `qs1` and `qs2` to their limits, rad.
+    RightAngleLimits = 6,
+    /// The right module's `qs3` to its limits, mm.
+    RightQs3Limits = 7,
+    /// Module 1's smallest serial margin (dimensionless).
+    Serial = 8,
+    /// Module 1's parallel margin (dimensionless).
+    Parallel = 9,
+    /// Module 1's actuators, the nearest to an end of its stroke: distance, mm.
+    Stroke = 10,
+}
+
+impl Margin {
+    /// How many margins there are.
+    pub const COUNT: usize = 11;
+
+    /// Every margin, in index order.
+    pub const ALL: [Margin; Margin::COUNT] = [
+        Margin::LeftCosQs2,
+        Margin::LeftQs3,
+        Margin::LeftAngleLimits,
+        Margin::LeftQs3Limits,
+        Margin::RightCosQs2,
+        Margin::RightQs3,
+        Margin::RightAngleLimits,
+        Margin::RightQs3Limits,
+        Margin::Serial,
+        Margin::Parallel,
+        Margin::Stroke,
+    ];
+
+    /// The index into [`Margins`], `0..COUNT`.
+    pub const fn index(self) -> usize {
+        self as usize
+    }
+
+    /// The margin's name as reports write it, e.g. `"module1.parallel"`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Margin::LeftCosQs2 => "left.cos_qs2",
+            Margin::LeftQs3 => "left.qs3",
+            Margin::LeftAngleLimits => "left.angle_limits",
+            Margin::LeftQs3Limits => "left.qs3_limits",
+            Margin::RightCosQs2 => "right.cos_qs2",
+            Margin::RightQs3 => "right.qs3",
+            Margin::RightAngleLimits => "right.angle_limits",
+            Margin::RightQs3Limits => "right.qs3_limits",
+            Margin::Serial => "module1.serial",
+            Margin::Parallel => "module1.parallel",
+            Margin::Stroke => "module1.stroke",
+        }
+    }
+
+    /// The unit of its value: `""` (dimensionless), `"mm"` or `"rad"`.
+    pub const fn unit(self) -> &'static str {
+        match self {
+            Margin::LeftQs3
+            | Margin::LeftQs3Limits
+            | Margin::RightQs3
+            | Margin::RightQs3Limits
+            | Margin::Stroke => "mm",
+            Margin::LeftAngleLimits | Margin::RightAngleLimits => "rad",
+            Margin::LeftCosQs2 | Margin::RightCosQs2 | Margin::Serial | Margin::Parallel => "",
+        }
+    }
+}
+
+impl core::fmt::Display for Margin {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// One value per [`Margin`] (each in its unit): the margins of a cycle, their
+/// rates of change, or a set of thresholds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Margins<T>(pub [T; Margin::COUNT]);
+
+impl<T: Real> Margins<T> {
+    /// Every value `x`.
+    pub fn splat(x: T) -> Self {
+        Self([x; Margin::COUNT])
+    }
+
+    /// The margins of one control cycle.
+    pub fn of(step: &ControlStep<T>) -> Self {
+        let mut m = Self::splat(T::zero());
+        for (side, s) in [(0, &step.left), (4, &step.right)] {
+            let v = [
+                s.margins.cos_qs2,
+                s.margins.qs3,
+                min(s.margins.limits.qs1, s.margins.limits.qs2),
+                s.margins.limits.qs3,
+            ];
+            for (k, x) in v.into_iter().enumerate() {
+                if let Some(slot) = m.0.get_mut(side + k) {
+                    *slot = x;
+                }
+            }
+        }
+        let m1 = &step.module1.margins;
+        m[Margin::Serial] = m1.serial_min;
+        m[Margin::Parallel] = m1.parallel;
+        m[Margin::Stroke] = m1.stroke.iter().fold(m1.stroke[0], |a, &b| min(a, b));
+        m
+    }
+
+    /// The smallest values a controller's solvers accept (a margin below is
+    /// an error of [`Controller::step`]): the instrument modules' singularity
+    /// thresholds, module 1's serial threshold and command parallel
+    /// threshold, and 0 for the distances to limits and stroke ends.
+    pub fn hard(controller: &Controller<T>) -> Self {
+        let mut m = Self::splat(T::zero());
+        let (l, r) = (
+            &controller.left.geometry().thresholds,
+            &controller.right.geometry().thresholds,
+        );
+        m[Margin::LeftCosQs2] = l.cos_qs2;
+        m[Margin::LeftQs3] = l.qs3;
+        m[Margin::RightCosQs2] = r.cos_qs2;
+        m[Margin::RightQs3] = r.qs3;
+        let th = &controller.module1.geometry().thresholds;
+        m[Margin::Serial] = th.serial;
+        m[Margin::Parallel] = th.parallel_command;
+        m
+    }
+}
+
+impl<T> Index<Margin> for Margins<T> {
+    type Output = T;
+    fn index(&self, m: Margin) -> &T {
+        // The array has exactly one slot per margin: the index is in bounds.
+        &self.0[m.index()]
+    }
+}
+
+impl<T> IndexMut<Margin> for Margins<T> {
+    fn index_mut(&mut self, m: Margin) -> &mut T {
+        &mut self.0[m.index()]
+    }
+}
+
+/// A set of [`Margin`]s, one bit each: the margins below their warning
+/// thresholds, or those that demand a stop.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct MarginSet(u16);
+
+impl MarginSet {
+    /// No margin.
+    pub const EMPTY: Self = Self(0);
+
+    /// The set with these bits (bit `k` is the margin of index `k`; bits
+    /// beyond [`Margin::COUNT`] are dropped).
+    pub const fn from_bits(bits: u16) -> Self {
+        Self(bits & ((1 << Margin::COUNT) - 1))
+    }
+
+    /// Bit `k` set for the margin of index `k`.
+    pub const fn bits(self) -> u16 {
+        self.0
+    }
+
+    /// Whether the set holds no margin.
+    pub const fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+
+    /// Whether `m` is in the set.
+    pub const fn contains(self, m: Margin) -> bool {
+        self.0 & (1 << m as u16) != 0
+    }
+
+    /// Adds `m`.
+    pub fn insert(&mut self, m: Margin) {
+        self.0 |= 1 << m as u16;
+    }
+
+    /// The margins of both sets.
+    #[must_use]
+    pub const fn union(self, other: Self) -> Self {
+        Self(self.0 | other.0)
+    }
+
+    /// How many margins the set holds.
+    pub const fn len(self) -> u32 {
+        self.0.count_ones()
+    }
+
+    /// The margins in the set, in index order.
+    pub fn iter(self) -> impl Iterator<Item = Margin> {
+        Margin::ALL.into_iter().filter(move |m| self.contains(*m))
+    }
+
+    /// The first margin in the set (in index order), if any.
+    pub fn first(self) -> Option<Margin> {
+        self.iter().next()
+    }
+}
+
+/// The supervisor's verdict on one cycle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Verdict {
+    /// The margins below their warning thresholds.
+    pub warnings: MarginSet,
+    /// The margins that demand a controlled stop; empty when none does.
+    pub stop: MarginSet,
+}
+
+/// Warning and stop thresholds for every [`Margin`] (see the
+/// [module docs](self)); plain data, checked against a controller's hard
+/// thresholds by [`Supervisor::validate`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Supervisor<T> {
+    /// A margin below its value here is reported as a warning.
+    pub warn: Margins<T>,
+    /// A decreasing margin predicted to end below its value here if a stop
+    /// began now demands that stop.
+    pub stop: Margins<T>,
+}
+
+impl<T: Real> Default for Supervisor<T> {
+    /// The thresholds of the [module docs](self)' table.
+    fn default() -> Self {
+        let lit = |x: f64| <T as crate::kin::Real>::lit(x);
+        let deg = |x: f64| lit(x.to_radians());
+        let side = |cos: f64, qs3: f64, angle: T, qs3_limits: f64| {
+            [lit(cos), lit(qs3), angle, lit(qs3_limits)]
+        };
+        let build = |s: [T; 4], module1: [f64; 3]| {
+            let mut m = Margins::splat(T::zero());
+            for (k, x) in s.into_iter().chain(s).enumerate() {
+                if let Some(slot) = m.0.get_mut(k) {
+                    *slot = x;
+                }
+            }
+            m[Margin::Serial] = lit(module1[0]);
+            m[Margin::Parallel] = lit(module1[1]);
+            m[Margin::Stroke] = lit(module1[2]);
+            m
+        };
+        Self {
+            warn: build(side(0.1, 5.0, deg(5.0), 10.0), [0.1, 0.1, 10.0]),
+            stop: build(side(0.05, 2.0, deg(1.0), 2.0), [0.05, 0.03, 2.0]),
+        }
+    }
+}
+
+impl<T: Real> Supervisor<T> {
+    /// Checks the thresholds against the smallest values `hard` the
+    /// solvers accept ([`Margins::hard`]): every threshold finite, each stop
+    /// threshold above the hard one, each warning threshold at least the stop
+    /// one.
+    ///
+    /// # Errors
+    /// [`Error::InvalidThreshold`] naming the first threshold that is not.
+    pub fn validate(&self, hard: &Margins<T>) -> Result<(), Error> {
+        for m in Margin::ALL {
+            let (stop, warn) = (self.stop[m], self.warn[m]);
+            if !(stop > hard[m] && stop.finite()) {
+                return Err(Error::InvalidThreshold {
+                    what: "stop",
+                    margin: m,
+                    value: stop.to_f64(),
+                    min: hard[m].to_f64(),
+                });
+            }
+            if !(warn >= stop && warn.finite()) {
+                return Err(Error::InvalidThreshold {
+                    what: "warning",
+                    margin: m,
+                    value: warn.to_f64(),
+                    min: stop.to_f64(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The static verdict on margins `now`: warnings below the warning
+    /// thresholds, a stop for each margin below its stop threshold (a NaN
+    /// margin is below every threshold).
+    pub fn check(&self, now: &Margins<T>) -> Verdict {
+        let mut v = Verdict::default();
+        for m in Margin::ALL {
+            if !(now[m] >= self.warn[m]) {
+                v.warnings.insert(m);
+            }
+            if !(now[m] >= self.stop[m]) {
+                v.stop.insert(m);
+            }
+        }
+        v
+    }
+
+    /// The verdict on a moving robot: warnings as [`check`](Self::check); a
+    /// stop for each margin that decreases (`rates`, per s, negative) and
+    /// would end below its stop threshold if a controlled stop of
+    /// `stop_time` (s) began now, predicted as `now + rate stop_time / 2`
+    /// (see the [module docs](self)). A NaN margin or rate demands a stop.
+    pub fn check_ahead(&self, now: &Margins<T>, rates: &Margins<T>, stop_time: T) -> Verdict {
+        let mut v = Verdict::default();
+        let half = stop_time * <T as crate::kin::Real>::lit(0.5);
+        for m in Margin::ALL {
+            let (x, rate) = (now[m], rates[m]);
+            if !(x >= self.warn[m]) {
+                v.warnings.insert(m);
+            }
+            let decreasing = !(rate >= T::zero());
+            if decreasing && !(x + rate * half >= self.stop[m]) {
+                v.stop.insert(m);
+            }
+        }
+        v
+    }
+}
+
+fn min<T: Real>(a: T, b: T) -> T {
+    if b < a { b } else { a }
+}
