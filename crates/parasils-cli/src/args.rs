@@ -27,6 +27,11 @@ pub enum Command {
     /// about the endoscope's RCM and both instruments keep their tips still.
     /// Defaults reproduce the paper's section 4.
     Simulate(SimulateArgs),
+    /// Map the orientations reachable from the start pose with both tips
+    /// held: a grid of (dpsi, dtheta) increments, each checked as the
+    /// per-cycle controller checks it, with the boundary refined. Without
+    /// -o, a summary.
+    Reach(crate::reach::ReachArgs),
     /// Inverse kinematics at one platform pose: module 1's actuators and both
     /// instrument modules' joints (both assembly modes).
     Ik(IkArgs),
@@ -168,6 +173,10 @@ pub struct SimulateArgs {
     /// Plot the paper's three figures to FILE.svg or FILE.png.
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,
+    /// Write the output file even when its estimated size is above the
+    /// 10 GB cap (it must still fit in the free space).
+    #[arg(long)]
+    pub force: bool,
 }
 
 impl SimulateArgs {

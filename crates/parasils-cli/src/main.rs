@@ -5,10 +5,13 @@
 //!
 //! Modules: `args` (the arguments, the shared flags defined once),
 //! `simulate` and `pose` (the commands), `stdout` (standard output that
-//! notices a closed pipe).
+//! notices a closed pipe), `interrupt` (SIGINT and SIGTERM end a run
+//! through its error path).
 
 mod args;
+mod interrupt;
 mod pose;
+mod reach;
 mod simulate;
 mod stdout;
 
@@ -23,6 +26,13 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.is::<interrupt::Interrupted>() => {
+            eprintln!("parasils: {e}");
+            let status = e
+                .downcast_ref::<interrupt::Interrupted>()
+                .map_or(1, interrupt::Interrupted::status);
+            ExitCode::from(status)
+        }
         // The reader of standard output went away (`| head`): its choice, so
         // stop quietly, with success, as if the output had been read.
         Err(_) if stdout::closed() => ExitCode::SUCCESS,
@@ -37,6 +47,7 @@ fn main() -> ExitCode {
 fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Simulate(args) => simulate::simulate(&args),
+        Command::Reach(args) => reach::reach(&args),
         Command::Ik(args) => pose::ik(&args),
         Command::Fk(args) => pose::fk(&args),
         Command::Robot => {

@@ -1,6 +1,10 @@
 //! `parasils simulate`: the scenario from the arguments, the library's run
 //! loop into the sinks asked for (summary, CSV to standard output, an output
 //! file, a plot, a progress bar), then the files renamed into place.
+//!
+//! An output file's estimated size is checked before the run (the free
+//! space, and the cap that `--force` lifts); SIGINT and SIGTERM stop the run
+//! between two records and remove the unfinished files (see `interrupt`).
 
 use core::convert::Infallible;
 use std::io::{BufWriter, IsTerminal, Write};
@@ -14,6 +18,7 @@ use parasils_sim::summary::Summary;
 use parasils_sim::{Record, Simulation, Sink, Tee};
 
 use crate::args::{FormatArg, SimulateArgs};
+use crate::interrupt::{self, Interrupted};
 use crate::stdout::{self, Stdout};
 
 /// CSV rows to standard output (`-o -`).
@@ -72,6 +77,7 @@ impl Sink for Progress {
 
 /// `parasils simulate`.
 pub fn simulate(args: &SimulateArgs) -> Result<()> {
+    interrupt::install().context("cannot handle signals")?;
     let sim = Simulation::new(args.scenario()?)?;
     let assumed = sim.module1_assumed();
     let mut summary = Summary::for_simulation(&sim);
@@ -89,35 +95,78 @@ pub fn simulate(args: &SimulateArgs) -> Result<()> {
                 .map_err(|e| StdoutError(e.to_string()))?;
             to_stdout = Some(StdoutCsv(sink));
         }
-        Some(p) => file = Some(OutputFile::create(p, args.format(p)?, sim.scenario())?),
+        Some(p) => {
+            if p.is_dir() {
+                bail!("{} is a folder: give a file name", p.display());
+            }
+            let format = args.format(p)?;
+            output::check_size(p, format, sim.sample_count(), args.force).map_err(|e| match e {
+                e @ output::OutputError::OverCap { .. } => {
+                    anyhow::anyhow!("{e}: give --force to write it anyway")
+                }
+                e => e.into(),
+            })?;
+            file = Some(OutputFile::create(p, format, sim.scenario())?);
+        }
     }
+    if let Some(path) = &args.plot
+        && path.is_dir()
+    {
+        bail!("{} is a folder: give a file name", path.display());
+    }
+    // The files whose temporary files a signal would remove.
+    let partial = |file: &Option<OutputFile>| -> Vec<std::path::PathBuf> {
+        file.iter()
+            .filter(|f| f.is_replaced())
+            .map(|f| f.path().to_owned())
+            .collect()
+    };
     let mut plot = args
         .plot
         .as_ref()
         .map(|_| PlotSink::new(sim.sample_count(), assumed));
     let mut progress = Progress::new(sim.sample_count());
 
-    sim.run(
+    let run = sim.run(
         &mut Tee::new()
+            .with(&mut interrupt::Watch)
             .with(&mut summary)
             .with_some(to_stdout.as_mut())
             .with_some(file.as_mut())
             .with_some(plot.as_mut())
             .with_some(progress.as_mut()),
-    )?;
+    );
     if let Some(p) = progress {
         p.0.finish_and_clear();
     }
+    if let Some(signal) = interrupt::received() {
+        let removed = partial(&file);
+        drop(file);
+        return Err(Interrupted { signal, removed }.into());
+    }
+    run?;
 
     if let Some(StdoutCsv(sink)) = to_stdout {
         sink.finish()
             .and_then(|mut w| w.flush())
             .map_err(|e| StdoutError(e.to_string()))?;
     }
+    let removed = partial(&file);
     let file = file.map(OutputFile::flush).transpose()?;
+    let mut plot_tmp = None;
     if let (Some(p), Some(path)) = (plot, &args.plot) {
         let tmp = output::temp_beside(path)?;
         p.finish(tmp.path(), path)?;
+        plot_tmp = Some((tmp, path));
+    }
+    // The last moment to stop: past it, the files are renamed into place.
+    if let Some(signal) = interrupt::received() {
+        let mut removed = removed;
+        removed.extend(plot_tmp.as_ref().map(|(_, path)| path.to_path_buf()));
+        drop((file, plot_tmp));
+        return Err(Interrupted { signal, removed }.into());
+    }
+    if let Some((tmp, path)) = plot_tmp {
         output::persist(tmp, path)?;
     }
     if let Some(f) = file {

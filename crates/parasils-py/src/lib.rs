@@ -13,6 +13,8 @@
 //!   returning the CSV's table as NumPy columns (the package's Python
 //!   wrapper gives it its signature, with the paper's defaults from
 //!   `PAPER`);
+//! - [`reach`]: `Robot.reach_map`, the simulation library's reach map as
+//!   NumPy arrays;
 //! - [`errors`]: the exception hierarchy (`KinematicsError` and its
 //!   subclasses, `TrajectoryError`, `RobotFileError`);
 //! - [`batch`]: shapes, broadcasting, the loop (split across threads for
@@ -25,6 +27,7 @@ use pyo3::prelude::*;
 
 pub mod batch;
 pub mod errors;
+pub mod reach;
 pub mod robot;
 pub mod simulate;
 

@@ -127,6 +127,46 @@ impl Robot {
         self.geometry.module1.assumed
     }
 
+    /// The reach map: which camera orientations the platform can take from
+    /// `pose` with both tips held still (motion type 4: `P` and `phi`
+    /// fixed), over a grid of (dpsi, dtheta) increments, each checked by the
+    /// per-cycle controller's own call (the same as `simulate`, both
+    /// instrument modules in mode A).
+    ///
+    /// pose: the start pose (x, y, z mm, psi, theta, phi rad), shape (6,).
+    /// tips: the left and right tips held still, mm, fixed frame, shape
+    /// (2, 3); default the paper's left tip and its mirror image at `pose`.
+    /// psi_range, theta_range: (min, max) of the increments, rad; each must
+    /// contain 0. step: the grid step, rad (cells at whole multiples of it).
+    /// line: whether to check the straight reorientation to each cell.
+    ///
+    /// Returns a dict: "dpsi" (C,) and "dtheta" (R,) rad; "feasible",
+    /// "reachable", "line" (bool, (R, C); "line" None without it);
+    /// "limiting" (int, (R, C), an index into "codes", the constraint codes
+    /// such as "left.qs2.limit", "codes"[0] == "ok"); "margin" (float,
+    /// (R, C), the normalised margin: positive feasible, negative
+    /// infeasible); "boundary_points" (K, 2) rad, refined to 1e-6 rad, with
+    /// "boundary_limiting" (K,) their constraint just outside; "boundary", a
+    /// list of index arrays into "boundary_points", one per polyline (a
+    /// closed one repeats its first point); "module1_assumed".
+    ///
+    /// Raises ValueError for a bad grid, KinematicsError for a bad robot or
+    /// a non-finite pose or tip.
+    #[pyo3(signature = (pose, tips = None, psi_range = (-core::f64::consts::FRAC_PI_4, core::f64::consts::FRAC_PI_4), theta_range = (-core::f64::consts::FRAC_PI_4, core::f64::consts::FRAC_PI_4), step = 0.5f64.to_radians(), *, line = true))]
+    #[allow(clippy::too_many_arguments)]
+    fn reach_map<'py>(
+        &self,
+        py: Python<'py>,
+        pose: ArrayArg<'py>,
+        tips: Option<ArrayArg<'py>>,
+        psi_range: (f64, f64),
+        theta_range: (f64, f64),
+        step: f64,
+        line: bool,
+    ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        crate::reach::reach_map(py, self, pose, tips, psi_range, theta_range, step, line)
+    }
+
     fn __repr__(&self) -> String {
         match &self.source {
             None => "parasils.Robot()".to_owned(),

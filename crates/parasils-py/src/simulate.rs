@@ -56,6 +56,17 @@ fn fixed<const N: usize>(value: Option<ArrayArg<'_>>, name: &str) -> PyResult<Op
 /// failed, `ValueError` otherwise.
 fn output_error(py: Python<'_>, error: &OutputError, path: &std::path::Path) -> PyErr {
     let text = error.to_string();
+    match error {
+        OutputError::NoSpace { .. } => {
+            // ENOSPC: the file would not fit (refused before writing).
+            const ENOSPC: i32 = 28;
+            return PyOSError::new_err((ENOSPC, text, path.display().to_string()));
+        }
+        OutputError::OverCap { .. } => {
+            return PyValueError::new_err(format!("{text}: pass force=True to write it anyway"));
+        }
+        _ => {}
+    }
     let Some(io) = error.io_error() else {
         return PyValueError::new_err(text);
     };
@@ -116,9 +127,14 @@ fn retargets(value: Option<Bound<'_, PyAny>>) -> PyResult<Vec<Retarget>> {
 fn run(
     scenario: Scenario,
     out: Option<(PathBuf, Format)>,
+    force: bool,
 ) -> Result<(Vec<Vec<f64>>, &'static [columns::Column]), Failure> {
     let sim = Simulation::new(scenario).map_err(Failure::Simulation)?;
     let n = sim.sample_count();
+    if let Some((path, format)) = &out {
+        parasils_sim::output::check_size(path, *format, n, force)
+            .map_err(|e| Failure::Output(e, path.clone()))?;
+    }
     let csv = columns::csv_columns(sim.scenario().has_commands());
     let mut table: Vec<Vec<f64>> = Vec::with_capacity(csv.len());
     for _ in csv {
@@ -202,6 +218,7 @@ pub(crate) fn paper_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     format = None,
     retarget = None,
     stop_at_s = None,
+    force = false,
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn simulate<'py>(
@@ -221,6 +238,7 @@ pub(crate) fn simulate<'py>(
     format: Option<&str>,
     retarget: Option<Bound<'py, PyAny>>,
     stop_at_s: Option<f64>,
+    force: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let sync = match sync {
         "phase" => Synchronization::Phase,
@@ -293,7 +311,7 @@ pub(crate) fn simulate<'py>(
         }
         None => None,
     };
-    let result = py.detach(move || run(scenario, out));
+    let result = py.detach(move || run(scenario, out, force));
     let (table, csv) = result.map_err(|f| match f {
         Failure::Simulation(e) => simulation_error(py, &e),
         Failure::Output(e, path) => output_error(py, &e, &path),

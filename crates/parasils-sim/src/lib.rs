@@ -50,6 +50,7 @@
 //! | [`csv`], [`mcap`], [`summary`], `plot` | the sinks |
 //! | [`output`] | [`OutputFile`]: CSV or MCAP written atomically |
 //! | [`robot_file`] | the robot's geometry as TOML |
+//! | [`reach`] | reach maps: the orientations reachable with both tips held |
 //! | [`numbers`] | numbers in messages, readable whatever their size |
 //!
 //! Imports go one way: `numbers`, `scenario` < `record` < `columns`, `sink` <
@@ -74,6 +75,7 @@ pub mod numbers;
 pub mod output;
 #[cfg(feature = "plot")]
 pub mod plot;
+pub mod reach;
 pub mod record;
 pub mod robot_file;
 pub mod scenario;

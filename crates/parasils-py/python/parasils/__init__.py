@@ -76,6 +76,7 @@ def simulate(
     retarget=None,
     stop_at_s=None,
     pose=None,
+    force=False,
 ):
     """Simulates an endoscope reorientation (motion type 4) with the
     simulation library, as ``parasils simulate`` does: the platform turns
@@ -105,7 +106,10 @@ def simulate(
       default the paper's robot (module 1 assumed).
     - out: also write every sample to this file exactly as
       ``parasils simulate -o out`` does: CSV or MCAP from the extension
-      (.csv, .mcap), through a temporary file renamed on success.
+      (.csv, .mcap), through a temporary file renamed on success. Its
+      estimated size is checked first: OSError (errno ENOSPC) when it
+      exceeds the free space of the file's file system, ValueError when it
+      exceeds the 10 GB cap without force=True.
     - format: "csv" or "mcap", overriding the extension (--format).
     - retarget: new goals commanded while the platform moves, a sequence of
       (t_s, psi_deg, theta_deg) triples in time order (--retarget
@@ -118,6 +122,7 @@ def simulate(
       psi and theta brought to rest together at the acceleration limit,
       along their current direction; a later retarget replans from wherever
       the stop has got to.
+    - force: write ``out`` even above the 10 GB cap (--force).
     - pose: deprecated name of pose_mm_deg (a DeprecationWarning; removed in
       the next release).
 
@@ -171,6 +176,7 @@ def simulate(
         format=format,
         retarget=retarget,
         stop_at_s=stop_at_s,
+        force=force,
     )
 
 

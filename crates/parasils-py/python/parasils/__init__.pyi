@@ -40,6 +40,20 @@ class Robot:
     @property
     def module1_assumed(self) -> bool:
         """Whether module 1's geometry is assumed (not the real robot's)."""
+    def reach_map(
+        self,
+        pose: npt.ArrayLike,
+        tips: Optional[npt.ArrayLike] = None,
+        psi_range: Tuple[float, float] = (-0.7853981633974483, 0.7853981633974483),
+        theta_range: Tuple[float, float] = (-0.7853981633974483, 0.7853981633974483),
+        step: float = 0.008726646259971648,
+        *,
+        line: bool = True,
+    ) -> Dict[str, Any]:
+        """The reach map from `pose` (mm, rad) with both tips (2, 3) held:
+        "dpsi", "dtheta" (rad), "feasible", "reachable", "line", "limiting"
+        (indices into "codes"), "margin", "boundary_points" (rad),
+        "boundary_limiting", "boundary" (polylines), "module1_assumed"."""
     @overload
     def instrument_ik(
         self,
@@ -171,6 +185,7 @@ def simulate(
     retarget: Optional[Sequence[Tuple[float, float, float]]] = None,
     stop_at_s: Optional[float] = None,
     pose: Optional[Sequence[float]] = None,
+    force: bool = False,
 ) -> Dict[str, npt.NDArray[Any]]:
     """``parasils simulate`` from the simulation library: the CSV table as
     NumPy columns keyed by COLUMNS (float64). ``pose_mm_deg`` is (x, y, z mm,
@@ -179,7 +194,9 @@ def simulate(
     theta_deg) goals commanded while the platform moves (``--retarget``),
     ``stop_at_s`` a controlled stop's time, s (``--stop-at``); a run with
     either has one more column, ``command`` (int64, the index of the active
-    command). The defaults are the paper's scenario."""
+    command). ``out`` is checked before writing: OSError (ENOSPC) above the
+    free space, ValueError above the 10 GB cap unless ``force=True``. The
+    defaults are the paper's scenario."""
 
 def batch_threads() -> int:
     """The number of threads a batch of 4096 rows or more runs on:

@@ -1,0 +1,328 @@
+//! `parasils simulate -o FILE` under faults: a signal during the write, a
+//! file-size limit, a folder it cannot write in, a target that is a folder or
+//! a FIFO, two runs on one target, the size guard, and the temporary files
+//! that killed runs leave. In every case: the message, the exit status, no
+//! temporary file left, the previous file byte-identical.
+
+use core::time::Duration;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::Instant;
+
+const BIN: &str = env!("CARGO_BIN_EXE_parasils");
+/// How long any one child may run.
+const LIMIT: Duration = Duration::from_secs(20);
+const PREVIOUS: &[u8] = b"the previous run's file\n";
+
+fn parasils(dir: &Path) -> Command {
+    let mut c = Command::new(BIN);
+    c.current_dir(dir)
+        .arg("simulate")
+        .env_remove("PARASILS_OUTPUT_CAP_BYTES")
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    c
+}
+
+/// Waits for `child`, killed past [`LIMIT`].
+fn finish(mut child: Child) -> Output {
+    let start = Instant::now();
+    loop {
+        if child.try_wait().expect("wait").is_some() {
+            return child.wait_with_output().expect("output");
+        }
+        if start.elapsed() > LIMIT {
+            child.kill().ok();
+            child.wait().ok();
+            panic!("the child ran past {LIMIT:?}");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+fn run(cmd: &mut Command) -> Output {
+    finish(cmd.spawn().expect("spawn"))
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// The names in `dir`, sorted.
+fn names(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .expect("read dir")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+fn parts(dir: &Path) -> Vec<String> {
+    names(dir)
+        .into_iter()
+        .filter(|n| n.ends_with(".part"))
+        .collect()
+}
+
+/// One line on standard error, ending the run with status `code`.
+fn failed(out: &Output, code: i32) -> String {
+    let text = stderr(out);
+    assert_eq!(out.status.code(), Some(code), "{text}");
+    assert_eq!(text.lines().count(), 1, "{text}");
+    text
+}
+
+/// The paper's scenario at 10 Hz written to `name` in a fresh folder.
+fn reference(name: &str) -> Vec<u8> {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = run(parasils(dir.path()).args(["--rate", "10", "-o", name]));
+    assert!(out.status.success(), "{}", stderr(&out));
+    std::fs::read(dir.path().join(name)).expect("written")
+}
+
+fn interrupted_by(signal: &str, code: i32) {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let target = dir.path().join("run.csv");
+    std::fs::write(&target, PREVIOUS).expect("previous");
+    let child = parasils(dir.path())
+        .args(["--rate", "1e6", "-o", "run.csv"])
+        .spawn()
+        .expect("spawn");
+    let start = Instant::now();
+    while parts(dir.path()).is_empty() {
+        assert!(start.elapsed() < LIMIT, "no temporary file appeared");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let part = parts(dir.path()).remove(0);
+    let expected = format!(".run.csv.parasils-{}-", child.id());
+    assert!(part.starts_with(&expected), "{part}");
+    let sent = Command::new("kill")
+        .args([signal, &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(sent.success());
+    let out = finish(child);
+    let text = failed(&out, code);
+    assert!(
+        text.starts_with("parasils: interrupted: removed the partial run.csv"),
+        "{text}"
+    );
+    assert_eq!(names(dir.path()), ["run.csv"]);
+    assert_eq!(std::fs::read(&target).expect("target"), PREVIOUS);
+}
+
+#[test]
+fn sigint_removes_the_partial_file_and_exits_130() {
+    interrupted_by("-INT", 130);
+}
+
+#[test]
+fn sigterm_removes_the_partial_file_and_exits_143() {
+    interrupted_by("-TERM", 143);
+}
+
+/// The id of a process that has ended.
+fn dead_pid() -> u32 {
+    let mut child = Command::new("true").spawn().expect("true runs");
+    let pid = child.id();
+    child.wait().expect("wait");
+    pid
+}
+
+#[test]
+fn stale_temporary_files_of_dead_processes_only_are_removed() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let dead = format!(".run.csv.parasils-{}-Ab3xYz.part", dead_pid());
+    let live = format!(".run.csv.parasils-{}-Ab3xYz.part", std::process::id());
+    let other_target = format!(".plot.svg.parasils-{}-q1W2e3.part", dead_pid());
+    // Not of the pattern: kept whatever their process.
+    let foreign = [
+        ".parasils-Ab3xYz.part",
+        "notes.part",
+        ".run.csv.parasils-x1-Ab3xYz.part",
+        ".run.csv.parasils-1-short.part",
+    ];
+    for name in [dead.as_str(), live.as_str(), other_target.as_str()]
+        .into_iter()
+        .chain(foreign)
+    {
+        std::fs::write(dir.path().join(name), b"x").expect("write");
+    }
+    // A link named as a stale file is not followed: the link itself is
+    // left alone, and so is what it points to.
+    let linked = dir.path().join("kept.csv");
+    std::fs::write(&linked, b"kept").expect("write");
+    let link = format!(".kept.csv.parasils-{}-Lk0000.part", dead_pid());
+    std::os::unix::fs::symlink(&linked, dir.path().join(&link)).expect("symlink");
+
+    let out = run(parasils(dir.path()).args(["--rate", "10", "-o", "run.csv"]));
+    assert!(out.status.success(), "{}", stderr(&out));
+    let mut expected: Vec<String> = foreign.iter().map(|s| s.to_string()).collect();
+    expected.extend([live, link, "kept.csv".into(), "run.csv".into()]);
+    expected.sort();
+    assert_eq!(names(dir.path()), expected);
+    assert_eq!(std::fs::read(&linked).expect("kept"), b"kept");
+}
+
+#[test]
+fn a_file_size_limit_ends_with_a_clear_error() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let target = dir.path().join("run.csv");
+    std::fs::write(&target, PREVIOUS).expect("previous");
+    // 64 blocks of 512 bytes: the header fits, the paper's 4 MB do not. The
+    // kernel sends SIGXFSZ, which must not kill the process.
+    let out = run(Command::new("sh")
+        .current_dir(dir.path())
+        .args(["-c", "ulimit -f 64 && exec \"$0\" simulate -o run.csv", BIN])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped()));
+    let text = failed(&out, 1);
+    assert!(
+        text.starts_with("parasils: error: writing run.csv: File too large"),
+        "{text}"
+    );
+    assert_eq!(names(dir.path()), ["run.csv"]);
+    assert_eq!(std::fs::read(&target).expect("target"), PREVIOUS);
+}
+
+/// A folder this process cannot create files in: one it made read-only,
+/// or, when that does not stop it (root ignores permissions), `/sys`,
+/// whose file system lets no one create files.
+fn read_only_folder(scratch: &Path) -> PathBuf {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = scratch.join("read-only");
+    std::fs::create_dir(&dir).expect("mkdir");
+    std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o555)).expect("chmod");
+    if std::fs::write(dir.join("probe"), b"").is_ok() {
+        PathBuf::from("/sys")
+    } else {
+        dir
+    }
+}
+
+#[test]
+fn a_read_only_folder_is_a_clear_error() {
+    let scratch = tempfile::tempdir().expect("tempdir");
+    let dir = read_only_folder(scratch.path());
+    let target = dir.join("run.csv");
+    let out = run(parasils(scratch.path())
+        .args(["--rate", "10", "-o"])
+        .arg(&target));
+    let text = failed(&out, 1);
+    let expected = format!("parasils: error: cannot write in {}: ", dir.display());
+    assert!(text.starts_with(&expected), "{text}");
+    assert!(text.contains("(os error 13)"), "{text}");
+    assert!(!target.exists());
+}
+
+#[test]
+fn a_target_that_is_a_folder_is_a_clear_error() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    std::fs::create_dir(dir.path().join("run.csv")).expect("mkdir");
+    for args in [&["-o", "run.csv"][..], &["--format", "mcap", "-o", "."]] {
+        let out = run(parasils(dir.path()).args(["--rate", "10"]).args(args));
+        let text = failed(&out, 1);
+        assert!(text.ends_with("is a folder: give a file name\n"), "{text}");
+    }
+    let out = run(parasils(dir.path()).args(["--rate", "10", "--plot", "run.csv"]));
+    assert!(failed(&out, 1).contains("is a folder"));
+    assert_eq!(names(dir.path()), ["run.csv"]);
+}
+
+#[test]
+fn a_fifo_is_written_directly() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let fifo = dir.path().join("run.csv");
+    let made = Command::new("mkfifo").arg(&fifo).status().expect("mkfifo");
+    assert!(made.success());
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read(fifo).expect("read the FIFO"))
+    };
+    let child = parasils(dir.path())
+        .args(["--rate", "10", "-o", "run.csv"])
+        .spawn()
+        .expect("spawn");
+    let out = finish(child);
+    if !reader.is_finished() {
+        // Unblock a reader that no writer opened.
+        drop(std::fs::OpenOptions::new().write(true).open(&fifo));
+    }
+    let read = reader.join().expect("reader");
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(read, reference("run.csv"));
+    assert_eq!(names(dir.path()), ["run.csv"]);
+    let kind = std::fs::symlink_metadata(&fifo).expect("fifo").file_type();
+    assert!(std::os::unix::fs::FileTypeExt::is_fifo(&kind));
+}
+
+#[test]
+fn two_runs_on_one_target_leave_one_complete_file() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let single = {
+        let out = run(parasils(dir.path()).args(["--rate", "2000", "-o", "one.mcap"]));
+        assert!(out.status.success(), "{}", stderr(&out));
+        std::fs::read(dir.path().join("one.mcap")).expect("written")
+    };
+    let children: Vec<Child> = (0..2)
+        .map(|_| {
+            parasils(dir.path())
+                .args(["--rate", "2000", "-o", "run.mcap"])
+                .spawn()
+                .expect("spawn")
+        })
+        .collect();
+    for child in children {
+        let out = finish(child);
+        assert!(out.status.success(), "{}", stderr(&out));
+    }
+    assert_eq!(
+        std::fs::read(dir.path().join("run.mcap")).expect("written"),
+        single
+    );
+    assert_eq!(names(dir.path()), ["one.mcap", "run.mcap"]);
+}
+
+#[test]
+fn an_output_larger_than_the_free_space_is_refused_at_once() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let start = Instant::now();
+    for args in [&["-o", "run.csv"][..], &["-o", "run.mcap", "--force"]] {
+        let out = run(parasils(dir.path()).args(["--rate", "1e12"]).args(args));
+        let text = failed(&out, 1);
+        assert!(text.contains("would take about "), "{text}");
+        assert!(text.contains(" PB (4500000000001 samples)"), "{text}");
+        assert!(text.contains(" free on its file system"), "{text}");
+    }
+    assert!(start.elapsed() < Duration::from_secs(5));
+    assert!(names(dir.path()).is_empty());
+}
+
+#[test]
+fn an_output_above_the_cap_needs_force() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let target = dir.path().join("run.csv");
+    std::fs::write(&target, PREVIOUS).expect("previous");
+    let out = run(parasils(dir.path())
+        .env("PARASILS_OUTPUT_CAP_BYTES", "100000")
+        .args(["--rate", "10", "-o", "run.csv"]));
+    let text = failed(&out, 1);
+    assert_eq!(
+        text,
+        "parasils: error: run.csv would take about 309.2 kB (46 samples), \
+         more than the 100.0 kB cap: give --force to write it anyway\n"
+    );
+    assert_eq!(std::fs::read(&target).expect("target"), PREVIOUS);
+
+    let out = run(parasils(dir.path())
+        .env("PARASILS_OUTPUT_CAP_BYTES", "100000")
+        .args(["--rate", "10", "-o", "run.csv", "--force"]));
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(
+        std::fs::read(&target).expect("target"),
+        reference("run.csv")
+    );
+    assert_eq!(names(dir.path()), ["run.csv"]);
+}

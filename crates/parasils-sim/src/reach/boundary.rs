@@ -1,0 +1,227 @@
+//! The boundary between feasible and infeasible cells: each grid edge that
+//! crosses it refined by bisection, and the points joined into polylines
+//! (marching squares).
+
+use std::collections::HashMap;
+
+use super::check::{Checker, Constraint};
+use super::grid::{ReachMap, parallel_map};
+
+/// The bisection's tolerance: the bracket around a boundary point is at most
+/// this wide, rad.
+pub const TOLERANCE_RAD: f64 = 1e-6;
+
+/// A point of the boundary, refined along one grid edge.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BoundaryPoint {
+    /// The feasible end of the final bracket, `[dpsi, dtheta]`, rad from the
+    /// start.
+    pub inside: [f64; 2],
+    /// The infeasible end, at most [`TOLERANCE_RAD`] from `inside`.
+    pub outside: [f64; 2],
+    /// The constraint violated at `outside`.
+    pub limiting: Constraint,
+    /// The index of the feasible cell of the edge.
+    pub cell: usize,
+    /// Whether that cell is reachable from the start.
+    pub reachable: bool,
+}
+
+impl BoundaryPoint {
+    /// The middle of the bracket, `[dpsi, dtheta]`, deg from the start.
+    pub fn deg(&self) -> [f64; 2] {
+        [
+            (0.5 * (self.inside[0] + self.outside[0])).to_degrees(),
+            (0.5 * (self.inside[1] + self.outside[1])).to_degrees(),
+        ]
+    }
+}
+
+/// A polyline of the boundary: indices into [`Boundary::points`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Polyline {
+    /// The points, in order.
+    pub points: Vec<usize>,
+    /// Whether the last point joins the first.
+    pub closed: bool,
+}
+
+/// The refined boundary of a map.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Boundary {
+    /// Every refined point, one per grid edge crossing the boundary.
+    pub points: Vec<BoundaryPoint>,
+    /// The points joined into polylines.
+    pub polylines: Vec<Polyline>,
+    /// The grid edge of each point: `edge -> point index` (see
+    /// [`Boundary::point_on`]).
+    edges: HashMap<usize, usize>,
+}
+
+impl Boundary {
+    /// The point on the edge from the cell at column `c`, row `r` to its
+    /// neighbour at `c + 1` (`vertical = false`) or `r + 1` (`true`), if the
+    /// boundary crosses it.
+    pub fn point_on(
+        &self,
+        map: &ReachMap,
+        c: usize,
+        r: usize,
+        vertical: bool,
+    ) -> Option<&BoundaryPoint> {
+        self.edges
+            .get(&edge_id(map, c, r, vertical))
+            .and_then(|&i| self.points.get(i))
+    }
+}
+
+/// The id of the edge from `(c, r)` to `(c + 1, r)` or `(c, r + 1)`.
+fn edge_id(map: &ReachMap, c: usize, r: usize, vertical: bool) -> usize {
+    2 * map.index(c, r) + usize::from(vertical)
+}
+
+/// Bisects between a feasible point `a` and an infeasible one `b` (rad)
+/// down to [`TOLERANCE_RAD`].
+pub fn bisect(checker: &mut Checker, mut a: [f64; 2], mut b: [f64; 2]) -> ([f64; 2], [f64; 2]) {
+    // Each halving is one check; 40 halve any grid step below the tolerance.
+    for _ in 0..60 {
+        if (b[0] - a[0]).hypot(b[1] - a[1]) <= TOLERANCE_RAD {
+            break;
+        }
+        let mid = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+        if checker.feasible(mid[0], mid[1]) {
+            a = mid;
+        } else {
+            b = mid;
+        }
+    }
+    (a, b)
+}
+
+/// The boundary of `map`, each crossing edge bisected on `threads` threads.
+pub(super) fn refine(map: &ReachMap, base: &Checker, threads: usize) -> Boundary {
+    let (cols, rows) = (map.psi.count, map.theta.count);
+    let mut edges = Vec::new();
+    for r in 0..rows {
+        for c in 0..cols {
+            let here = map.cells[map.index(c, r)].feasible;
+            if c + 1 < cols && map.cells[map.index(c + 1, r)].feasible != here {
+                edges.push((c, r, false));
+            }
+            if r + 1 < rows && map.cells[map.index(c, r + 1)].feasible != here {
+                edges.push((c, r, true));
+            }
+        }
+    }
+    let rad = |index: usize| map.increments_deg(index).map(f64::to_radians);
+    let points = parallel_map(edges.len(), threads, base, |i, checker| {
+        let (c, r, vertical) = edges[i];
+        let here = map.index(c, r);
+        let there = if vertical {
+            map.index(c, r + 1)
+        } else {
+            map.index(c + 1, r)
+        };
+        let (inner, outer) = if map.cells[here].feasible {
+            (here, there)
+        } else {
+            (there, here)
+        };
+        let (inside, outside) = bisect(checker, rad(inner), rad(outer));
+        BoundaryPoint {
+            inside,
+            outside,
+            limiting: checker.check(outside[0], outside[1]).limiting,
+            cell: inner,
+            reachable: map.cells[inner].reachable,
+        }
+    });
+    let ids: HashMap<usize, usize> = edges
+        .iter()
+        .enumerate()
+        .map(|(i, &(c, r, v))| (edge_id(map, c, r, v), i))
+        .collect();
+    let polylines = polylines(map, &ids);
+    Boundary {
+        points,
+        polylines,
+        edges: ids,
+    }
+}
+
+/// Marching squares: in each square of four cells, the crossing edges
+/// paired into segments (at a saddle, each feasible corner cut off on its
+/// own, as the 4-connected regions are), then the segments chained.
+fn polylines(map: &ReachMap, ids: &HashMap<usize, usize>) -> Vec<Polyline> {
+    let (cols, rows) = (map.psi.count, map.theta.count);
+    let mut next: HashMap<usize, Vec<usize>> = HashMap::new();
+    let mut link = |a: usize, b: usize| {
+        next.entry(a).or_default().push(b);
+        next.entry(b).or_default().push(a);
+    };
+    let feasible = |c: usize, r: usize| map.cells[map.index(c, r)].feasible;
+    for r in 0..rows.saturating_sub(1) {
+        for c in 0..cols.saturating_sub(1) {
+            // Corners: bottom-left, bottom-right, top-right, top-left.
+            let f = [
+                feasible(c, r),
+                feasible(c + 1, r),
+                feasible(c + 1, r + 1),
+                feasible(c, r + 1),
+            ];
+            // Sides: bottom, right, top, left (side k joins corners k, k+1).
+            let side = [
+                edge_id(map, c, r, false),
+                edge_id(map, c + 1, r, true),
+                edge_id(map, c, r + 1, false),
+                edge_id(map, c, r, true),
+            ];
+            let crossing: Vec<usize> = (0..4).filter(|&k| f[k] != f[(k + 1) % 4]).collect();
+            match crossing.as_slice() {
+                [a, b] => link(ids[&side[*a]], ids[&side[*b]]),
+                [_, _, _, _] => {
+                    // A saddle: cut off each feasible corner k (its sides
+                    // k - 1 and k).
+                    for k in (0..4).filter(|&k| f[k]) {
+                        link(ids[&side[(k + 3) % 4]], ids[&side[k]]);
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    let mut seen = vec![false; ids.len()];
+    let mut out = Vec::new();
+    let walk = |start: usize, seen: &mut Vec<bool>| {
+        let mut line = vec![start];
+        seen[start] = true;
+        let mut at = start;
+        loop {
+            let step = next
+                .get(&at)
+                .and_then(|n| n.iter().copied().find(|&p| !seen[p]));
+            match step {
+                Some(p) => {
+                    seen[p] = true;
+                    line.push(p);
+                    at = p;
+                }
+                None => break,
+            }
+        }
+        let closed = line.len() > 2 && next.get(&at).is_some_and(|n| n.contains(&start));
+        Polyline {
+            points: line,
+            closed,
+        }
+    };
+    // Open lines first (from their ends on the grid's border), then loops.
+    let mut order: Vec<usize> = (0..ids.len()).collect();
+    order.sort_by_key(|p| next.get(p).map_or(0, Vec::len) != 1);
+    for p in order {
+        if !seen[p] {
+            out.push(walk(p, &mut seen));
+        }
+    }
+    out
+}

@@ -1,0 +1,487 @@
+//! The check of one orientation: the controller's own per-cycle call, its
+//! typed error turned into a stable [`Constraint`] code, and the normalised
+//! margin.
+
+use parasils::kin::{
+    ControlStep, Controller, Error, Interval, Joint, Margin, PlatformState, Pose, Side, TipTargets,
+};
+
+use crate::engine::SimulationError;
+use crate::scenario::Scenario;
+
+/// The constraint that makes an orientation infeasible, or [`Constraint::Ok`].
+///
+/// [`Constraint::code`] is its stable name, as the CSV's `limiting` column
+/// and Python's codes write it: `ok`, `left.qs2.limit`,
+/// `right.out_of_reach`, `module1.q4.stroke`, `module1.q2.serial_singular`,
+/// `module1.parallel_singular`, ...
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Constraint {
+    /// Feasible: every module solved within every limit and threshold.
+    Ok,
+    /// Module 1: the leg of actuator `q1..q6` (index 0 to 5) cannot reach its
+    /// node: `module1.qN.out_of_reach`.
+    LegOutOfReach(u8),
+    /// Module 1: actuator `qN`'s serial margin below its threshold:
+    /// `module1.qN.serial_singular`.
+    SerialSingular(u8),
+    /// Module 1: actuator `qN` beyond its stroke: `module1.qN.stroke`.
+    Stroke(u8),
+    /// Module 1: the parallel margin below the per-cycle threshold
+    /// (`parallel_command`): `module1.parallel_singular`.
+    ParallelSingular,
+    /// An instrument module's tip out of its cone of reach:
+    /// `left.out_of_reach`, `right.out_of_reach`.
+    OutOfReach(Side),
+    /// An instrument module's `|cos qs2|` below its threshold:
+    /// `left.cos_qs2.singular`, `right.cos_qs2.singular`.
+    CosQs2Singular(Side),
+    /// An instrument module's `qs3` below its threshold (the tip at the
+    /// RCM): `left.qs3.singular`, `right.qs3.singular`.
+    Qs3Singular(Side),
+    /// An instrument joint beyond its limit: `left.qs1.limit`, ...,
+    /// `right.qs3.limit`.
+    JointLimit(Side, Joint),
+    /// Any other error of the kinematics (a non-finite number): `error`.
+    Other,
+}
+
+const MODULE1: [[&str; 6]; 3] = [
+    [
+        "module1.q1.out_of_reach",
+        "module1.q2.out_of_reach",
+        "module1.q3.out_of_reach",
+        "module1.q4.out_of_reach",
+        "module1.q5.out_of_reach",
+        "module1.q6.out_of_reach",
+    ],
+    [
+        "module1.q1.serial_singular",
+        "module1.q2.serial_singular",
+        "module1.q3.serial_singular",
+        "module1.q4.serial_singular",
+        "module1.q5.serial_singular",
+        "module1.q6.serial_singular",
+    ],
+    [
+        "module1.q1.stroke",
+        "module1.q2.stroke",
+        "module1.q3.stroke",
+        "module1.q4.stroke",
+        "module1.q5.stroke",
+        "module1.q6.stroke",
+    ],
+];
+
+const INSTRUMENT: [[&str; 6]; 2] = [
+    [
+        "left.out_of_reach",
+        "left.cos_qs2.singular",
+        "left.qs3.singular",
+        "left.qs1.limit",
+        "left.qs2.limit",
+        "left.qs3.limit",
+    ],
+    [
+        "right.out_of_reach",
+        "right.cos_qs2.singular",
+        "right.qs3.singular",
+        "right.qs1.limit",
+        "right.qs2.limit",
+        "right.qs3.limit",
+    ],
+];
+
+impl Constraint {
+    /// Every constraint, in the order the controller checks them (module 1's
+    /// legs, serial margins, strokes, parallel margin; then the left module,
+    /// then the right one), [`Constraint::Ok`] first and
+    /// [`Constraint::Other`] last.
+    pub fn all() -> Vec<Constraint> {
+        let mut out = vec![Constraint::Ok];
+        for make in [
+            Constraint::LegOutOfReach as fn(u8) -> Constraint,
+            Constraint::SerialSingular,
+            Constraint::Stroke,
+        ] {
+            out.extend((0..6).map(make));
+        }
+        out.push(Constraint::ParallelSingular);
+        for side in [Side::Left, Side::Right] {
+            out.extend([
+                Constraint::OutOfReach(side),
+                Constraint::CosQs2Singular(side),
+                Constraint::Qs3Singular(side),
+                Constraint::JointLimit(side, Joint::Qs1),
+                Constraint::JointLimit(side, Joint::Qs2),
+                Constraint::JointLimit(side, Joint::Qs3),
+            ]);
+        }
+        out.push(Constraint::Other);
+        out
+    }
+
+    /// The place of the constraint in [`Constraint::all`].
+    pub fn index(self) -> usize {
+        let side = |s: Side| match s {
+            Side::Left => 0,
+            Side::Right => 6,
+        };
+        let joint = |j: Joint| match j {
+            Joint::Qs1 => 3,
+            Joint::Qs2 => 4,
+            Joint::Qs3 => 5,
+        };
+        match self {
+            Constraint::Ok => 0,
+            Constraint::LegOutOfReach(j) => 1 + usize::from(j.min(5)),
+            Constraint::SerialSingular(j) => 7 + usize::from(j.min(5)),
+            Constraint::Stroke(j) => 13 + usize::from(j.min(5)),
+            Constraint::ParallelSingular => 19,
+            Constraint::OutOfReach(s) => 20 + side(s),
+            Constraint::CosQs2Singular(s) => 21 + side(s),
+            Constraint::Qs3Singular(s) => 22 + side(s),
+            Constraint::JointLimit(s, j) => 20 + side(s) + joint(j),
+            Constraint::Other => 32,
+        }
+    }
+
+    /// The stable code.
+    pub fn code(self) -> &'static str {
+        let side = |s: Side| match s {
+            Side::Left => 0,
+            Side::Right => 1,
+        };
+        let actuator = |k: usize, j: u8| MODULE1[k].get(usize::from(j)).copied().unwrap_or("error");
+        match self {
+            Constraint::Ok => "ok",
+            Constraint::LegOutOfReach(j) => actuator(0, j),
+            Constraint::SerialSingular(j) => actuator(1, j),
+            Constraint::Stroke(j) => actuator(2, j),
+            Constraint::ParallelSingular => "module1.parallel_singular",
+            Constraint::OutOfReach(s) => INSTRUMENT[side(s)][0],
+            Constraint::CosQs2Singular(s) => INSTRUMENT[side(s)][1],
+            Constraint::Qs3Singular(s) => INSTRUMENT[side(s)][2],
+            Constraint::JointLimit(s, Joint::Qs1) => INSTRUMENT[side(s)][3],
+            Constraint::JointLimit(s, Joint::Qs2) => INSTRUMENT[side(s)][4],
+            Constraint::JointLimit(s, Joint::Qs3) => INSTRUMENT[side(s)][5],
+            Constraint::Other => "error",
+        }
+    }
+
+    /// The constraint of a code ([`Constraint::code`]'s inverse).
+    pub fn from_code(code: &str) -> Option<Constraint> {
+        Constraint::all().into_iter().find(|c| c.code() == code)
+    }
+
+    /// The constraint an error of the controller names.
+    pub fn of_error(error: &Error) -> Constraint {
+        let index = |actuator: u8| actuator.saturating_sub(1);
+        match *error {
+            Error::LegOutOfReach { actuator, .. } => Constraint::LegOutOfReach(index(actuator)),
+            Error::SerialSingular { actuator, .. } => Constraint::SerialSingular(index(actuator)),
+            Error::ActuatorLimit { actuator, .. } => Constraint::Stroke(index(actuator)),
+            Error::ParallelSingular { .. } => Constraint::ParallelSingular,
+            Error::OutOfReach { side, .. } => Constraint::OutOfReach(side),
+            Error::Singular {
+                side,
+                margin: Margin::CosQs2,
+                ..
+            } => Constraint::CosQs2Singular(side),
+            Error::Singular {
+                side,
+                margin: Margin::Qs3,
+                ..
+            } => Constraint::Qs3Singular(side),
+            Error::JointLimit { side, joint, .. } => Constraint::JointLimit(side, joint),
+            _ => Constraint::Other,
+        }
+    }
+}
+
+impl core::fmt::Display for Constraint {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.pad(self.code())
+    }
+}
+
+/// The verdict on one orientation: the first constraint violated (or
+/// [`Constraint::Ok`]) and the normalised margin.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Verdict {
+    /// The first constraint the controller found violated, or `Ok`.
+    pub limiting: Constraint,
+    /// The normalised margin (see the [module docs](crate::reach), *Margin*):
+    /// on a feasible orientation the smallest over every constraint, on an
+    /// infeasible one the violated constraint's (negative).
+    pub margin: f64,
+    /// On a feasible orientation, the constraint with the smallest margin
+    /// (the nearest one); on an infeasible one, `limiting`.
+    pub nearest: Constraint,
+}
+
+impl Verdict {
+    /// Whether the orientation is feasible.
+    pub fn feasible(&self) -> bool {
+        self.limiting == Constraint::Ok
+    }
+}
+
+/// `value`'s distance inside `range` over its width: 0.5 in the middle, 0 on
+/// a bound, negative beyond; `None` for an unbounded range.
+fn relative(range: &Interval<f64>, value: f64) -> Option<f64> {
+    let width = range.max - range.min;
+    (width.is_finite() && width > 0.0).then(|| range.margin(value) / width)
+}
+
+/// One orientation's check, as the controller runs it every cycle.
+///
+/// Holds a [`Controller`] of its own (the parallel margin tracked from one
+/// call to the next, as in a control loop), the tips, and the start pose.
+#[derive(Debug, Clone)]
+pub struct Checker {
+    controller: Controller<f64>,
+    tips: TipTargets<f64>,
+    start: Pose<f64>,
+}
+
+impl Checker {
+    /// The checker of `scenario`'s robot, tips and start pose (its
+    /// reorientation, limits and rate are not used).
+    ///
+    /// # Errors
+    /// [`SimulationError::Geometry`] for an invalid robot,
+    /// [`SimulationError::Kinematics`] for a non-finite start pose or tip.
+    pub fn new(scenario: &Scenario) -> Result<Self, SimulationError> {
+        let controller =
+            Controller::from_geometry(&scenario.robot).map_err(SimulationError::Geometry)?;
+        let start = scenario.start();
+        let tips = scenario.tips();
+        let fail = |error| SimulationError::Kinematics {
+            t: 0.0,
+            sample: None,
+            error,
+        };
+        start.check_finite().map_err(fail)?;
+        for (what, v) in [("left tip", tips.left), ("right tip", tips.right)] {
+            if let Some(value) = v.iter().copied().find(|x| !x.is_finite()) {
+                return Err(fail(Error::NonFinite { what, value }));
+            }
+        }
+        Ok(Self {
+            controller,
+            tips,
+            start,
+        })
+    }
+
+    /// The start pose, mm and rad.
+    pub fn start(&self) -> &Pose<f64> {
+        &self.start
+    }
+
+    /// The tips held still, mm, fixed frame.
+    pub fn tips(&self) -> &TipTargets<f64> {
+        &self.tips
+    }
+
+    /// The controller.
+    pub fn controller(&self) -> &Controller<f64> {
+        &self.controller
+    }
+
+    /// The pose at the increments `dpsi`, `dtheta` (rad) from the start,
+    /// `P` and `phi` unchanged.
+    pub fn pose(&self, dpsi: f64, dtheta: f64) -> Pose<f64> {
+        Pose {
+            psi: self.start.psi + dpsi,
+            theta: self.start.theta + dtheta,
+            ..self.start
+        }
+    }
+
+    /// The controller's step with the platform at rest at `(dpsi, dtheta)`
+    /// from the start (rad) and the tips held.
+    ///
+    /// # Errors
+    /// The controller's, unchanged.
+    pub fn step(&mut self, dpsi: f64, dtheta: f64) -> Result<ControlStep<f64>, Error> {
+        let state = PlatformState::at_rest(self.pose(dpsi, dtheta));
+        self.controller.step(&state, &self.tips)
+    }
+
+    /// Whether `(dpsi, dtheta)` (rad from the start) is feasible.
+    pub fn feasible(&mut self, dpsi: f64, dtheta: f64) -> bool {
+        self.step(dpsi, dtheta).is_ok()
+    }
+
+    /// The verdict at `(dpsi, dtheta)` (rad from the start).
+    pub fn check(&mut self, dpsi: f64, dtheta: f64) -> Verdict {
+        match self.step(dpsi, dtheta) {
+            Ok(step) => self.margin_of(&step),
+            Err(error) => {
+                let limiting = Constraint::of_error(&error);
+                Verdict {
+                    limiting,
+                    margin: self.violation(&error),
+                    nearest: limiting,
+                }
+            }
+        }
+    }
+
+    /// The scale of an instrument's `qs3` singular margin: the width of
+    /// `qs3`'s range, or 1 mm when it is unbounded.
+    fn qs3_scale(&self, side: Side) -> f64 {
+        let limits = match side {
+            Side::Left => &self.controller.left.geometry().limits,
+            Side::Right => &self.controller.right.geometry().limits,
+        };
+        let width = limits.qs3.max - limits.qs3.min;
+        if width.is_finite() && width > 0.0 {
+            width
+        } else {
+            1.0
+        }
+    }
+
+    /// The smallest normalised margin of a successful step.
+    fn margin_of(&self, step: &ControlStep<f64>) -> Verdict {
+        let mut best = (f64::INFINITY, Constraint::Ok);
+        let mut consider = |value: Option<f64>, c: Constraint| {
+            if let Some(v) = value
+                && v < best.0
+            {
+                best = (v, c);
+            }
+        };
+        let m1 = self.controller.module1.geometry();
+        let margins = &step.module1.margins;
+        for (j, g) in m1.guides.iter().enumerate() {
+            let index = u8::try_from(j).unwrap_or(u8::MAX);
+            consider(
+                relative(&g.stroke, step.module1.q[j]),
+                Constraint::Stroke(index),
+            );
+            consider(
+                margins.serial.get(j).map(|s| s - m1.thresholds.serial),
+                Constraint::SerialSingular(index),
+            );
+        }
+        consider(
+            Some(margins.parallel - m1.thresholds.parallel_command),
+            Constraint::ParallelSingular,
+        );
+        for (side, module, sol) in [
+            (Side::Left, &self.controller.left, &step.left),
+            (Side::Right, &self.controller.right, &step.right),
+        ] {
+            let g = module.geometry();
+            let q = &sol.q;
+            consider(
+                relative(&g.limits.qs1, q.qs1),
+                Constraint::JointLimit(side, Joint::Qs1),
+            );
+            consider(
+                relative(&g.limits.qs2, q.qs2),
+                Constraint::JointLimit(side, Joint::Qs2),
+            );
+            consider(
+                relative(&g.limits.qs3, q.qs3),
+                Constraint::JointLimit(side, Joint::Qs3),
+            );
+            consider(
+                Some(sol.margins.cos_qs2 - g.thresholds.cos_qs2),
+                Constraint::CosQs2Singular(side),
+            );
+            consider(
+                Some((q.qs3 - g.thresholds.qs3) / self.qs3_scale(side)),
+                Constraint::Qs3Singular(side),
+            );
+        }
+        Verdict {
+            limiting: Constraint::Ok,
+            margin: best.0,
+            nearest: best.1,
+        }
+    }
+
+    /// The normalised (negative) margin of the constraint an error names.
+    fn violation(&self, error: &Error) -> f64 {
+        let m1 = self.controller.module1.geometry();
+        let span = |value: f64, min: f64, max: f64| {
+            relative(&Interval::new(min, max), value).unwrap_or(f64::NAN)
+        };
+        match *error {
+            Error::LegOutOfReach {
+                actuator,
+                discriminant,
+            } => {
+                // The serial margin |e.u| / l continued below 0: sqrt of the
+                // (negative) discriminant over the link.
+                let l = m1
+                    .guides
+                    .get(usize::from(actuator.saturating_sub(1)))
+                    .map_or(f64::NAN, |g| g.link_length);
+                -(-discriminant).max(0.0).sqrt() / l - m1.thresholds.serial
+            }
+            Error::SerialSingular {
+                margin, threshold, ..
+            }
+            | Error::ParallelSingular { margin, threshold } => margin - threshold,
+            Error::ActuatorLimit {
+                value, min, max, ..
+            }
+            | Error::JointLimit {
+                value, min, max, ..
+            } => span(value, min, max),
+            Error::OutOfReach { side, sin_qs2 } => {
+                let th = match side {
+                    Side::Left => self.controller.left.geometry().thresholds.cos_qs2,
+                    Side::Right => self.controller.right.geometry().thresholds.cos_qs2,
+                };
+                (1.0 - sin_qs2) - th
+            }
+            Error::Singular {
+                margin: Margin::CosQs2,
+                value,
+                threshold,
+                ..
+            } => value - threshold,
+            Error::Singular {
+                side,
+                margin: Margin::Qs3,
+                value,
+                threshold,
+            } => (value - threshold) / self.qs3_scale(side),
+            _ => f64::NAN,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn codes_are_unique_and_indexed_in_order() {
+        let all = Constraint::all();
+        for (i, c) in all.iter().enumerate() {
+            assert_eq!(c.index(), i, "{c}");
+            assert_eq!(Constraint::from_code(c.code()), Some(*c));
+        }
+        assert_eq!(Constraint::Stroke(3).code(), "module1.q4.stroke");
+        assert_eq!(
+            Constraint::SerialSingular(1).code(),
+            "module1.q2.serial_singular"
+        );
+        assert_eq!(
+            Constraint::JointLimit(Side::Left, Joint::Qs2).code(),
+            "left.qs2.limit"
+        );
+        assert_eq!(
+            Constraint::OutOfReach(Side::Right).code(),
+            "right.out_of_reach"
+        );
+    }
+}

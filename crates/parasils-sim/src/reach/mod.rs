@@ -1,0 +1,82 @@
+//! Reach maps: which camera orientations can be reached from the start pose
+//! with both instrument tips held still (motion type 4, `P` and `phi`
+//! fixed), over a grid of `(dpsi, dtheta)` increments.
+//!
+//! Each cell is checked by the per-cycle controller's own call,
+//! [`Controller::step`](parasils::kin::Controller::step), with the platform
+//! at rest at the cell's orientation, both instrument modules in assembly
+//! mode A (as `parasils simulate` runs them): the constraints are exactly
+//! those of `simulate`, module 1's parallel margin against the per-cycle
+//! threshold `parallel_command` (see `docs/model.md`, *Singularities and
+//! thresholds*). Actuator rate limits play no part: the map is about where
+//! the platform can be, not how fast it gets there.
+//!
+//! For each cell, [`Cell`] holds:
+//! - `feasible`: the controller's step succeeds;
+//! - `limiting`: the first constraint it found violated, as a stable code
+//!   ([`Constraint::code`]: `ok`, `left.qs2.limit`, `right.out_of_reach`,
+//!   `module1.q4.stroke`, `module1.q2.serial_singular`,
+//!   `module1.parallel_singular`, ...);
+//! - `margin`: the normalised margin, below;
+//! - `reachable`: in the 4-connected region of feasible cells that holds
+//!   the start (the views reachable by some continuous turn, at the grid's
+//!   resolution);
+//! - `line`: the straight reorientation from the start (what `simulate`
+//!   does) feasible all the way, checked at points no more than a quarter
+//!   of the step apart. Each ray from the start is marched once: the first
+//!   infeasible point along it decides every farther cell on it.
+//!
+//! The boundary between feasible and infeasible cells is refined by
+//! bisection along each grid edge that crosses it, to [`TOLERANCE_RAD`]
+//! (`1e-6` rad), and joined into polylines by marching squares
+//! ([`Boundary`]); each point names the constraint violated just outside.
+//!
+//! # Margin
+//! Each constraint's distance from its limit or threshold, divided by a
+//! scale, so that every constraint reads on one axis:
+//!
+//! | constraint | normalised margin |
+//! |---|---|
+//! | joint limit (`qs1`, `qs2`, `qs3`), actuator stroke | distance to the nearer end / width of the range (0.5 in the middle, 0 on a bound) |
+//! | `|cos qs2|`, module 1's serial and parallel margins | margin - threshold (they run from 0 to 1: the scale is 1) |
+//! | `qs3` near the RCM | `(qs3 - threshold)` / width of `qs3`'s range (1 mm if unbounded) |
+//!
+//! A feasible cell's margin is the smallest over every constraint of the
+//! three modules (positive, 0 on the boundary); an infeasible cell's is the
+//! violated constraint's, negative by how far it is beyond: an instrument
+//! out of reach continues `|cos qs2|` as `1 - |sin qs2|`, a module-1 leg out
+//! of reach continues its serial margin as `-sqrt(-discriminant) / l`.
+//!
+//! # Threads
+//! Rows of cells, rays and boundary edges are shared among threads
+//! ([`ReachOptions::threads`]); each task starts from a fresh controller,
+//! so the map does not depend on the number of threads.
+//!
+//! ```
+//! use parasils_sim::Scenario;
+//! use parasils_sim::reach::{ReachMap, ReachOptions};
+//!
+//! let options = ReachOptions {
+//!     psi_range_deg: [-5.0, 20.0],
+//!     theta_range_deg: [-5.0, 30.0],
+//!     step_deg: 5.0,
+//!     ..ReachOptions::default()
+//! };
+//! let map = ReachMap::compute(&Scenario::paper(), &options)?;
+//! // The paper's target, 15 and 25 deg from the start: straight there.
+//! let c = map.psi.index(3).and_then(|c| map.theta.index(5).map(|r| map.index(c, r)));
+//! assert!(c.is_some_and(|c| map.cells[c].line == Some(true)));
+//! # Ok::<(), parasils_sim::reach::ReachError>(())
+//! ```
+
+mod boundary;
+mod check;
+pub mod csv;
+mod grid;
+#[cfg(feature = "plot")]
+pub mod plot;
+pub mod summary;
+
+pub use boundary::{Boundary, BoundaryPoint, Polyline, TOLERANCE_RAD, bisect};
+pub use check::{Checker, Constraint, Verdict};
+pub use grid::{Axis, Cell, MAX_CELLS, ReachError, ReachMap, ReachOptions};
