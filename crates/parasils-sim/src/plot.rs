@@ -22,7 +22,7 @@ pub const MAX_POINTS: usize = 2000;
 /// The image size, pixels.
 const SIZE: (u32, u32) = (1200, 1500);
 /// The font family name the embedded font is registered under.
-const FONT: &str = "sans-serif";
+pub(crate) const FONT: &str = "sans-serif";
 
 /// What can go wrong while plotting.
 #[derive(Debug, thiserror::Error)]
@@ -163,33 +163,7 @@ impl PlotSink {
         if self.is_empty() {
             return Err(PlotError::NoSamples);
         }
-        plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular())
-            .map_err(|_| PlotError::Font)?;
-        plotters::style::register_font(FONT, FontStyle::Bold, dejavu::sans::bold())
-            .map_err(|_| PlotError::Font)?;
-        let fail = |message: String| PlotError::Render {
-            path: out.to_owned(),
-            message,
-        };
-        match format {
-            ImageFormat::Svg => {
-                let root = SVGBackend::new(out, SIZE).into_drawing_area();
-                self.draw(&root).map_err(fail)?;
-                root.present().map_err(|e| fail(e.to_string()))
-            }
-            ImageFormat::Png => {
-                // Drawn in memory and encoded here: plotters would pick the
-                // format from `out`'s extension, which a temporary file lacks.
-                let (w, h) = SIZE;
-                let mut rgb = vec![0u8; 3 * w as usize * h as usize];
-                {
-                    let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
-                    self.draw(&root).map_err(fail)?;
-                    root.present().map_err(|e| fail(e.to_string()))?;
-                }
-                write_png(out, &rgb, SIZE).map_err(|e| fail(e.to_string()))
-            }
-        }
+        render_figure(self, out, format, SIZE, png::Compression::Best)
     }
 
     /// The kept points, the last one included.
@@ -366,13 +340,72 @@ impl Series {
     }
 }
 
+/// A picture the crate draws ([`PlotSink`]'s figures, the reach map): what
+/// [`render_figure`] needs of it.
+pub(crate) trait Figure {
+    /// Draws the picture on `root`.
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String>;
+}
+
+impl Figure for PlotSink {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        PlotSink::draw(self, root)
+    }
+}
+
+/// Renders `figure`, `size` pixels, to `out` as SVG or PNG (encoded with
+/// `compression`), its text in the embedded DejaVu Sans.
+///
+/// # Errors
+/// [`PlotError::Font`], [`PlotError::Render`] (I/O included).
+pub(crate) fn render_figure(
+    figure: &impl Figure,
+    out: &Path,
+    format: ImageFormat,
+    size: (u32, u32),
+    compression: png::Compression,
+) -> Result<(), PlotError> {
+    plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular())
+        .map_err(|_| PlotError::Font)?;
+    plotters::style::register_font(FONT, FontStyle::Bold, dejavu::sans::bold())
+        .map_err(|_| PlotError::Font)?;
+    let fail = |message: String| PlotError::Render {
+        path: out.to_owned(),
+        message,
+    };
+    match format {
+        ImageFormat::Svg => {
+            let root = SVGBackend::new(out, size).into_drawing_area();
+            figure.draw(&root).map_err(fail)?;
+            root.present().map_err(|e| fail(e.to_string()))
+        }
+        ImageFormat::Png => {
+            // Drawn in memory and encoded here: plotters would pick the
+            // format from `out`'s extension, which a temporary file lacks.
+            let (w, h) = size;
+            let mut rgb = vec![0u8; 3 * w as usize * h as usize];
+            {
+                let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
+                figure.draw(&root).map_err(fail)?;
+                root.present().map_err(|e| fail(e.to_string()))?;
+            }
+            write_png(out, &rgb, size, compression).map_err(|e| fail(e.to_string()))
+        }
+    }
+}
+
 /// Encodes an RGB buffer as a PNG file.
-fn write_png(out: &Path, rgb: &[u8], (w, h): (u32, u32)) -> Result<(), png::EncodingError> {
+fn write_png(
+    out: &Path,
+    rgb: &[u8],
+    (w, h): (u32, u32),
+    compression: png::Compression,
+) -> Result<(), png::EncodingError> {
     let file = std::io::BufWriter::new(std::fs::File::create(out)?);
     let mut encoder = png::Encoder::new(file, w, h);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
-    encoder.set_compression(png::Compression::Best);
+    encoder.set_compression(compression);
     let mut writer = encoder.write_header()?;
     writer.write_image_data(rgb)?;
     writer.finish()

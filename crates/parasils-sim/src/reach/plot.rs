@@ -10,12 +10,10 @@ use plotters::style::FontStyle;
 
 use super::check::Constraint;
 use super::grid::ReachMap;
-use crate::plot::{ImageFormat, PlotError};
+use crate::plot::{FONT, Figure, ImageFormat, PlotError, render_figure};
 
 /// The image size, pixels.
 const SIZE: (u32, u32) = (1250, 950);
-/// The font family name the embedded font is registered under.
-const FONT: &str = "sans-serif";
 
 /// The margin bands: a feasible cell's margin falls in `[BANDS[k],
 /// BANDS[k + 1])`, drawn in `HEAT[k]` (near a limit warm, far from every
@@ -67,43 +65,16 @@ fn faded(c: RGBColor) -> RGBColor {
 /// # Errors
 /// [`PlotError::Font`], [`PlotError::Render`] (I/O included).
 pub fn render(map: &ReachMap, out: &Path, format: ImageFormat) -> Result<(), PlotError> {
-    plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular())
-        .map_err(|_| PlotError::Font)?;
-    plotters::style::register_font(FONT, FontStyle::Bold, dejavu::sans::bold())
-        .map_err(|_| PlotError::Font)?;
-    let fail = |message: String| PlotError::Render {
-        path: out.to_owned(),
-        message,
-    };
-    match format {
-        ImageFormat::Svg => {
-            let root = SVGBackend::new(out, SIZE).into_drawing_area();
-            draw(map, &root).map_err(fail)?;
-            root.present().map_err(|e| fail(e.to_string()))
-        }
-        ImageFormat::Png => {
-            let (w, h) = SIZE;
-            let mut rgb = vec![0u8; 3 * w as usize * h as usize];
-            {
-                let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
-                draw(map, &root).map_err(fail)?;
-                root.present().map_err(|e| fail(e.to_string()))?;
-            }
-            write_png(out, &rgb).map_err(|e| fail(e.to_string()))
-        }
-    }
+    render_figure(&Map(map), out, format, SIZE, png::Compression::Fast)
 }
 
-/// Encodes the RGB buffer as PNG.
-fn write_png(out: &Path, rgb: &[u8]) -> Result<(), png::EncodingError> {
-    let file = std::io::BufWriter::new(std::fs::File::create(out)?);
-    let mut encoder = png::Encoder::new(file, SIZE.0, SIZE.1);
-    encoder.set_color(png::ColorType::Rgb);
-    encoder.set_depth(png::BitDepth::Eight);
-    encoder.set_compression(png::Compression::Fast);
-    let mut writer = encoder.write_header()?;
-    writer.write_image_data(rgb)?;
-    writer.finish()
+/// The map as a [`Figure`].
+struct Map<'a>(&'a ReachMap);
+
+impl Figure for Map<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        draw(self.0, root)
+    }
 }
 
 fn draw<DB: DrawingBackend>(map: &ReachMap, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
