@@ -972,3 +972,54 @@ fn errors_name_the_axis_and_value() {
         Some("axis 0: the start velocity inf is not finite")
     );
 }
+
+/// A line whose lead axis brakes nearly all the way (`h` small) and is
+/// stretched by an ulp or two of time to the line's duration: in f32 the
+/// accelerating root of the stretched plan fell below `u0`, so the cruise
+/// (from `v0`, no first phase) and the last phase (from the root) differed by
+/// 2.2e-4 units/s at their switch. Found by `f32_phase_line`.
+#[test]
+fn stretched_near_the_decelerating_case() -> Result<(), TestCaseError> {
+    let ks = [
+        Case {
+            p0: 0.0,
+            v0: 3.508_154_745_974_545,
+            target: 16.288_625_698_882_64,
+            v_max: 4.816_128_197_338_387,
+            a_max: 0.377_783_551_209_847_2,
+        },
+        Case {
+            p0: 0.0,
+            v0: 0.0,
+            target: 1.0,
+            v_max: 1.0,
+            a_max: 1.0,
+        },
+        Case {
+            p0: 0.0,
+            v0: -2.525_572_474_297_82,
+            target: -4.560_004_233_367_136,
+            v_max: 2.525_572_474_297_82,
+            a_max: 5.477_155_869_777_102,
+        },
+    ];
+    let lambda = 0.215_227_295_723_215_75;
+    check_phase::<f32, 3>(&ks, lambda, 0.0)?;
+    check_phase::<f64, 3>(&ks, lambda, 0.0)?;
+    // The lead axis: the last phase starts from the cruise velocity.
+    let start = ks.map(|k| moving(0.0_f32, c::<f32>(lambda) * k.target::<f32>()));
+    let target = ks.map(|k| k.target::<f32>());
+    let limits = ks.map(|k| k.limits::<f32>());
+    let m = OnlineMulti::new(start, target, limits, Synchronization::Phase).map_err(fail)?;
+    prop_assert_eq!(m.synchronization(), Synchronization::Phase);
+    let p = &m.axes()[0];
+    let end_of_cruise = -p.last_acceleration() * p.t_last();
+    prop_assert!(
+        (end_of_cruise - p.cruise_velocity()).abs()
+            <= 4.0 * f32::EPSILON * p.cruise_velocity().abs(),
+        "cruise {:?}, last phase from {:?}",
+        p.cruise_velocity(),
+        end_of_cruise
+    );
+    Ok(())
+}

@@ -127,11 +127,21 @@ impl<T: Real> Normalised<T> {
         let sq = q.sqrt();
         let root = (b - two * sq).max(T::zero()).sqrt() * (b + two * sq).sqrt();
         let den = b + root;
+        // In exact arithmetic the root exceeds `u0` here (the polynomial is
+        // `h - u0 (theta - u0) > 0` at `u0`, below its vertex `b / 2`). Near the
+        // boundary with the decelerating case the branch test and the root are
+        // both decided by rounding (`h` and `theta - u0` are differences of
+        // nearly equal numbers, and the root moves as the square root of
+        // `b - 2 sq`), so the computed root can fall below `u0`: there is then
+        // no first phase and the cruise is `u0` itself, which the last phase
+        // must start from (a lower peak would leave a velocity jump at the
+        // switch). Cruising at `u0` is the decelerating case at its boundary.
         let peak = if den > T::zero() {
             (two * q / den).min(sq)
         } else {
             sq
         }
+        .max(u0)
         .min(one);
         let t1 = (peak - u0).max(T::zero());
         Self {

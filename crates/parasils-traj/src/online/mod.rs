@@ -93,7 +93,8 @@
 //!   `v_c = h / (theta - u0)` and cruise for `theta - u0`;
 //! - otherwise accelerate to the smaller root of
 //!   `v_c^2 - (theta + u0) v_c + q = 0`, `v_c = 2 q / (b + sqrt(b^2 - 4 q))`
-//!   with `b = theta + u0`;
+//!   with `b = theta + u0` (above `u0` in exact arithmetic; a computed root
+//!   below it, near the first case's boundary, is raised to `u0`);
 //! - `e = 0`: brake to rest at the target and wait there.
 //!
 //! # Controlled stop
