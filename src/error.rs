@@ -1,7 +1,7 @@
 //! The error of a motion run through the controller: the planner's, the
 //! kinematics', or the online controller's own.
 
-use crate::supervisor::Margin;
+use crate::margin::Margin;
 
 /// What can fail when a trajectory drives the controller.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]

@@ -17,6 +17,7 @@ pub use parasils_kin as kin;
 pub use parasils_traj as traj;
 
 mod error;
+pub mod margin;
 pub mod online;
 pub mod paper;
 pub mod reorientation;

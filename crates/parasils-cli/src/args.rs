@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use parasils::paper;
+use parasils_sim::reach::ReachOptions;
 use parasils_sim::robot_file;
 use parasils_sim::scenario::Retarget;
 use parasils_sim::{Format, Scenario};
@@ -31,7 +32,7 @@ pub enum Command {
     /// held: a grid of (dpsi, dtheta) increments, each checked as the
     /// per-cycle controller checks it, with the boundary refined. Without
     /// -o, a summary.
-    Reach(crate::reach::ReachArgs),
+    Reach(ReachArgs),
     /// Inverse kinematics at one platform pose: module 1's actuators and both
     /// instrument modules' joints (both assembly modes).
     Ik(IkArgs),
@@ -358,5 +359,63 @@ mod tests {
         }
         assert!(parse_finite("nan").is_err());
         assert_eq!(parse_finite("-1"), Ok(-1.0));
+    }
+}
+
+/// Arguments of `parasils reach`.
+#[derive(Debug, Args)]
+pub struct ReachArgs {
+    /// The range of dpsi, the increment of psi from the start pose, deg.
+    #[arg(long, value_name = "MIN,MAX", default_value = "-45,45", value_parser = parse_floats::<2>, allow_hyphen_values = true)]
+    pub psi_range: [f64; 2],
+    /// The range of dtheta, the increment of theta from the start pose, deg.
+    #[arg(long, value_name = "MIN,MAX", default_value = "-45,45", value_parser = parse_floats::<2>, allow_hyphen_values = true)]
+    pub theta_range: [f64; 2],
+    /// The grid step, deg: the cells are at whole multiples of it.
+    #[arg(long, value_name = "DEG", default_value_t = 0.5)]
+    pub step: f64,
+    /// Skip the straight-line check (the `line` column is left empty). The
+    /// check evaluates every segment from the start at points a quarter of a
+    /// step apart, so its cost grows with the cube of the grid's side: most
+    /// of the default map's time, and minutes on a 0.1 deg grid.
+    #[arg(long)]
+    pub no_line: bool,
+    /// Threads to use (0: every core).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+    /// The start pose and the tips.
+    #[command(flatten)]
+    pub place: PlaceArgs,
+    /// The robot.
+    #[command(flatten)]
+    pub robot: RobotArg,
+    /// Write the map to FILE: .csv (one row per cell; `-` for standard
+    /// output), .png or .svg (a picture). Without it, print a summary.
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: Option<PathBuf>,
+}
+
+impl ReachArgs {
+    /// The scenario: the paper's, with the pose, tips and robot given.
+    pub fn scenario(&self) -> Result<Scenario> {
+        let paper = Scenario::paper();
+        Ok(Scenario {
+            start_mm_deg: self.place.pose.unwrap_or(paper.start_mm_deg),
+            tip_left_mm: self.place.tip_left.unwrap_or(paper.tip_left_mm),
+            tip_right_mm: self.place.tip_right,
+            robot: self.robot.geometry()?,
+            ..paper
+        })
+    }
+
+    /// The map's options.
+    pub fn options(&self) -> ReachOptions {
+        ReachOptions {
+            psi_range_deg: self.psi_range,
+            theta_range_deg: self.theta_range,
+            step_deg: self.step,
+            line: !self.no_line,
+            threads: self.threads,
+        }
     }
 }

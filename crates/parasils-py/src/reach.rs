@@ -10,7 +10,7 @@ use pyo3::types::{PyDict, PyList, PyTuple};
 
 use crate::batch::{ArrayArg, Rows};
 use crate::errors;
-use crate::robot::Robot;
+use parasils_kin::RobotGeometry;
 
 /// The Python exception of a map that cannot be made.
 fn reach_error(py: Python<'_>, error: &ReachError) -> PyErr {
@@ -41,7 +41,7 @@ fn grid<'py, T: numpy::Element>(
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn reach_map<'py>(
     py: Python<'py>,
-    robot: &Robot,
+    geometry: &RobotGeometry<f64>,
     pose: ArrayArg<'py>,
     tips: Option<ArrayArg<'py>>,
     psi_range: (f64, f64),
@@ -78,7 +78,7 @@ pub(crate) fn reach_map<'py>(
         ],
         tip_left_mm,
         tip_right_mm,
-        robot: *robot.geometry(),
+        robot: *geometry,
         ..paper
     };
     let options = ReachOptions {

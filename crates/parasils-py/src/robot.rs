@@ -164,7 +164,16 @@ impl Robot {
         step: f64,
         line: bool,
     ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
-        crate::reach::reach_map(py, self, pose, tips, psi_range, theta_range, step, line)
+        crate::reach::reach_map(
+            py,
+            self.geometry(),
+            pose,
+            tips,
+            psi_range,
+            theta_range,
+            step,
+            line,
+        )
     }
 
     fn __repr__(&self) -> String {

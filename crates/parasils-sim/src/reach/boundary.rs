@@ -4,59 +4,13 @@
 
 use std::collections::HashMap;
 
-use super::check::{Checker, Constraint};
-use super::grid::{ReachMap, parallel_map};
+use super::check::Checker;
+use super::map::{Boundary, BoundaryPoint, Polyline, ReachMap};
+use super::threads::parallel_map;
 
 /// The bisection's tolerance: the bracket around a boundary point is at most
 /// this wide, rad.
 pub const TOLERANCE_RAD: f64 = 1e-6;
-
-/// A point of the boundary, refined along one grid edge.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BoundaryPoint {
-    /// The feasible end of the final bracket, `[dpsi, dtheta]`, rad from the
-    /// start.
-    pub inside: [f64; 2],
-    /// The infeasible end, at most [`TOLERANCE_RAD`] from `inside`.
-    pub outside: [f64; 2],
-    /// The constraint violated at `outside`.
-    pub limiting: Constraint,
-    /// The index of the feasible cell of the edge.
-    pub cell: usize,
-    /// Whether that cell is reachable from the start.
-    pub reachable: bool,
-}
-
-impl BoundaryPoint {
-    /// The middle of the bracket, `[dpsi, dtheta]`, deg from the start.
-    pub fn deg(&self) -> [f64; 2] {
-        [
-            (0.5 * (self.inside[0] + self.outside[0])).to_degrees(),
-            (0.5 * (self.inside[1] + self.outside[1])).to_degrees(),
-        ]
-    }
-}
-
-/// A polyline of the boundary: indices into [`Boundary::points`].
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Polyline {
-    /// The points, in order.
-    pub points: Vec<usize>,
-    /// Whether the last point joins the first.
-    pub closed: bool,
-}
-
-/// The refined boundary of a map.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Boundary {
-    /// Every refined point, one per grid edge crossing the boundary.
-    pub points: Vec<BoundaryPoint>,
-    /// The points joined into polylines.
-    pub polylines: Vec<Polyline>,
-    /// The grid edge of each point: `edge -> point index` (see
-    /// [`Boundary::point_on`]).
-    edges: HashMap<usize, usize>,
-}
 
 impl Boundary {
     /// The point on the edge from the cell at column `c`, row `r` to its

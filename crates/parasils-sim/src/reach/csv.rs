@@ -2,7 +2,7 @@
 
 use std::io::Write;
 
-use super::grid::ReachMap;
+use super::map::ReachMap;
 
 /// The columns, in order.
 pub const HEADER: [&str; 9] = [

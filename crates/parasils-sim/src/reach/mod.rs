@@ -73,10 +73,14 @@ mod boundary;
 mod check;
 pub mod csv;
 mod grid;
+mod map;
 #[cfg(feature = "plot")]
 pub mod plot;
 pub mod summary;
+mod threads;
 
-pub use boundary::{Boundary, BoundaryPoint, Polyline, TOLERANCE_RAD, bisect};
+pub use boundary::{TOLERANCE_RAD, bisect};
 pub use check::{Checker, Constraint, Verdict};
-pub use grid::{Axis, Cell, MAX_CELLS, ReachError, ReachMap, ReachOptions};
+pub use map::{
+    Axis, Boundary, BoundaryPoint, Cell, MAX_CELLS, Polyline, ReachError, ReachMap, ReachOptions,
+};

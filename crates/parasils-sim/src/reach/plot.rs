@@ -9,7 +9,7 @@ use plotters::prelude::*;
 use plotters::style::FontStyle;
 
 use super::check::Constraint;
-use super::grid::ReachMap;
+use super::map::ReachMap;
 use crate::plot::{FONT, Figure, ImageFormat, PlotError, render_figure};
 
 /// The image size, pixels.

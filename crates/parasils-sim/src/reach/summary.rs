@@ -5,7 +5,7 @@ use core::fmt::Write;
 use std::collections::BTreeMap;
 
 use super::check::Constraint;
-use super::grid::ReachMap;
+use super::map::ReachMap;
 use crate::numbers::{Fixed, Num};
 
 /// The reachable region's extent along one axis through the start: how far

@@ -1,0 +1,52 @@
+//! The map's work spread over threads, with results independent of the
+//! thread count.
+
+use core::sync::atomic::{AtomicUsize, Ordering};
+
+use super::check::Checker;
+use super::map::ReachOptions;
+
+/// The threads to use for `options`.
+pub(super) fn threads(options: &ReachOptions) -> usize {
+    if options.threads > 0 {
+        options.threads
+    } else {
+        std::thread::available_parallelism().map_or(1, usize::from)
+    }
+}
+
+/// Runs `work(i, &mut checker)` for `i` in `0..n` on `threads` threads, each
+/// item with a fresh copy of `base` (so that a result does not depend on
+/// which thread computed it), and returns the results in order.
+pub(super) fn parallel_map<R: Send>(
+    n: usize,
+    threads: usize,
+    base: &Checker,
+    work: impl Fn(usize, &mut Checker) -> R + Sync,
+) -> Vec<R> {
+    let next = AtomicUsize::new(0);
+    let mut parts: Vec<Vec<(usize, R)>> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..threads.clamp(1, n.max(1)))
+            .map(|_| {
+                s.spawn(|| {
+                    let mut out = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        if i >= n {
+                            break out;
+                        }
+                        let mut checker = base.clone();
+                        out.push((i, work(i, &mut checker)));
+                    }
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+            .collect()
+    });
+    let mut all: Vec<(usize, R)> = parts.drain(..).flatten().collect();
+    all.sort_unstable_by_key(|(i, _)| *i);
+    all.into_iter().map(|(_, r)| r).collect()
+}
