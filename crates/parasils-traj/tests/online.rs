@@ -426,6 +426,20 @@ fn check_multi_replan<T: Real, const N: usize>(
         limits
     };
     let mut tol_t = c::<T>(64.0) * T::epsilon() * m.duration();
+    if q.synchronization() == Synchronization::Phase {
+        // The line's shares come from the remaining displacements, each
+        // known only to the rounding of its two ends: a short displacement
+        // far from 0 gives its axis a share known to
+        // `eps (|x| + |g|) / |g - x|` relative, and the line's scaled
+        // limits, so its duration, move by as much.
+        for i in 0..N {
+            let d = disp[i].abs();
+            if d > T::zero() {
+                let rel = T::epsilon() * (s[i].position.abs() + target[i].abs()) / d;
+                tol_t = tol_t + c::<T>(4.0) * rel * m.duration();
+            }
+        }
+    }
     for (i, k) in ks.iter().enumerate() {
         let l = shares[i];
         let (x, g) = (s[i], target[i]);
