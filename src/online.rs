@@ -109,6 +109,7 @@
 use crate::Real;
 use crate::error::Error;
 use crate::kin::{ControlStep, Controller, PlatformState, Pose, TipTargets};
+use crate::reorientation::turned;
 use crate::supervisor::{MarginSet, Margins, Supervisor};
 use crate::traj::{Limits, OnlineMulti, State, Synchronization};
 
@@ -443,15 +444,8 @@ impl<T: Real> OnlineController<T> {
         self.motion.sample(t - self.start)
     }
 
-    fn platform(&self, [psi, theta]: [State<T>; 2]) -> PlatformState<T> {
-        let mut pose = self.pose;
-        pose.psi = psi.position;
-        pose.theta = theta.position;
-        PlatformState::reorientation(
-            pose,
-            [psi.velocity, theta.velocity],
-            [psi.acceleration, theta.acceleration],
-        )
+    fn platform(&self, angles: [State<T>; 2]) -> PlatformState<T> {
+        turned(&self.pose, angles)
     }
 
     /// How long the controlled stop from these velocities takes, s.

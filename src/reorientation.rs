@@ -124,16 +124,25 @@ impl<T: Real> Reorientation<T> {
         Sampler::new(self, rate_hz)
     }
 
-    fn platform_state(&self, [psi, theta]: [State<T>; 2]) -> PlatformState<T> {
-        let mut pose = self.start;
-        pose.psi = psi.position;
-        pose.theta = theta.position;
-        PlatformState::reorientation(
-            pose,
-            [psi.velocity, theta.velocity],
-            [psi.acceleration, theta.acceleration],
-        )
+    fn platform_state(&self, angles: [State<T>; 2]) -> PlatformState<T> {
+        turned(&self.start, angles)
     }
+}
+
+/// The platform at `start` turned to the `(psi, theta)` of `angles`, with
+/// their rates and accelerations: motion type 4's state (`P` and `phi` of
+/// `start`, at rest). The one place a profile sample becomes a
+/// [`PlatformState`]; the [`OnlineController`](crate::OnlineController)
+/// uses it too.
+pub(crate) fn turned<T: Real>(start: &Pose<T>, [psi, theta]: [State<T>; 2]) -> PlatformState<T> {
+    let mut pose = *start;
+    pose.psi = psi.position;
+    pose.theta = theta.position;
+    PlatformState::reorientation(
+        pose,
+        [psi.velocity, theta.velocity],
+        [psi.acceleration, theta.acceleration],
+    )
 }
 
 impl<T: Real> Motion<T> for Reorientation<T> {
