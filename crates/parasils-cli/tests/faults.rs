@@ -326,3 +326,102 @@ fn an_output_above_the_cap_needs_force() {
     );
     assert_eq!(names(dir.path()), ["run.csv"]);
 }
+
+/// A small tmpfs mounted on a fresh folder, unmounted when dropped; `None`
+/// (with the reason) when this process cannot mount one (not root, no
+/// `CAP_SYS_ADMIN`, a container without tmpfs).
+struct SmallDisk {
+    dir: tempfile::TempDir,
+}
+
+impl SmallDisk {
+    fn mount(bytes: u64) -> Result<Self, String> {
+        let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
+        let out = Command::new("mount")
+            .args(["-t", "tmpfs", "-o", &format!("size={bytes}"), "tmpfs"])
+            .arg(dir.path())
+            .output()
+            .map_err(|e| format!("mount: {e}"))?;
+        if out.status.success() {
+            Ok(Self { dir })
+        } else {
+            Err(format!(
+                "mount: {}",
+                String::from_utf8_lossy(&out.stderr).trim()
+            ))
+        }
+    }
+
+    fn path(&self) -> &Path {
+        self.dir.path()
+    }
+}
+
+impl Drop for SmallDisk {
+    fn drop(&mut self) {
+        let _ = Command::new("umount").arg(self.dir.path()).status();
+    }
+}
+
+/// Writes zeros to `path` until the file system is full.
+fn fill(path: &Path) {
+    use std::io::Write;
+    let mut f = std::fs::File::create(path).expect("filler");
+    let block = vec![0u8; 1 << 16];
+    // `write_all` writes what fits of the last block, then meets ENOSPC.
+    loop {
+        match f.write_all(&block) {
+            Ok(()) => {}
+            Err(e) if e.raw_os_error() == Some(28) => return,
+            Err(e) => panic!("filling the disk: {e}"),
+        }
+    }
+}
+
+#[test]
+fn a_full_disk_ends_with_a_clear_error() {
+    // 64 MB: the run's estimate (46 MB for 45001 rows) fits, so the size
+    // guard lets it start; once its temporary file exists the test fills
+    // what is left, and the run's next write finds the disk full.
+    let disk = match SmallDisk::mount(64 << 20) {
+        Ok(d) => d,
+        Err(reason) => {
+            eprintln!("skipped: cannot mount a small file system ({reason})");
+            return;
+        }
+    };
+    let dir = disk.path();
+    let target = dir.join("run.csv");
+    std::fs::write(&target, PREVIOUS).expect("previous");
+    // The run takes far longer than filling the disk; should it still win
+    // the race, it has written a complete file, and the test tries again.
+    for _attempt in 0..3 {
+        let child = parasils(dir)
+            .args(["--rate", "1e4", "-o", "run.csv"])
+            .spawn()
+            .expect("spawn");
+        let start = Instant::now();
+        while parts(dir).is_empty() {
+            assert!(start.elapsed() < LIMIT, "no temporary file appeared");
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        let filler = dir.join("filler");
+        fill(&filler);
+        let out = finish(child);
+        std::fs::remove_file(&filler).expect("remove the filler");
+        if out.status.success() {
+            eprintln!("the run finished before the disk was full: again");
+            std::fs::write(&target, PREVIOUS).expect("previous");
+            continue;
+        }
+        let text = failed(&out, 1);
+        assert!(
+            text.starts_with("parasils: error: writing run.csv: No space left on device"),
+            "{text}"
+        );
+        assert_eq!(names(dir), ["run.csv"]);
+        assert_eq!(std::fs::read(&target).expect("target"), PREVIOUS);
+        return;
+    }
+    panic!("the run finished before the disk was full, three times");
+}

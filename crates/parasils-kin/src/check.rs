@@ -56,3 +56,26 @@ pub(crate) fn check_frame<T: Real>(frame: &PlatformFrame<T>) -> Result<(), Error
     }
     Ok(())
 }
+
+/// `Err(Error::NonFinite)` naming `what` when a computed result is not
+/// finite: finite inputs so large that the rates or accelerations derived
+/// from them overflow the float type. One sum over the values, as
+/// [`check_frame`] does, with the first bad one reported.
+pub(crate) fn check_results<T: Real>(values: &[T], what: &'static str) -> Result<(), Error> {
+    let mut probe = T::zero();
+    for &v in values {
+        probe += v * T::zero();
+    }
+    if probe == T::zero() {
+        return Ok(());
+    }
+    let value = values
+        .iter()
+        .copied()
+        .find(|v| !v.finite())
+        .unwrap_or(probe);
+    Err(Error::NonFinite {
+        what,
+        value: value.to_f64(),
+    })
+}

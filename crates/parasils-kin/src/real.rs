@@ -17,6 +17,8 @@ pub trait Real: RealField + Copy {
     fn finite(self) -> bool;
     /// The machine epsilon of `Self`.
     const EPSILON: Self;
+    /// The smallest positive normal number (`f64::MIN_POSITIVE`, `f32::MIN_POSITIVE`).
+    const MIN_POSITIVE: Self;
 
     /// `(sin self, cos self)` for an angle `self` in rad: the crate's own
     /// sine and cosine, both from one range reduction, in `Self`'s own
@@ -77,6 +79,7 @@ impl Real for f64 {
         self.is_finite()
     }
     const EPSILON: Self = f64::EPSILON;
+    const MIN_POSITIVE: Self = f64::MIN_POSITIVE;
     #[inline]
     fn sincos(self) -> (Self, Self) {
         crate::trig::sincos_f64(self)
@@ -97,6 +100,7 @@ impl Real for f32 {
         self.is_finite()
     }
     const EPSILON: Self = f32::EPSILON;
+    const MIN_POSITIVE: Self = f32::MIN_POSITIVE;
     #[inline]
     fn sincos(self) -> (Self, Self) {
         crate::trig::sincos_f32(self)

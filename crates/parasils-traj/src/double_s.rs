@@ -115,7 +115,8 @@ impl<T: Real> SShape<T> {
     /// With `T(v) = d / v + t_a(v)` decreasing in the cruise velocity `v` up to
     /// `own_v_p`: when `a_max` is reached (`v >= a_max^2 / j_max`), `T` is a
     /// quadratic in `v`, solved in closed form; otherwise `2 t_j^3 - T t_j^2 +
-    /// d / j_max = 0`, solved by bisection on `(0, T / 4]` (at most 256 halvings).
+    /// d / j_max = 0`, solved by bisection on `(0, min(T / 4, sqrt(2 d / (j_max T)))]`
+    /// (at most 256 halvings).
     pub(crate) fn with_duration(d: T, lim: JerkLimits<T>, own_v_p: T, duration: T) -> Option<Self> {
         let (v_max, a, j) = (lim.v_max, lim.a_max, lim.j_max);
         let two = T::lit(2.0);
@@ -133,7 +134,11 @@ impl<T: Real> SShape<T> {
         } else {
             let c = d / j;
             let f = |w: T| (two * w - duration) * w * w + c;
-            let (mut lo, mut hi) = (T::zero(), duration * T::lit(0.25));
+            // On (0, T / 4], 2 w - T <= -T / 2, so f < 0 past sqrt(2 c / T):
+            // the root is below that bound, which keeps the bisection within
+            // its halvings however long T is next to the minimum time.
+            let bound = (two * c / duration).sqrt();
+            let (mut lo, mut hi) = (T::zero(), (duration * T::lit(0.25)).min(bound));
             for _ in 0..256 {
                 let mid = half * (lo + hi);
                 if mid <= lo || mid >= hi {

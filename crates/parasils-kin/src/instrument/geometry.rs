@@ -53,7 +53,8 @@ impl<T: Real> InstrumentGeometry<T> {
     }
 
     /// Checks the parameters: all finite (limits may be infinite), `beta` in
-    /// `[0, 90) deg`, `R > 0`, each limit `min <= max`, thresholds positive.
+    /// `[0, 90) deg`, `R > 0`, each limit `min <= max`, thresholds positive,
+    /// and `qs3_min |cos qs2|_min cos(beta)` with a finite inverse.
     pub fn validate(&self) -> Result<(), Error> {
         let invalid = |what, value: T| Error::InvalidParameter {
             what,
@@ -88,6 +89,18 @@ impl<T: Real> InstrumentGeometry<T> {
             if !(t > T::zero() && t.finite()) {
                 return Err(invalid(what, t));
             }
+        }
+        // The Jacobian's inverse and the rates divide by
+        // `qs3 cos(qs2) cos(beta)`, which the two singularity thresholds bound
+        // from below: that bound must keep a finite inverse, with room for
+        // rounding (thresholds near the float type's smallest numbers would
+        // not).
+        let floor = self.thresholds.qs3 * self.thresholds.cos_qs2 * self.beta.cos();
+        if !(T::lit(4.0) / floor).finite() {
+            return Err(invalid(
+                "instrument.thresholds.cos_qs2",
+                self.thresholds.cos_qs2,
+            ));
         }
         Ok(())
     }

@@ -401,8 +401,14 @@ impl<T: Real> OnlineTrapezoid<T> {
         if !t.is_finite() {
             return Err(range());
         }
-        if t <= T::zero() || v0 == T::zero() {
+        if v0 == T::zero() {
             return Ok(Self::at_rest(p0, v0, T::zero()));
+        }
+        // A moving axis whose braking time underflows (a speed far below
+        // a_max times the smallest time the float type holds): no profile of
+        // this type ends at rest.
+        if !(t > T::zero()) {
+            return Err(range());
         }
         let target = p0 + T::lit(0.5) * v0 * t;
         if !target.is_finite() {
@@ -452,6 +458,13 @@ impl<T: Real> OnlineTrapezoid<T> {
             .iter()
             .all(|x| x.is_finite());
         if !finite {
+            return Err(out_of_range(axis, (target - p0).abs()));
+        }
+        // Phase times that all underflow to 0 (limits so large that the
+        // motion takes less than the smallest time the float type holds)
+        // leave an axis that is not already resting on its target with no
+        // motion to get there.
+        if !(duration > T::zero()) && (p0 != target || v0 != T::zero()) {
             return Err(out_of_range(axis, (target - p0).abs()));
         }
         Ok(Self {

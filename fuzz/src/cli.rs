@@ -1,0 +1,89 @@
+//! The command line's arguments to a planned simulation: the `parasils`
+//! command's own argument definitions (its `args.rs`, compiled unchanged
+//! at this crate's root, see `lib.rs`) parse arbitrary argument lists; `simulate`'s arguments become
+//! a scenario, the scenario a validated, planned simulation, and its first
+//! records are computed. No call may panic; an error has a message; an
+//! accepted run's records are finite.
+
+use clap::Parser;
+use parasils_sim::Simulation;
+
+use crate::args::{Cli, Command};
+
+/// The arguments in an input: one per line. With the first byte odd, the
+/// list is the whole command line after `parasils` (any command, parsed
+/// only); otherwise it follows `parasils simulate` and the run is planned.
+pub fn arguments(data: &[u8]) -> (bool, Vec<String>) {
+    let (whole, rest) = match data.split_first() {
+        Some((&b, rest)) => (b & 1 == 1, rest),
+        None => (false, data),
+    };
+    let list = if rest.is_empty() {
+        Vec::new()
+    } else {
+        rest.split(|&b| b == b'\n')
+            .map(|a| String::from_utf8_lossy(a).into_owned())
+            .collect()
+    };
+    (whole, list)
+}
+
+/// The target's check.
+pub fn cli_simulate(data: &[u8]) {
+    let (whole, list) = arguments(data);
+    let mut argv = vec![String::from("parasils")];
+    if !whole {
+        argv.push(String::from("simulate"));
+    }
+    argv.extend(list);
+    let cli = match Cli::try_parse_from(&argv) {
+        Ok(cli) => cli,
+        Err(e) => {
+            // Help and version texts come this way too.
+            assert!(!e.to_string().is_empty(), "an empty message for {argv:?}");
+            return;
+        }
+    };
+    let Command::Simulate(mut args) = cli.command else {
+        return;
+    };
+    // A robot file is the robot file target's; no file is read here.
+    args.robot.robot = None;
+    if let Some(path) = &args.output {
+        // The format from the extension or --format: a value or an error.
+        let _ = args.format(path);
+    }
+    let scenario = args
+        .scenario()
+        .unwrap_or_else(|e| panic!("no robot file, yet the scenario failed: {e}"));
+    let sim = match Simulation::new(scenario) {
+        Ok(sim) => sim,
+        Err(e) => {
+            assert!(!e.to_string().is_empty(), "an empty message for {e:?}");
+            return;
+        }
+    };
+    let d = sim.duration();
+    assert!(
+        d.is_finite() && d >= 0.0,
+        "a planned duration of {d} s for {argv:?}"
+    );
+    assert!(sim.sample_count() >= 1, "no sample for {argv:?}");
+    // The first records: finite, numbered from 0.
+    for (k, record) in sim.samples().take(3).enumerate() {
+        match record {
+            Ok(r) => {
+                assert_eq!(r.index, k);
+                let row = parasils_sim::columns::csv_row(&r);
+                assert!(
+                    row.iter().all(|v| v.is_finite()),
+                    "a non-finite record {r:?} for {argv:?}"
+                );
+            }
+            Err(e) => {
+                assert!(!e.to_string().is_empty(), "an empty message for {e:?}");
+                break;
+            }
+        }
+    }
+}
