@@ -51,7 +51,10 @@ impl<T: Real> ParallelRobot<T> {
         }
         let guides = &self.geometry().guides;
         let sliders_at = |target: &[T; 6]| -> [Vector3<T>; 6] {
-            core::array::from_fn(|j| guides[j].point + guides[j].direction * target[j])
+            core::array::from_fn(|j| {
+                let g = &guides[j];
+                g.point + g.direction * (target[j] - g.encoder_offset)
+            })
         };
         let mut budget = Budget {
             used: 0,

@@ -7,7 +7,7 @@ use nalgebra::{Matrix3, Matrix6, RowVector6, Vector3};
 use super::geometry::{ParallelGeometry, length_scale};
 use super::margin::MarginTracker;
 use super::types::{Actuators, ParallelMargins, ParallelSolution, actuator_number};
-use crate::check::check_frame;
+use crate::check::{check_frame, check_results};
 use crate::error::Error;
 use crate::frame::{PlatformFrame, PlatformState, Pose};
 use crate::linalg::{Mat6, Svd6};
@@ -17,7 +17,7 @@ use crate::real::Real;
 pub(super) struct Legs<T: Real> {
     /// `R a_i`, mm, fixed frame.
     pub(super) rho: [Vector3<T>; 3],
-    /// `q_j`, mm.
+    /// `q_j`, the readings (slider position plus encoder offset), mm.
     pub(super) q: [T; 6],
     /// `e_j = A_i - B_j`, mm, fixed frame.
     pub(super) e: [Vector3<T>; 6],
@@ -97,9 +97,15 @@ impl<T: Real> ParallelRobot<T> {
                 });
             }
             eu[j] = g.branch.sign::<T>() * disc.sqrt();
-            q[j] = ru - eu[j];
-            e[j] = r_j - g.direction * q[j];
+            // The slider's position along its guide; the reading adds the
+            // encoder offset.
+            let slider = ru - eu[j];
+            q[j] = slider + g.encoder_offset;
+            e[j] = r_j - g.direction * slider;
         }
+        // Finite poses and dimensions so large that a leg's numbers
+        // overflow the float type.
+        check_results(&q, "module 1: actuators (overflow)")?;
         Ok(Legs { rho, q, e, eu })
     }
 
@@ -181,11 +187,13 @@ impl<T: Real> ParallelRobot<T> {
         let mut e = [Vector3::zeros(); 6];
         let mut eu = [T::zero(); 6];
         for (j, g) in self.geometry.guides.iter().enumerate() {
-            e[j] = frame.position + rho[j / 2] - g.point - g.direction * q[j];
+            e[j] = frame.position + rho[j / 2] - g.point - g.direction * (q[j] - g.encoder_offset);
             eu[j] = e[j].dot(&g.direction);
         }
         self.check_serial(&eu)?;
-        Ok(self.rates_unchecked(frame, &e, &eu))
+        let (q_dot, q_ddot) = self.rates_unchecked(frame, &e, &eu);
+        check_rates(&q_dot, &q_ddot)?;
+        Ok((q_dot, q_ddot))
     }
 
     fn rates_unchecked(
@@ -334,6 +342,7 @@ impl<T: Real> ParallelRobot<T> {
             });
         }
         let (q_dot, q_ddot) = self.rates_unchecked(frame, &legs.e, &legs.eu);
+        check_rates(&q_dot, &q_ddot)?;
         Ok(ParallelSolution {
             q,
             q_dot,
@@ -358,16 +367,63 @@ impl<T: Real> ParallelRobot<T> {
         let p = pose.position();
         let mut worst = T::zero();
         for (j, g) in self.geometry.guides.iter().enumerate() {
-            let e = p + rho[j / 2] - g.point - g.direction * q[j];
+            let e = p + rho[j / 2] - g.point - g.direction * (q[j] - g.encoder_offset);
             worst = worst.max((e.norm() - g.link_length).abs() / g.link_length);
         }
         Ok(worst)
     }
 }
 
+/// `Err(Error::NonFinite)` when the actuator rates or accelerations
+/// overflowed (finite inputs too large for the float type).
+fn check_rates<T: Real>(q_dot: &Actuators<T>, q_ddot: &Actuators<T>) -> Result<(), Error> {
+    check_results(&q_dot.0, "module 1: actuator rates (overflow)")?;
+    check_results(&q_ddot.0, "module 1: actuator accelerations (overflow)")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An encoder offset adds to every reading and changes nothing else:
+    /// the IK's readings, the FK's pose from them, the rates, the solution
+    /// and the residual all agree with the robot without offsets.
+    #[test]
+    fn an_encoder_offset_shifts_the_readings_only() {
+        use crate::frame::PoseRate;
+        let plain = ParallelRobot::<f64>::assumed();
+        let mut g = *plain.geometry();
+        let offsets = [1.5, -2.0, 0.0, 0.25, 3.0, -0.75];
+        for (guide, o) in g.guides.iter_mut().zip(offsets) {
+            guide.encoder_offset = o;
+        }
+        let shifted = ParallelRobot::new(g).expect("valid");
+        let pose = Pose::from_mm_deg(15.0, 20.0, -500.0, -15.0, 10.0, -60.0);
+        let q0 = plain.ik(&pose).expect("in reach");
+        let q1 = shifted.ik(&pose).expect("in reach");
+        for j in 0..6 {
+            assert!((q1[j] - q0[j] - offsets[j]).abs() < 1e-12, "q{}", j + 1);
+        }
+        let guess = Pose::from_mm_deg(20.0, 15.0, -510.0, -10.0, 5.0, -55.0);
+        let fk = shifted.fk(&q1, &guess).expect("converges");
+        assert!((fk.pose.position() - pose.position()).norm() < 1e-9);
+        assert!(shifted.residual(&pose, &q1).expect("finite") < 1e-14);
+        assert!(shifted.residual(&pose, &q0).expect("finite") > 1e-4);
+        let state = PlatformState {
+            pose,
+            velocity: PoseRate::euler(0.3, -0.2),
+            acceleration: PoseRate::euler(1.0, 0.5),
+        };
+        let frame = state.frame().expect("finite");
+        let (v0, a0) = plain.rates(&frame, &q0).expect("regular");
+        let (v1, a1) = shifted.rates(&frame, &q1).expect("regular");
+        let s1 = shifted.solve(&frame).expect("regular");
+        for j in 0..6 {
+            assert!((v1[j] - v0[j]).abs() < 1e-9 && (a1[j] - a0[j]).abs() < 1e-9);
+            assert!((s1.q_dot[j] - v0[j]).abs() < 1e-9);
+            assert!((s1.q[j] - q1[j]).abs() < 1e-12);
+        }
+    }
 
     #[test]
     fn length_scale_of_the_assumed_geometry_is_180_mm() {

@@ -5,8 +5,9 @@
 //! centre of its spherical joint) fixed in the platform frame, so that in the
 //! fixed frame `A_i = P + R a_i`. Actuator `j = 1..6` belongs to leg
 //! `i = ceil(j/2)`: its slider runs on a straight guide,
-//! `B_j = G_j + q_j u_j` (`G_j` a point, `u_j` a unit vector, both fixed in
-//! the fixed frame), and a rigid link of length `l_j` joins slider and node,
+//! `B_j = G_j + (q_j - o_j) u_j` (`G_j` a point, `u_j` a unit vector, both
+//! fixed in the fixed frame, `q_j` the reading and `o_j` the encoder offset,
+//! 0 unless calibrated), and a rigid link of length `l_j` joins slider and node,
 //! `|A_i - B_j| = l_j` (see `docs/model.md`, *Module 1, the parallel robot*).
 //!
 //! **The default geometry is assumed.** The robot's real dimensions are not
@@ -36,7 +37,7 @@
 //! the parallel robot*): with `r = A_i - G_j`,
 //!
 //! ```text
-//! q_j = r.u_j - s_j sqrt(l_j^2 - |r - (r.u_j) u_j|^2)
+//! q_j = r.u_j - s_j sqrt(l_j^2 - |r - (r.u_j) u_j|^2) + o_j
 //! ```
 //!
 //! (the square-root argument is `l_j^2` minus the squared distance of the node
@@ -144,7 +145,8 @@ pub mod margin;
 mod types;
 
 pub use geometry::{
-    Branch, FkOptions, Guide, ParallelGeometry, ParallelThresholds, SymmetricLayout,
+    Branch, Calibration, FkOptions, Guide, ParallelGeometry, ParallelThresholds, Provenance,
+    SymmetricLayout,
 };
 pub use ik::ParallelRobot;
 pub use margin::MarginTracker;

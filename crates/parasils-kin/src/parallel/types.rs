@@ -9,7 +9,8 @@ use crate::real::Real;
 
 /// The six actuators `q1..q6` (index 0 to 5), or their rates.
 ///
-/// As positions: mm along each guide from its point `G_j`. As rates: mm/s;
+/// As positions: the readings, mm: the slider's position along its guide
+/// from its point `G_j` plus the guide's encoder offset. As rates: mm/s;
 /// as accelerations: mm/s^2.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
