@@ -1,0 +1,212 @@
+//! `parasils simulate --timing optimal`: the fastest turn within the
+//! actuators' limits, checked on the CSV it writes.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn parasils(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_parasils"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the binary runs")
+}
+
+/// The CSV as named columns.
+fn read(path: &Path) -> Vec<(String, Vec<f64>)> {
+    let text = std::fs::read_to_string(path).expect("csv");
+    let mut lines = text.lines();
+    let header: Vec<String> = lines
+        .next()
+        .expect("header")
+        .split(',')
+        .map(str::to_owned)
+        .collect();
+    let mut cols: Vec<(String, Vec<f64>)> = header.into_iter().map(|h| (h, Vec::new())).collect();
+    for line in lines {
+        for (c, v) in cols.iter_mut().zip(line.split(',')) {
+            c.1.push(v.parse().expect("number"));
+        }
+    }
+    cols
+}
+
+fn col<'a>(t: &'a [(String, Vec<f64>)], name: &str) -> &'a [f64] {
+    &t.iter().find(|c| c.0 == name).expect(name).1
+}
+
+/// The twelve actuators' rate and acceleration columns with their assumed
+/// limits (mm/s, mm/s^2; deg/s, deg/s^2 as the CSV writes them).
+fn actuators() -> Vec<(String, String, f64, f64)> {
+    let mut out = Vec::new();
+    for j in 1..=6 {
+        out.push((
+            format!("q{j}_rate_mm_s"),
+            format!("q{j}_acc_mm_s2"),
+            50.0,
+            100.0,
+        ));
+    }
+    for side in ["left", "right"] {
+        out.push((
+            format!("{side}_qs1_rate_deg_s"),
+            format!("{side}_qs1_acc_deg_s2"),
+            30.0,
+            60.0,
+        ));
+        out.push((
+            format!("{side}_qs2_rate_deg_s"),
+            format!("{side}_qs2_acc_deg_s2"),
+            30.0,
+            60.0,
+        ));
+        out.push((
+            format!("{side}_qs3_rate_mm_s"),
+            format!("{side}_qs3_acc_mm_s2"),
+            60.0,
+            60.0,
+        ));
+    }
+    out
+}
+
+#[test]
+fn the_optimal_turn_keeps_every_actuator_within_its_limits_and_is_shorter() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    for (args, file) in [
+        (
+            &["simulate", "--timing", "optimal", "-o", "opt.csv"][..],
+            "opt.csv",
+        ),
+        (&["simulate", "-o", "trap.csv"][..], "trap.csv"),
+    ] {
+        let out = parasils(args, dir.path());
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(dir.path().join(file).is_file());
+    }
+    let opt = read(&dir.path().join("opt.csv"));
+    let trap = read(&dir.path().join("trap.csv"));
+    let t = col(&opt, "t_s");
+    let n = t.len();
+    let duration = t[n - 1];
+    assert!(duration < 4.5 * 0.6, "{duration}");
+    let mut peak: f64 = 0.0;
+    for (rate, acc, v_max, a_max) in actuators() {
+        for (k, (v, a)) in col(&opt, &rate).iter().zip(col(&opt, &acc)).enumerate() {
+            assert!(
+                v.abs() <= v_max * (1.0 + 1e-9),
+                "{rate} = {v} at sample {k}"
+            );
+            assert!(a.abs() <= a_max * (1.0 + 1e-9), "{acc} = {a} at sample {k}");
+            peak = peak.max(v.abs() / v_max).max(a.abs() / a_max);
+        }
+    }
+    // Some limit binds: the law is as fast as the actuators allow.
+    assert!(peak > 0.999, "{peak}");
+    // The rates are those of the positions: a central difference over
+    // +-1 ms differs from the rate by at most a_max h / 2 where the
+    // acceleration jumps (100 mm/s^2 x 1 ms / 2), and by h^2 / 6 of the jerk
+    // elsewhere.
+    for j in 1..=6 {
+        let q = col(&opt, &format!("q{j}_mm"));
+        let v = col(&opt, &format!("q{j}_rate_mm_s"));
+        for k in 1..n - 1 {
+            let fd = (q[k + 1] - q[k - 1]) / (t[k + 1] - t[k - 1]);
+            assert!((fd - v[k]).abs() < 100.0 * 1e-3 / 2.0, "q{j} at {}", t[k]);
+        }
+    }
+    // The tips held, at rest at both ends, on the trapezoid's straight line
+    // in (psi, theta).
+    for side in ["left", "right"] {
+        assert!(
+            col(&opt, &format!("{side}_tip_err_mm"))
+                .iter()
+                .all(|e| *e < 1e-9)
+        );
+    }
+    for c in [
+        "psi_rate_deg_s",
+        "theta_rate_deg_s",
+        "q1_rate_mm_s",
+        "left_qs2_rate_deg_s",
+    ] {
+        assert_eq!(col(&opt, c)[0], 0.0, "{c}");
+        assert!(col(&opt, c)[n - 1].abs() < 1e-9, "{c}");
+    }
+    let (psi, theta) = (col(&opt, "psi_deg"), col(&opt, "theta_deg"));
+    let (tp, tt) = (col(&trap, "psi_deg"), col(&trap, "theta_deg"));
+    let (p0, t0) = (tp[0], tt[0]);
+    let (p1, t1) = (tp[tp.len() - 1], tt[tt.len() - 1]);
+    assert!((psi[n - 1] - p1).abs() < 1e-9 && (theta[n - 1] - t1).abs() < 1e-9);
+    for k in 0..n {
+        // (psi - p0) / (p1 - p0) == (theta - t0) / (t1 - t0)
+        let cross = (psi[k] - p0) * (t1 - t0) - (theta[k] - t0) * (p1 - p0);
+        assert!(cross.abs() < 1e-9, "off the line at {}", t[k]);
+    }
+}
+
+#[test]
+fn limits_the_trapezoid_exceeds_fail_it_and_slow_the_optimal_law() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = parasils(&["robot"], dir.path());
+    let text = String::from_utf8(out.stdout).expect("utf8");
+    // Module 1's sliders limited to 20 mm/s: the paper's turn needs 35.7.
+    let slow = text.replace("velocity_max_mm_s = 50.0", "velocity_max_mm_s = 20.0");
+    assert_ne!(slow, text);
+    std::fs::write(dir.path().join("slow.toml"), slow).expect("write");
+    let trap = parasils(
+        &["simulate", "--robot", "slow.toml", "-o", "t.csv"],
+        dir.path(),
+    );
+    assert!(!trap.status.success());
+    let err = String::from_utf8(trap.stderr).expect("utf8");
+    assert!(err.contains("module 1 q"), "{err}");
+    assert!(err.contains("is beyond its limit 20 mm/s"), "{err}");
+    assert!(!dir.path().join("t.csv").exists());
+    let opt = parasils(
+        &[
+            "simulate",
+            "--robot",
+            "slow.toml",
+            "--timing",
+            "optimal",
+            "-o",
+            "o.csv",
+        ],
+        dir.path(),
+    );
+    assert!(
+        opt.status.success(),
+        "{}",
+        String::from_utf8_lossy(&opt.stderr)
+    );
+    let table = read(&dir.path().join("o.csv"));
+    let t = col(&table, "t_s");
+    assert!(
+        t[t.len() - 1] > 4.5,
+        "slower than the paper's 4.5 s: {}",
+        t[t.len() - 1]
+    );
+    for j in 1..=6 {
+        assert!(
+            col(&table, &format!("q{j}_rate_mm_s"))
+                .iter()
+                .all(|v| v.abs() <= 20.0 * (1.0 + 1e-9))
+        );
+    }
+    // The summary says what binds.
+    let summary = parasils(
+        &["simulate", "--robot", "slow.toml", "--timing", "optimal"],
+        dir.path(),
+    );
+    let text = String::from_utf8(summary.stdout).expect("utf8");
+    assert!(
+        text.contains("time-optimal timing, what limits each phase:"),
+        "{text}"
+    );
+    assert!(text.contains("velocity limit"), "{text}");
+}

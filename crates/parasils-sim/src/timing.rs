@@ -1,0 +1,372 @@
+//! Time-optimal timing of motion type 4 under the actuators' limits (see
+//! `docs/model.md`, *Time-optimal timing*): the straight turn of
+//! [`ReorientationPath`], solved by [`parasils::traj::optimal`] on a grid
+//! of [`TimingOptions::knots`] points, checked [`TimingOptions::checks`]
+//! times denser, and sampled like any planned motion.
+//!
+//! ```
+//! use parasils::kin::{ActuatorLimits, Controller, Pose, TipTargets};
+//! use parasils::traj::Motion;
+//! use parasils_sim::timing::{OptimalReorientation, TimingOptions};
+//!
+//! let start = Pose::paper_start();
+//! let goal = [start.psi + 15f64.to_radians(), start.theta + 25f64.to_radians()];
+//! let plan = OptimalReorientation::plan(
+//!     &Controller::paper(),
+//!     start,
+//!     goal,
+//!     TipTargets::paper(),
+//!     &ActuatorLimits::assumed(),
+//!     &TimingOptions::default(),
+//! )?;
+//! assert!(plan.duration() < 4.5); // the paper's trapezoid takes 4.5 s
+//! let first = plan.phases()[0];
+//! assert_eq!(first.binding.to_string(), "module 1 q6");
+//! for sample in (&plan).sampler(1000.0)? {
+//!     let _state = sample.state; // a PlatformState for Controller::step
+//! }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use core::fmt;
+
+use parasils::kin::{
+    ACTUATOR_COUNT, Actuator, ActuatorLimits, Controller, LimitError, PlatformState, Pose,
+    RateKind, TipTargets,
+};
+use parasils::path::row_limits;
+pub use parasils::path::{PATH_ROWS, PathPoint, ReorientationPath};
+use parasils::traj::optimal::{self, Certificate, Knot, RowLimits, Schedule};
+use parasils::traj::{LimitKind, Limits, Motion, State};
+
+/// How the optimal law is computed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimingOptions {
+    /// Grid points on the path (at least 2; default 1000).
+    pub knots: usize,
+    /// Check points per grid interval (at least 2; default 10).
+    pub checks: usize,
+    /// The Euler angles' own limits `[psi, theta]` (rad/s, rad/s^2), binding
+    /// as well when given; `None` (default): only the actuators' bind.
+    pub angular: Option<[Limits<f64>; 2]>,
+}
+
+impl Default for TimingOptions {
+    fn default() -> Self {
+        Self {
+            knots: 1000,
+            checks: 10,
+            angular: None,
+        }
+    }
+}
+
+/// Why the optimal law could not be computed.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum TimingError {
+    /// An actuator limit that is zero, negative or NaN.
+    #[error(transparent)]
+    Limits(#[from] LimitError),
+    /// The path leaves the robot's workspace at `s` (0 to 1 along the turn).
+    #[error("the turn at s = {s}: {error}")]
+    Kinematics {
+        /// Where along the turn.
+        s: f64,
+        /// The kinematics' error.
+        error: parasils::kin::Error,
+    },
+    /// The solver's error (an invalid option or angular limit, ...).
+    #[error(transparent)]
+    Solver(optimal::Error),
+}
+
+impl From<optimal::Error<parasils::kin::Error>> for TimingError {
+    fn from(e: optimal::Error<parasils::kin::Error>) -> Self {
+        match e.split() {
+            Ok(solver) => TimingError::Solver(solver),
+            Err((s, error)) => TimingError::Kinematics { s, error },
+        }
+    }
+}
+
+/// What limits a phase: an actuator, or one of the Euler angles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Binding {
+    /// An actuator's limit.
+    Actuator(Actuator),
+    /// `psi`'s own limit (`--omega-max`, `--eps-max`).
+    Psi,
+    /// `theta`'s own limit.
+    Theta,
+}
+
+impl Binding {
+    fn of_row(row: usize) -> Self {
+        match Actuator::from_index(row) {
+            Some(a) => Binding::Actuator(a),
+            None if row == ACTUATOR_COUNT => Binding::Psi,
+            None => Binding::Theta,
+        }
+    }
+}
+
+impl fmt::Display for Binding {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Binding::Actuator(a) => a.fmt(f),
+            Binding::Psi => f.write_str("psi"),
+            Binding::Theta => f.write_str("theta"),
+        }
+    }
+}
+
+/// One phase of the optimal law: from `start_s` to `end_s` (time), the
+/// `kind` limit of `binding` is the most used, up to `usage` of it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PhaseSummary {
+    /// When the phase starts, s.
+    pub start_s: f64,
+    /// When it ends, s.
+    pub end_s: f64,
+    /// What limits it.
+    pub binding: Binding,
+    /// Velocity or acceleration.
+    pub kind: RateKind,
+    /// The largest fraction of that limit used in the phase.
+    pub usage: f64,
+}
+
+impl fmt::Display for PhaseSummary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{:.4} s to {:.4} s: {} {} limit",
+            self.start_s, self.end_s, self.binding, self.kind
+        )
+    }
+}
+
+/// Motion type 4 timed to be as fast as the actuators' limits allow: a
+/// [`Motion`] of [`PlatformState`]s, sampled like
+/// [`parasils::Reorientation`].
+#[derive(Debug, Clone)]
+pub struct OptimalReorientation {
+    path: ReorientationPath<f64>,
+    limits: [RowLimits<f64>; PATH_ROWS],
+    knots: Vec<Knot<f64, PATH_ROWS>>,
+    certificate: Option<Certificate<f64>>,
+}
+
+impl OptimalReorientation {
+    /// The fastest rest-to-rest turn from `start` to `goal = [psi, theta]`
+    /// (rad) along the straight line in `(psi, theta)`, tips held at `tips`,
+    /// within `actuators` (and `options.angular` when given). A turn of zero
+    /// length takes no time.
+    ///
+    /// # Errors
+    /// [`TimingError::Limits`] for an invalid limit,
+    /// [`TimingError::Kinematics`] where the line leaves the workspace,
+    /// [`TimingError::Solver`] for invalid options.
+    pub fn plan(
+        controller: &Controller<f64>,
+        start: Pose<f64>,
+        goal: [f64; 2],
+        tips: TipTargets<f64>,
+        actuators: &ActuatorLimits<f64>,
+        options: &TimingOptions,
+    ) -> Result<Self, TimingError> {
+        actuators.validate()?;
+        let increment = [goal[0] - start.psi, goal[1] - start.theta];
+        let path = ReorientationPath::new(controller, start, increment, tips);
+        let limits = row_limits(actuators, options.angular);
+        let mut plan = Self {
+            path,
+            limits,
+            knots: Vec::new(),
+            certificate: None,
+        };
+        if increment == [0.0, 0.0] {
+            return Ok(plan);
+        }
+        plan.knots = vec![Knot::default(); options.knots];
+        let (_, certificate) = optimal::plan(&plan.path, &limits, &mut plan.knots, options.checks)?;
+        plan.certificate = Some(certificate);
+        Ok(plan)
+    }
+
+    /// The path.
+    pub fn path(&self) -> &ReorientationPath<f64> {
+        &self.path
+    }
+
+    /// The solver's limits, one per row (twelve actuators, `psi`, `theta`).
+    pub fn limits(&self) -> &[RowLimits<f64>; PATH_ROWS] {
+        &self.limits
+    }
+
+    /// The solved schedule `s(t)`.
+    pub fn schedule(&self) -> Schedule<'_, f64, PATH_ROWS> {
+        Schedule::view(&self.knots)
+    }
+
+    /// What the check between grid points found and did (`None` for a turn
+    /// of zero length).
+    pub fn certificate(&self) -> Option<&Certificate<f64>> {
+        self.certificate.as_ref()
+    }
+
+    /// The duration, s.
+    pub fn duration(&self) -> f64 {
+        self.schedule().duration()
+    }
+
+    /// `(s, s_dot, s_ddot)` at `t`.
+    pub fn path_state(&self, t: f64) -> State<f64> {
+        if self.knots.is_empty() {
+            return State::rest(0.0);
+        }
+        self.schedule().state(t)
+    }
+
+    /// The platform's state at `t` (s): at rest at the start for `t <= 0`,
+    /// at rest at the goal for `t >= duration`.
+    pub fn state_at(&self, t: f64) -> PlatformState<f64> {
+        let st = self.path_state(t);
+        self.path.state(st.position, st.velocity, st.acceleration)
+    }
+
+    /// The phases, in time order, each with what limits it.
+    pub fn phases(&self) -> Vec<PhaseSummary> {
+        self.schedule()
+            .phases(&self.limits)
+            .map(|p| PhaseSummary {
+                start_s: p.start_t,
+                end_s: p.end_t,
+                binding: Binding::of_row(p.row),
+                kind: match p.limit {
+                    LimitKind::Velocity => RateKind::Velocity,
+                    _ => RateKind::Acceleration,
+                },
+                usage: p.usage,
+            })
+            .collect()
+    }
+}
+
+impl Motion<f64> for OptimalReorientation {
+    type Output = PlatformState<f64>;
+
+    fn duration(&self) -> f64 {
+        OptimalReorientation::duration(self)
+    }
+
+    fn sample(&self, t: f64) -> PlatformState<f64> {
+        self.state_at(t)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plan(
+        goal_deg: [f64; 2],
+        options: &TimingOptions,
+    ) -> Result<OptimalReorientation, TimingError> {
+        let start = Pose::paper_start();
+        OptimalReorientation::plan(
+            &Controller::paper(),
+            start,
+            [
+                start.psi + goal_deg[0].to_radians(),
+                start.theta + goal_deg[1].to_radians(),
+            ],
+            TipTargets::paper(),
+            &ActuatorLimits::assumed(),
+            options,
+        )
+    }
+
+    #[test]
+    fn a_turn_of_zero_length_takes_no_time_and_rests_at_the_start() -> Result<(), TimingError> {
+        let p = plan([0.0, 0.0], &TimingOptions::default())?;
+        assert_eq!(p.duration(), 0.0);
+        assert!(p.phases().is_empty() && p.certificate().is_none());
+        let st = p.state_at(1.0);
+        assert_eq!(st, PlatformState::at_rest(Pose::paper_start()));
+        Ok(())
+    }
+
+    #[test]
+    fn the_paper_turn_ends_on_its_goal_at_rest() -> Result<(), TimingError> {
+        let p = plan([15.0, 25.0], &TimingOptions::default())?;
+        let end = p.state_at(p.duration());
+        let start = Pose::<f64>::paper_start();
+        assert!((end.pose.psi - (start.psi + 15f64.to_radians())).abs() < 1e-15);
+        assert!((end.pose.theta - (start.theta + 25f64.to_radians())).abs() < 1e-15);
+        assert_eq!((end.velocity.psi, end.velocity.theta), (0.0, 0.0));
+        // q6's acceleration, velocity, then acceleration again.
+        let phases = p.phases();
+        let kinds: Vec<_> = phases
+            .iter()
+            .map(|ph| (ph.binding.to_string(), ph.kind))
+            .collect();
+        assert_eq!(
+            kinds,
+            [
+                ("module 1 q6".to_string(), RateKind::Acceleration),
+                ("module 1 q6".to_string(), RateKind::Velocity),
+                ("module 1 q6".to_string(), RateKind::Acceleration),
+            ]
+        );
+        assert!(phases.iter().all(|ph| (ph.usage - 1.0).abs() < 1e-6));
+        Ok(())
+    }
+
+    #[test]
+    fn the_angular_limits_bind_when_given() -> Result<(), TimingError> {
+        let deg = 1f64.to_radians();
+        let options = TimingOptions {
+            angular: Some([Limits::new(5.0 * deg, 2.0 * deg); 2]),
+            ..TimingOptions::default()
+        };
+        let p = plan([15.0, 25.0], &options)?;
+        // theta's own trapezoid: 25 / 5 + 5 / 2 = 7.5 s.
+        assert!((p.duration() - 7.5).abs() < 7.5 * 2e-3, "{}", p.duration());
+        assert!(p.phases().iter().all(|ph| ph.binding == Binding::Theta));
+        Ok(())
+    }
+
+    #[test]
+    fn errors_say_what_and_where() {
+        let e = plan([0.0, 170.0], &TimingOptions::default()).expect_err("out of reach");
+        assert!(matches!(e, TimingError::Kinematics { .. }), "{e}");
+        assert!(e.to_string().starts_with("the turn at s = "), "{e}");
+        let options = TimingOptions {
+            knots: 1,
+            ..TimingOptions::default()
+        };
+        let e = plan([15.0, 25.0], &options).expect_err("one knot");
+        assert_eq!(
+            e.to_string(),
+            "time-optimal timing: 1 knots, at least 2 are needed"
+        );
+        let mut limits = ActuatorLimits::assumed();
+        limits.velocity[3] = -1.0;
+        let start = Pose::paper_start();
+        let e = OptimalReorientation::plan(
+            &Controller::paper(),
+            start,
+            [start.psi, start.theta + 0.1],
+            TipTargets::paper(),
+            &limits,
+            &TimingOptions::default(),
+        )
+        .expect_err("negative limit");
+        assert_eq!(
+            e.to_string(),
+            "module 1 q4: velocity limit -1 is not a positive number"
+        );
+    }
+}

@@ -1,0 +1,303 @@
+//! The inputs and the typed errors of the time-optimal solver.
+
+use core::convert::Infallible;
+use core::fmt;
+
+use parasils_num::Num;
+
+use crate::error::LimitKind;
+use crate::real::Real;
+
+/// The limits of one row (one actuator, or any quantity `q_j(s)` along the
+/// path): `|q_j' s_dot| <= velocity` and `|q_j' s_ddot + q_j'' s_dot^2| <=
+/// acceleration`, in the row's units per s and per s^2. `+inf` means no
+/// limit; every limit must be positive (not NaN).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct RowLimits<T> {
+    /// The velocity maximum, row units/s.
+    pub velocity: T,
+    /// The acceleration maximum, row units/s^2.
+    pub acceleration: T,
+}
+
+impl<T: Real> RowLimits<T> {
+    /// The limits `velocity` (units/s) and `acceleration` (units/s^2).
+    pub fn new(velocity: T, acceleration: T) -> Self {
+        Self {
+            velocity,
+            acceleration,
+        }
+    }
+
+    /// No limit (both `+inf`): the row is not constrained.
+    pub fn unlimited() -> Self {
+        Self::new(T::infinity(), T::infinity())
+    }
+}
+
+/// The path's first and second derivatives with respect to the path
+/// parameter `s`, one per row: `first[j] = dq_j/ds`, `second[j] = d^2q_j/ds^2`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Derivatives<T, const M: usize> {
+    /// `q'(s)`, row units.
+    pub first: [T; M],
+    /// `q''(s)`, row units.
+    pub second: [T; M],
+}
+
+impl<T: Real, const M: usize> Default for Derivatives<T, M> {
+    fn default() -> Self {
+        Self {
+            first: [T::zero(); M],
+            second: [T::zero(); M],
+        }
+    }
+}
+
+/// A geometric path with `M` constrained rows: its derivatives at any `s`
+/// of `[0, 1]`, from the path's own closed form (never differenced).
+pub trait Path<T: Real, const M: usize> {
+    /// Why the path cannot be evaluated at some `s` (out of reach, ...).
+    type Error;
+
+    /// `q'(s)` and `q''(s)`.
+    ///
+    /// # Errors
+    /// The path's own, when `s` is not on a valid part of it.
+    fn derivatives(&self, s: T) -> Result<Derivatives<T, M>, Self::Error>;
+}
+
+impl<T: Real, const M: usize, P: Path<T, M> + ?Sized> Path<T, M> for &P {
+    type Error = P::Error;
+    fn derivatives(&self, s: T) -> Result<Derivatives<T, M>, Self::Error> {
+        (**self).derivatives(s)
+    }
+}
+
+/// One grid point of the solver: the caller's `s` and the path's
+/// derivatives there, and what the solver computes (the squared path speed
+/// `x = s_dot^2`, the path acceleration `u = s_ddot` of the interval that
+/// starts here, the time `t`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Knot<T, const M: usize> {
+    /// The path parameter.
+    pub s: T,
+    /// `q'(s)`, `q''(s)`.
+    pub derivatives: Derivatives<T, M>,
+    /// The largest admissible `x`: the velocity limit curve, then the
+    /// controllable set's upper end.
+    pub(crate) x_max: T,
+    /// An extra bound on `x` set by [`certify`](super::certify) where the
+    /// limits were exceeded between knots (`+inf` at first).
+    pub(crate) x_cap: T,
+    pub(crate) x: T,
+    pub(crate) u: T,
+    pub(crate) t: T,
+}
+
+impl<T: Real, const M: usize> Default for Knot<T, M> {
+    fn default() -> Self {
+        Self::new(T::zero(), Derivatives::default())
+    }
+}
+
+impl<T: Real, const M: usize> Knot<T, M> {
+    /// A knot at `s` with the path's derivatives there.
+    pub fn new(s: T, derivatives: Derivatives<T, M>) -> Self {
+        Self {
+            s,
+            derivatives,
+            x_max: T::zero(),
+            x_cap: T::infinity(),
+            x: T::zero(),
+            u: T::zero(),
+            t: T::zero(),
+        }
+    }
+
+    /// `s_dot^2` at this knot (1/s^2).
+    pub fn x(&self) -> T {
+        self.x
+    }
+
+    /// `s_dot` at this knot (1/s).
+    pub fn s_dot(&self) -> T {
+        self.x.sqrt()
+    }
+
+    /// `s_ddot` (1/s^2) on the interval that starts at this knot (0 at the last knot).
+    pub fn s_ddot(&self) -> T {
+        self.u
+    }
+
+    /// The time at which the schedule passes this knot, s.
+    pub fn t(&self) -> T {
+        self.t
+    }
+
+    /// The largest `s_dot^2` the limits admit here from which a stop at the
+    /// path's end is still possible (the controllable set's upper end).
+    pub fn x_max(&self) -> T {
+        self.x_max
+    }
+}
+
+/// Why a time-optimal schedule could not be computed. `E` is the path's own
+/// error ([`Path::Error`]); [`solve`](super::solve), which evaluates no
+/// path, returns `Error<Infallible>`.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error<E = Infallible> {
+    /// Fewer than two knots.
+    #[error("time-optimal timing: {count} knots, at least 2 are needed")]
+    TooFewKnots {
+        /// The number of knots given.
+        count: usize,
+    },
+    /// A knot's `s` is not finite or not above the previous knot's.
+    #[error("time-optimal timing: knot {index}: s = {} is not finite or not above the previous knot's", Num::new(*s))]
+    Grid {
+        /// The knot.
+        index: usize,
+        /// Its `s`.
+        s: f64,
+    },
+    /// A limit that is zero, negative or NaN.
+    #[error("time-optimal timing: row {row}: {kind} = {} is not a positive number", Num::new(*value))]
+    InvalidLimit {
+        /// The row.
+        row: usize,
+        /// Velocity or acceleration.
+        kind: LimitKind,
+        /// The value given.
+        value: f64,
+    },
+    /// A path derivative that is NaN or infinite.
+    #[error("time-optimal timing: knot {index}: row {row}: a path derivative is {}", Num::new(*value))]
+    NonFiniteDerivative {
+        /// The knot.
+        index: usize,
+        /// The row.
+        row: usize,
+        /// The value.
+        value: f64,
+    },
+    /// No limit bounds the path speed near this knot (the path moves no
+    /// limited row there): the fastest motion would take no time.
+    #[error("time-optimal timing: knot {index}: no limit bounds the path speed there")]
+    Unconstrained {
+        /// The knot.
+        index: usize,
+    },
+    /// The schedule's numbers overflow or underflow the float type.
+    #[error("time-optimal timing: knot {index}: the schedule does not fit the float type")]
+    OutOfRange {
+        /// The knot.
+        index: usize,
+    },
+    /// Fewer than 2 check points per interval were asked for.
+    #[error("time-optimal timing: {count} check points per interval, at least 2 are needed")]
+    TooFewChecks {
+        /// The number asked for.
+        count: usize,
+    },
+    /// The path could not be evaluated.
+    #[error("time-optimal timing: the path at s = {}: {error}", Num::new(*s))]
+    Path {
+        /// Where.
+        s: f64,
+        /// The path's own error.
+        error: E,
+    },
+}
+
+impl<E> Error<E> {
+    /// The path's error with where it happened (`Err((s, error))`), or the
+    /// solver's own error.
+    pub fn split(self) -> Result<Error, (f64, E)> {
+        Ok(match self {
+            Error::TooFewKnots { count } => Error::TooFewKnots { count },
+            Error::Grid { index, s } => Error::Grid { index, s },
+            Error::InvalidLimit { row, kind, value } => Error::InvalidLimit { row, kind, value },
+            Error::NonFiniteDerivative { index, row, value } => {
+                Error::NonFiniteDerivative { index, row, value }
+            }
+            Error::Unconstrained { index } => Error::Unconstrained { index },
+            Error::OutOfRange { index } => Error::OutOfRange { index },
+            Error::TooFewChecks { count } => Error::TooFewChecks { count },
+            Error::Path { s, error } => return Err((s, error)),
+        })
+    }
+}
+
+impl Error<Infallible> {
+    /// The same error as that of a path with error type `E` (a solver error
+    /// carries no path error).
+    pub fn widen<E>(self) -> Error<E> {
+        match self {
+            Error::TooFewKnots { count } => Error::TooFewKnots { count },
+            Error::Grid { index, s } => Error::Grid { index, s },
+            Error::InvalidLimit { row, kind, value } => Error::InvalidLimit { row, kind, value },
+            Error::NonFiniteDerivative { index, row, value } => {
+                Error::NonFiniteDerivative { index, row, value }
+            }
+            Error::Unconstrained { index } => Error::Unconstrained { index },
+            Error::OutOfRange { index } => Error::OutOfRange { index },
+            Error::TooFewChecks { count } => Error::TooFewChecks { count },
+            Error::Path { error, .. } => match error {},
+        }
+    }
+}
+
+/// What limits a stretch of the schedule.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Phase<T> {
+    /// The row whose limit binds.
+    pub row: usize,
+    /// Which of its limits: velocity or acceleration.
+    pub limit: LimitKind,
+    /// The first knot of the phase.
+    pub first_knot: usize,
+    /// The knot where it ends.
+    pub last_knot: usize,
+    /// When it starts, s.
+    pub start_t: T,
+    /// When it ends, s.
+    pub end_t: T,
+    /// The largest fraction of the binding limit used in the phase (1 when it binds).
+    pub usage: T,
+}
+
+impl<T: Real> fmt::Display for Phase<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} s to {} s: row {} {}",
+            Num::new(self.start_t.widen()),
+            Num::new(self.end_t.widen()),
+            self.row,
+            match self.limit {
+                LimitKind::Velocity => "velocity",
+                _ => "acceleration",
+            }
+        )
+    }
+}
+
+/// What [`certify`](super::certify) found and did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Certificate<T> {
+    /// The worst use of any limit found on the check points of the solved
+    /// schedule, before any correction, as a time stretch:
+    /// `max(|v| / v_max, sqrt(|a| / a_max))`, the estimated excess between
+    /// check points included.
+    pub worst: T,
+    /// How many times the schedule was solved again with lower speeds where
+    /// the check points found an excess.
+    pub passes: usize,
+    /// The uniform factor the time was finally stretched by (1: none).
+    pub stretch: T,
+    /// How many check points were evaluated on the path.
+    pub checks: usize,
+}
