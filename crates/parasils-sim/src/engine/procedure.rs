@@ -1,0 +1,602 @@
+//! A procedure planned: its motions one after the other on one time line,
+//! each from the state the previous one ended in, and the checks made before
+//! any output (see [`Simulation::new`](super::Simulation::new)).
+
+use nalgebra::Vector3;
+use parasils::kin::{
+    Controller, Instrument, JointMotion, Joints, ModuleCommand, PlatformFrame, PlatformState, Pose,
+    TipTargets,
+};
+use parasils::motions::{
+    Insertion, Manipulation, Motion, MotionSample, MotionType, Moving, Port, Positioning,
+    RobotState, Turning,
+};
+use parasils::supervisor::{Margin, Margins};
+use parasils::traj::{Limits, Synchronization};
+use parasils::{Reorientation, Supervisor};
+
+use super::SimulationError;
+use crate::motion::{MotionGoal, MotionLimits, MotionName, MotionSpec};
+use crate::numbers::Num;
+use crate::record::Record;
+use crate::scenario::Scenario;
+
+/// One motion placed on the procedure's time line.
+#[derive(Debug, Clone)]
+pub struct PlannedMotion {
+    /// The motion, from the state the previous one ended in.
+    pub motion: Motion<f64>,
+    /// When it starts, s from the procedure's start.
+    pub start_s: f64,
+    /// How long it lasts on the time line, s: its duration, or its
+    /// `until_s` (cut short before its end, or resting after it).
+    pub length_s: f64,
+    /// How messages and outputs name it.
+    pub name: MotionName,
+}
+
+impl PlannedMotion {
+    /// Its duration, s.
+    pub fn duration(&self) -> f64 {
+        self.motion.duration()
+    }
+}
+
+/// The planned procedure: every motion, and where each starts.
+#[derive(Debug, Clone)]
+pub struct ProcedurePlan {
+    /// The motions in order.
+    pub motions: Vec<PlannedMotion>,
+    /// The state at the start (joints from the IK of the start tips).
+    pub start: RobotState<f64>,
+    duration: f64,
+    /// Why planning stopped early: the end of the last motion could not be
+    /// solved, so that no later motion can start. The samples up to that end
+    /// are still planned, so that a run finds the first one that fails.
+    failure: Option<SimulationError>,
+}
+
+/// The tips where `joints` put them with the platform at `pose`, mm, fixed
+/// frame (`[left, right]`).
+fn tips_of(
+    controller: &Controller<f64>,
+    pose: &Pose<f64>,
+    joints: &[Joints<f64>; 2],
+) -> [Vector3<f64>; 2] {
+    let r = pose.rotation();
+    let p = pose.position();
+    [
+        r * controller.left.fk_platform(&joints[0]) + p,
+        r * controller.right.fk_platform(&joints[1]) + p,
+    ]
+}
+
+impl ProcedurePlan {
+    /// Plans every motion of `scenario` in order; the end of each (solved
+    /// by `controller`) is the start of the next, or, for a motion cut short
+    /// by its `until_s`, its moving state there.
+    ///
+    /// # Errors
+    /// [`SimulationError::Motion`] naming the motion whose profile cannot be
+    /// planned or that cannot follow the one before; [`SimulationError::Kinematics`]
+    /// at `t = 0` when the start cannot be solved.
+    pub fn new(scenario: &Scenario, controller: &Controller<f64>) -> Result<Self, SimulationError> {
+        let mut solver = *controller;
+        let tips = scenario.tips();
+        let start_pose = scenario.start();
+        let at_start = |error| SimulationError::Kinematics {
+            t: 0.0,
+            sample: Some(0),
+            error,
+        };
+        let first = solver
+            .step(&PlatformState::at_rest(start_pose), &tips)
+            .map_err(at_start)?;
+        solver
+            .endoscope
+            .check(scenario.endoscope_depth_mm)
+            .map_err(at_start)?;
+        let start = RobotState {
+            pose: start_pose,
+            joints: [first.left.q, first.right.q],
+            endoscope_depth: scenario.endoscope_depth_mm,
+        };
+        let mut state = start;
+        let mut t = 0.0;
+        let mut motions: Vec<PlannedMotion> = Vec::with_capacity(scenario.motions.len());
+        // The previous motion's moving state when it was cut short, with
+        // its limits (a stop decelerates at them).
+        let mut moving: Option<(Moving<f64>, MotionLimits)> = None;
+        let count = scenario.motions.len();
+        for (index, spec) in scenario.motions.iter().enumerate() {
+            let previous = motions.last().map(|m| m.name.motion_type);
+            let motion_type = spec.motion_type().or(previous);
+            let mut name = MotionName {
+                index,
+                motion_type: motion_type.unwrap_or(MotionType::Reorient),
+                stop: spec.motion_type().is_none(),
+                name: spec.name.clone(),
+            };
+            let fail = |name: &MotionName, t_motion: f64, error: SimulationError| {
+                SimulationError::Motion {
+                    motion: Box::new(name.clone()),
+                    t_motion,
+                    error: Box::new(error),
+                }
+            };
+            let order =
+                |name: &MotionName, why: String| fail(name, 0.0, SimulationError::Procedure(why));
+            if name.stop && motions.is_empty() {
+                return Err(order(
+                    &name,
+                    String::from("a stop needs a motion before it to stop"),
+                ));
+            }
+            let motion = match (&spec.goal, moving) {
+                (goal, Some((m, limits))) if !m.at_rest() || *goal == MotionGoal::Stop => {
+                    continued(controller, &state, spec, m, limits).map_err(|e| match e {
+                        Continue::Trajectory(e) => fail(&name, 0.0, SimulationError::Trajectory(e)),
+                        Continue::Mismatch(why) => order(&name, why),
+                    })?
+                }
+                (MotionGoal::Stop, _) => {
+                    // The motion before ended at rest: a stop of no length.
+                    let last = motions
+                        .last()
+                        .map(|m| m.motion.moving_at(m.motion.duration()));
+                    let m = last.ok_or_else(|| order(&name, String::from("nothing to stop")))?;
+                    continued(controller, &state, spec, m, spec.limits).map_err(|e| match e {
+                        Continue::Trajectory(e) => fail(&name, 0.0, SimulationError::Trajectory(e)),
+                        Continue::Mismatch(why) => order(&name, why),
+                    })?
+                }
+                _ => plan(controller, &state, spec).map_err(|e| match e {
+                    Continue::Trajectory(e) => fail(&name, 0.0, SimulationError::Trajectory(e)),
+                    Continue::Mismatch(why) => order(&name, why),
+                })?,
+            };
+            name.motion_type = motion.motion_type();
+            let duration = motion.duration();
+            let length = spec.until_s.unwrap_or(duration);
+            let cut = length < duration;
+            if cut && index + 1 == count {
+                return Err(order(
+                    &name,
+                    format!(
+                        "until_s = {} s cuts the last motion short (it lasts {} s): add the motion that follows, or a stop",
+                        Num(length),
+                        Num(duration)
+                    ),
+                ));
+            }
+            let end = motion.sample(length);
+            let out = match solver.step_commanded(&end.platform, &end.left, &end.right) {
+                Ok(out) => out,
+                Err(error) => {
+                    let failure = fail(
+                        &name,
+                        length,
+                        SimulationError::Kinematics {
+                            t: t + length,
+                            sample: None,
+                            error,
+                        },
+                    );
+                    motions.push(PlannedMotion {
+                        motion,
+                        start_s: t,
+                        length_s: length,
+                        name,
+                    });
+                    return Ok(Self {
+                        motions,
+                        start,
+                        duration: t + length,
+                        failure: Some(failure),
+                    });
+                }
+            };
+            state = RobotState {
+                pose: end.platform.pose,
+                joints: [out.left.q, out.right.q],
+                endoscope_depth: end.endoscope.position,
+            };
+            moving = cut.then(|| (motion.moving_at(length), spec.limits));
+            motions.push(PlannedMotion {
+                motion,
+                start_s: t,
+                length_s: length,
+                name,
+            });
+            t += length;
+        }
+        Ok(Self {
+            motions,
+            start,
+            duration: t,
+            failure: None,
+        })
+    }
+
+    /// Why planning stopped before the last motion, if it did (see
+    /// [`Simulation::new`](super::Simulation::new), which runs the samples
+    /// first to name the first that fails).
+    pub fn failure(&self) -> Option<&SimulationError> {
+        self.failure.as_ref()
+    }
+
+    /// The whole procedure's duration, s.
+    pub fn duration(&self) -> f64 {
+        self.duration
+    }
+
+    /// The motion under way at `t` (s from the procedure's start) and its
+    /// sample there.
+    pub fn sample_at(&self, t: f64) -> (usize, MotionSample<f64>) {
+        let k = self.index_at(t);
+        match self.motions.get(k) {
+            Some(m) => (k, m.motion.sample(t - m.start_s)),
+            // No motion: never planned (a procedure has at least one).
+            None => (0, held_at(&self.start)),
+        }
+    }
+
+    /// The index of the motion under way at `t` (s): the last one started at
+    /// or before `t` (a motion's end is the next one's start, the same
+    /// state).
+    pub fn index_at(&self, t: f64) -> usize {
+        self.motions
+            .partition_point(|m| m.start_s <= t)
+            .saturating_sub(1)
+    }
+}
+
+impl parasils::traj::Motion<f64> for ProcedurePlan {
+    type Output = (usize, MotionSample<f64>);
+
+    fn duration(&self) -> f64 {
+        self.duration
+    }
+
+    fn sample(&self, t: f64) -> Self::Output {
+        self.sample_at(t)
+    }
+}
+
+/// The robot at rest in `state`.
+fn held_at(state: &RobotState<f64>) -> MotionSample<f64> {
+    MotionSample {
+        platform: PlatformState::at_rest(state.pose),
+        left: ModuleCommand::Joints(JointMotion::held(state.joints[0])),
+        right: ModuleCommand::Joints(JointMotion::held(state.joints[1])),
+        endoscope: parasils::traj::State::rest(state.endoscope_depth),
+    }
+}
+
+/// The motion `spec` from `state`, at rest.
+fn plan(
+    controller: &Controller<f64>,
+    state: &RobotState<f64>,
+    spec: &MotionSpec,
+) -> Result<Motion<f64>, Continue> {
+    let l = &spec.limits;
+    let linear = Limits::new(l.velocity_mm_s, l.acceleration_mm_s2);
+    let angular = Limits::new(
+        l.velocity_deg_s.to_radians(),
+        l.acceleration_deg_s2.to_radians(),
+    );
+    Ok(match spec.goal {
+        MotionGoal::Position { pose_mm_deg: p } => Motion::Position(Positioning::new(
+            state,
+            Pose::from_mm_deg(p[0], p[1], p[2], p[3], p[4], p[5]),
+            linear,
+            angular,
+        )?),
+        MotionGoal::Insert { port, depth_mm } => {
+            Motion::Insert(Insertion::new(state, port, depth_mm, linear)?)
+        }
+        MotionGoal::Manipulate {
+            tip_left_mm,
+            tip_right_mm,
+        } => Motion::Manipulate(Manipulation::new(
+            state,
+            tips_of(controller, &state.pose, &state.joints),
+            [
+                tip_left_mm.map(Vector3::from),
+                tip_right_mm.map(Vector3::from),
+            ],
+            linear,
+        )?),
+        MotionGoal::Stop => {
+            return Err(Continue::Mismatch(String::from(
+                "nothing to stop: the motion before is at rest",
+            )));
+        }
+        MotionGoal::Reorient {
+            psi_deg,
+            theta_deg,
+            absolute,
+        } => {
+            let [psi, theta] = [psi_deg.to_radians(), theta_deg.to_radians()];
+            let goal = if absolute {
+                [psi, theta]
+            } else {
+                [state.pose.psi + psi, state.pose.theta + theta]
+            };
+            let turn = Reorientation::new(state.pose, goal, [angular; 2], Synchronization::Phase)?;
+            Motion::Reorient(Turning::new(
+                turn,
+                tips_of(controller, &state.pose, &state.joints),
+                state.endoscope_depth,
+            ))
+        }
+    })
+}
+
+/// Why a motion cannot continue the one before.
+enum Continue {
+    Trajectory(parasils::traj::Error),
+    Mismatch(String),
+}
+
+impl From<parasils::traj::Error> for Continue {
+    fn from(e: parasils::traj::Error) -> Self {
+        Continue::Trajectory(e)
+    }
+}
+
+/// The motion `spec` from the moving state `m` of the motion before (cut
+/// short): a stop of it, or a motion of the same type replanned from it.
+/// A stop decelerates at the limits of the motion it stops (`stopped`)
+/// unless it gives limits of its own.
+fn continued(
+    controller: &Controller<f64>,
+    state: &RobotState<f64>,
+    spec: &MotionSpec,
+    m: Moving<f64>,
+    stopped: MotionLimits,
+) -> Result<Motion<f64>, Continue> {
+    let l = if spec.goal == MotionGoal::Stop && spec.limits == MotionLimits::default() {
+        stopped
+    } else {
+        spec.limits
+    };
+    let linear = Limits::new(l.velocity_mm_s, l.acceleration_mm_s2);
+    let angular = Limits::new(
+        l.velocity_deg_s.to_radians(),
+        l.acceleration_deg_s2.to_radians(),
+    );
+    let tips = || tips_of(controller, &state.pose, &state.joints);
+    Ok(match (spec.goal, m) {
+        (MotionGoal::Stop, Moving::Pose(s)) => {
+            Motion::Position(Positioning::stop(state, s, linear, angular)?)
+        }
+        (MotionGoal::Stop, Moving::Depth(port, s)) => {
+            Motion::Insert(Insertion::stop(state, port, s, linear)?)
+        }
+        (MotionGoal::Stop, Moving::Tips(s)) => {
+            Motion::Manipulate(Manipulation::stop(state, s, linear)?)
+        }
+        (MotionGoal::Stop, Moving::Angles(a)) => Motion::Reorient(Turning::stop(
+            state.pose,
+            a,
+            angular,
+            tips(),
+            state.endoscope_depth,
+        )?),
+        (MotionGoal::Position { pose_mm_deg: p }, Moving::Pose(s)) => {
+            Motion::Position(Positioning::from_moving(
+                state,
+                s,
+                Pose::from_mm_deg(p[0], p[1], p[2], p[3], p[4], p[5]),
+                linear,
+                angular,
+            )?)
+        }
+        (MotionGoal::Insert { port, depth_mm }, Moving::Depth(moving, s)) if port == moving => {
+            Motion::Insert(Insertion::from_moving(state, port, s, depth_mm, linear)?)
+        }
+        (
+            MotionGoal::Manipulate {
+                tip_left_mm,
+                tip_right_mm,
+            },
+            Moving::Tips(s),
+        ) => Motion::Manipulate(Manipulation::from_moving(
+            state,
+            s,
+            [
+                tip_left_mm.map(Vector3::from),
+                tip_right_mm.map(Vector3::from),
+            ],
+            linear,
+        )?),
+        (
+            MotionGoal::Reorient {
+                psi_deg,
+                theta_deg,
+                absolute,
+            },
+            Moving::Angles(a),
+        ) => {
+            let [psi, theta] = [psi_deg.to_radians(), theta_deg.to_radians()];
+            let goal = if absolute {
+                [psi, theta]
+            } else {
+                [a[0].position + psi, a[1].position + theta]
+            };
+            Motion::Reorient(Turning::from_moving(
+                state.pose,
+                a,
+                goal,
+                angular,
+                tips(),
+                state.endoscope_depth,
+            )?)
+        }
+        (goal, m) => {
+            let was = match m {
+                Moving::Pose(_) => "position",
+                Moving::Depth(Port::Left, _) => "insert (left)",
+                Moving::Depth(Port::Right, _) => "insert (right)",
+                Moving::Depth(Port::Endoscope, _) => "insert (endoscope)",
+                Moving::Tips(_) => "manipulate",
+                Moving::Angles(_) => "reorient",
+            };
+            let is = match goal {
+                MotionGoal::Insert { port, .. } => format!("insert ({})", port.name()),
+                g => String::from(g.motion_type().map_or("stop", MotionType::name)),
+            };
+            return Err(Continue::Mismatch(format!(
+                "the motion before was cut short while moving (its until_s): only a stop or another {was:?} motion can start from its moving state, not {is:?}"
+            )));
+        }
+    })
+}
+
+/// What the check of a procedure found in one motion: its duration, its
+/// peak rates and its smallest margins.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MotionCheck {
+    /// The motion.
+    pub name: MotionName,
+    /// When it starts, s.
+    pub start_s: f64,
+    /// Its duration, s.
+    pub duration_s: f64,
+    /// The largest `|q_dot|` of module 1's actuators, mm/s.
+    pub peak_module1_mm_s: f64,
+    /// The largest `|qs1_dot|`, `|qs2_dot|` of either instrument module,
+    /// rad/s.
+    pub peak_joint_rad_s: f64,
+    /// The largest `|qs3_dot|` of either instrument module, mm/s.
+    pub peak_qs3_mm_s: f64,
+    /// The smallest value of each margin over the motion.
+    pub smallest: Margins<f64>,
+    /// The largest distance between a tip by forward kinematics and its
+    /// command, mm.
+    pub tip_err_mm: f64,
+}
+
+/// A margin below its warning threshold during a motion: from when, until
+/// when, and how low it went.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Warning {
+    /// The margin.
+    pub margin: Margin,
+    /// The motion's index.
+    pub motion: usize,
+    /// The first sample below the threshold, s from the procedure's start.
+    pub from_s: f64,
+    /// The last sample below it, s.
+    pub until_s: f64,
+    /// The smallest value, in the margin's unit.
+    pub smallest: f64,
+    /// The warning threshold.
+    pub threshold: f64,
+}
+
+/// The check of a whole procedure: one [`MotionCheck`] per motion and the
+/// warnings of its supervisor, in time order.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ProcedureCheck {
+    /// Per motion.
+    pub motions: Vec<MotionCheck>,
+    /// Every episode of a margin below its warning threshold.
+    pub warnings: Vec<Warning>,
+    /// Per margin, the warning under way: its place in `warnings` and the
+    /// last sample's index.
+    open: [Option<(usize, usize)>; Margin::COUNT],
+}
+
+impl ProcedureCheck {
+    /// An empty check of `plan`'s motions.
+    pub(super) fn new(plan: &ProcedurePlan) -> Self {
+        Self {
+            motions: plan
+                .motions
+                .iter()
+                .map(|m| MotionCheck {
+                    name: m.name.clone(),
+                    start_s: m.start_s,
+                    duration_s: m.length_s,
+                    peak_module1_mm_s: 0.0,
+                    peak_joint_rad_s: 0.0,
+                    peak_qs3_mm_s: 0.0,
+                    smallest: Margins::splat(f64::INFINITY),
+                    tip_err_mm: 0.0,
+                })
+                .collect(),
+            warnings: Vec::new(),
+            open: [None; Margin::COUNT],
+        }
+    }
+
+    /// Takes one record and its margins into account.
+    pub(super) fn push(
+        &mut self,
+        record: &Record,
+        margins: &Margins<f64>,
+        supervisor: &Supervisor<f64>,
+    ) {
+        let k = record.motion as usize;
+        let Some(m) = self.motions.get_mut(k) else {
+            return;
+        };
+        let amax = |v: &[f64]| v.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+        m.peak_module1_mm_s = m.peak_module1_mm_s.max(amax(&record.module1.q_dot));
+        for side in [&record.left, &record.right] {
+            m.peak_joint_rad_s = m.peak_joint_rad_s.max(amax(&side.q_dot[..2]));
+            m.peak_qs3_mm_s = m.peak_qs3_mm_s.max(side.q_dot[2].abs());
+            m.tip_err_mm = m.tip_err_mm.max(side.tip_err);
+        }
+        for margin in Margin::ALL {
+            m.smallest[margin] = m.smallest[margin].min(margins[margin]);
+        }
+        for (slot, margin) in self.open.iter_mut().zip(Margin::ALL) {
+            if !record.warnings.contains(margin) {
+                *slot = None;
+                continue;
+            }
+            let going = slot
+                .and_then(|(w, last)| (last + 1 == record.index).then_some(w))
+                .filter(|&w| self.warnings.get(w).is_some_and(|w| w.motion == k));
+            let w = match going {
+                Some(w) => w,
+                None => {
+                    self.warnings.push(Warning {
+                        margin,
+                        motion: k,
+                        from_s: record.t,
+                        until_s: record.t,
+                        smallest: margins[margin],
+                        threshold: supervisor.warn[margin],
+                    });
+                    self.warnings.len() - 1
+                }
+            };
+            if let Some(x) = self.warnings.get_mut(w) {
+                x.until_s = record.t;
+                x.smallest = x.smallest.min(margins[margin]);
+            }
+            *slot = Some((w, record.index));
+        }
+    }
+}
+
+/// The command for tip targets of a sample: where each module's tip is
+/// commanded (by its tip, or by forward kinematics of its commanded joints).
+pub(super) fn commanded_tips(
+    controller: &Controller<f64>,
+    sample: &MotionSample<f64>,
+    frame: &PlatformFrame<f64>,
+) -> TipTargets<f64> {
+    let tip = |m: &Instrument<f64>, c: &ModuleCommand<f64>| match c {
+        ModuleCommand::Tip(t) => t.position,
+        ModuleCommand::Joints(j) => frame.to_fixed(&m.fk_platform(&j.q)),
+    };
+    TipTargets {
+        left: tip(&controller.left, &sample.left),
+        right: tip(&controller.right, &sample.right),
+    }
+}

@@ -1,0 +1,197 @@
+//! A procedure's motions in user units: what each does ([`MotionGoal`], one
+//! per motion type of the paper), within which limits ([`MotionLimits`],
+//! with the defaults stated once), and how messages name it
+//! ([`MotionName`]). A [`Scenario`](crate::Scenario) holds them in
+//! [`Scenario::motions`](crate::Scenario::motions); the
+//! [`procedure`](crate::procedure) module reads them from files, and the
+//! [`engine`](crate::engine) plans them with `parasils::motions`.
+//!
+//! ```
+//! use parasils_sim::motion::{MotionGoal, MotionSpec, Port};
+//! use parasils_sim::{Scenario, Simulation};
+//!
+//! let scenario = Scenario {
+//!     motions: vec![
+//!         MotionSpec::new(MotionGoal::Insert { port: Port::Endoscope, depth_mm: 40.0 }),
+//!         MotionSpec::new(MotionGoal::Reorient { psi_deg: 15.0, theta_deg: 25.0, absolute: false }),
+//!     ],
+//!     ..Scenario::paper()
+//! };
+//! let sim = Simulation::new(scenario)?;
+//! // 40 mm at the default 20 mm/s and 20 mm/s^2: 1 s to reach 20 mm/s, 1 s
+//! // at it, 1 s to stop; then the paper's 4.5 s turn.
+//! assert!((sim.duration() - 7.5).abs() < 1e-12);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub use parasils::motions::{MotionType, Port};
+
+/// A port by its name in procedure files.
+fn port_name<S: serde::Serializer>(port: &Port, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(port.name())
+}
+
+/// The default linear velocity limit of a motion, mm/s: the platform's `x`,
+/// `y`, `z` (type 1), an insertion's depth (type 2), a tip's arc length
+/// (type 3). Chosen here, not the paper's: a slow, deliberate speed inside
+/// the patient.
+pub const VELOCITY_MM_S: f64 = 20.0;
+
+/// The default linear acceleration limit of a motion, mm/s^2 (see
+/// [`VELOCITY_MM_S`]).
+pub const ACCELERATION_MM_S2: f64 = 20.0;
+
+/// The limits of one motion, in user units. The angular ones bind the
+/// platform's Euler angles (types 1 and 4), each angle on its own; the
+/// linear ones bind `x, y, z` each (type 1), the depth (type 2) and each
+/// tip's arc length (type 3).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct MotionLimits {
+    /// mm/s (default [`VELOCITY_MM_S`]).
+    pub velocity_mm_s: f64,
+    /// mm/s^2 (default [`ACCELERATION_MM_S2`]).
+    pub acceleration_mm_s2: f64,
+    /// deg/s (default the paper's 10 deg/s).
+    pub velocity_deg_s: f64,
+    /// deg/s^2 (default the paper's 5 deg/s^2).
+    pub acceleration_deg_s2: f64,
+}
+
+impl Default for MotionLimits {
+    fn default() -> Self {
+        Self {
+            velocity_mm_s: VELOCITY_MM_S,
+            acceleration_mm_s2: ACCELERATION_MM_S2,
+            velocity_deg_s: parasils::paper::OMEGA_MAX_DEG_S,
+            acceleration_deg_s2: parasils::paper::EPS_MAX_DEG_S2,
+        }
+    }
+}
+
+/// What one motion does, in user units.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(tag = "type", rename_all = "lowercase")]
+pub enum MotionGoal {
+    /// Type 1: the platform to `pose_mm_deg` (`x, y, z` mm, `psi, theta,
+    /// phi` deg, absolute), on a straight line in pose space.
+    Position {
+        /// The final pose.
+        #[serde(rename = "pose")]
+        pose_mm_deg: [f64; 6],
+    },
+    /// Type 2: `port` inserted by `depth_mm` (positive inwards) along its
+    /// axis.
+    Insert {
+        /// The instrument or the endoscope.
+        #[serde(rename = "instrument", serialize_with = "port_name")]
+        port: Port,
+        /// The signed depth, mm.
+        depth_mm: f64,
+    },
+    /// Type 3: the tips to these points (mm, fixed frame) on straight lines;
+    /// `None` holds a tip. At least one is given.
+    Manipulate {
+        /// The left tip's target.
+        tip_left_mm: Option<[f64; 3]>,
+        /// The right tip's target.
+        tip_right_mm: Option<[f64; 3]>,
+    },
+    /// The controlled stop of the motion before it, cut short while moving
+    /// ([`MotionSpec::until_s`]): its coordinates to rest together, at the
+    /// limits of the motion it stops (or its own, when it gives them). It
+    /// keeps the type of the motion it stops.
+    Stop,
+    /// Type 4: the platform turned by `psi_deg`, `theta_deg` (increments, or
+    /// final angles with `absolute`), both tips held.
+    Reorient {
+        /// `psi`, deg.
+        psi_deg: f64,
+        /// `theta`, deg.
+        theta_deg: f64,
+        /// Whether the angles are final rather than increments.
+        absolute: bool,
+    },
+}
+
+impl MotionGoal {
+    /// The motion's type; `None` for a stop, whose type is that of the
+    /// motion it stops.
+    pub fn motion_type(&self) -> Option<MotionType> {
+        match self {
+            MotionGoal::Position { .. } => Some(MotionType::Position),
+            MotionGoal::Insert { .. } => Some(MotionType::Insert),
+            MotionGoal::Manipulate { .. } => Some(MotionType::Manipulate),
+            MotionGoal::Reorient { .. } => Some(MotionType::Reorient),
+            MotionGoal::Stop => None,
+        }
+    }
+}
+
+/// One motion of a procedure: its goal, its limits and an optional name.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct MotionSpec {
+    /// What it does.
+    #[serde(flatten)]
+    pub goal: MotionGoal,
+    /// Within which limits.
+    pub limits: MotionLimits,
+    /// A name for messages and outputs (`"camera to the gallbladder"`).
+    pub name: Option<String>,
+    /// When the next motion takes over, s from this one's start: before the
+    /// motion's end, it is cut short there and the next motion (a `stop`, or
+    /// one of the same type) starts from its moving state; after its end, the
+    /// robot rests until then. `None`: at the motion's end.
+    pub until_s: Option<f64>,
+}
+
+impl MotionSpec {
+    /// `goal` with the default limits and no name.
+    pub fn new(goal: MotionGoal) -> Self {
+        Self {
+            goal,
+            limits: MotionLimits::default(),
+            name: None,
+            until_s: None,
+        }
+    }
+
+    /// The motion's type; `None` for a stop (see [`MotionGoal::motion_type`]).
+    pub fn motion_type(&self) -> Option<MotionType> {
+        self.goal.motion_type()
+    }
+}
+
+/// A motion as messages name it: `motion 3 (reorient "camera up")`, the
+/// index counted from 0 as in the output's `motion` column.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MotionName {
+    /// The index, from 0.
+    pub index: usize,
+    /// The type (a stop's is that of the motion it stops).
+    pub motion_type: MotionType,
+    /// Whether it is a stop.
+    pub stop: bool,
+    /// The name, if the motion has one.
+    pub name: Option<String>,
+}
+
+impl MotionName {
+    /// How procedures name its type: `"position"`, ..., or `"stop"`.
+    pub fn type_name(&self) -> &'static str {
+        if self.stop {
+            "stop"
+        } else {
+            self.motion_type.name()
+        }
+    }
+}
+
+impl core::fmt::Display for MotionName {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "motion {} ({}", self.index, self.type_name())?;
+        if let Some(name) = &self.name {
+            write!(f, " {name:?}")?;
+        }
+        f.write_str(")")
+    }
+}

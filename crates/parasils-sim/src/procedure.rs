@@ -1,0 +1,646 @@
+//! Procedures: a surgical task as a sequence of motions of the paper's four
+//! types, each starting where the previous one ended, read from a TOML file
+//! (the format of `procedures/sils-demo.toml`) or from JSON of the same
+//! structure (the Python bindings' dicts) into a [`Scenario`] whose
+//! [`Scenario::motions`] is not empty; the start (pose, tips, endoscope
+//! depth, robot) is the file's, the sampling rate the caller's.
+//! [`Simulation::new`](crate::Simulation::new) plans every motion and checks
+//! the whole procedure before a record is written (see
+//! [`crate::engine`]).
+//!
+//! The file has the robot file's habits (every key names its unit):
+//!
+//! ```toml
+//! robot = "../robots/default.toml"    # optional, relative to this file
+//! pose = [15, 20, -460, -15, 10, -60] # start pose, mm and deg (default: the paper's P0)
+//! tip_left_mm = [50, -50, -580]       # start tips (joints from the IK, mode A)
+//! # tip_right_mm: default the left tip's mirror across the platform at the start
+//! endoscope_depth_mm = 0              # default 0
+//!
+//! [[motion]]
+//! type = "position"                   # 1: pose = [x, y, z, psi, theta, phi], absolute
+//! pose = [15, 20, -500, -15, 10, -60]
+//! [[motion]]
+//! type = "insert"                     # 2: instrument = "left", "right" or "endoscope"
+//! instrument = "endoscope"
+//! depth_mm = 60                       # signed, positive inwards
+//! [[motion]]
+//! type = "manipulate"                 # 3: instrument = "left" or "right" with tip_mm,
+//! instrument = "left"                 #    or "both" with tip_left_mm and tip_right_mm
+//! tip_mm = [60, -40, -630]
+//! [[motion]]
+//! type = "reorient"                   # 4: increments, or final angles with absolute = true
+//! psi_deg = 15
+//! theta_deg = 25
+//! ```
+//!
+//! Each motion may also give `name` and its limits: `velocity_mm_s` and
+//! `acceleration_mm_s2` (types 1 to 3), `velocity_deg_s` and
+//! `acceleration_deg_s2` (types 1 and 4); see
+//! [`MotionLimits`] for the defaults. `until_s = T` hands over to the next
+//! motion `T` s after the motion's start: before its end, the motion is cut
+//! short and the next one (`type = "stop"`, the controlled stop, or a motion
+//! of the same type, replanned from the moving state) starts at its speed;
+//! after its end, the robot rests until then. A key that does not apply to
+//! its motion's type, an unknown or missing key and a bad value are errors
+//! naming the motion (index from 0), the key and the line.
+
+use core::fmt;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use crate::motion::{MotionGoal, MotionLimits, MotionSpec, MotionType, Port};
+use crate::numbers::Num;
+use crate::robot_file::{self, RobotFileError};
+use crate::scenario::Scenario;
+
+/// What went wrong with a procedure.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ProcedureError {
+    /// The file could not be read.
+    #[error("{}: {error}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        error: std::io::Error,
+    },
+    /// Malformed TOML, or a key or value that is wrong.
+    #[error("{origin}{}: {message}", Place { line: *line, motion: *motion, key: key.as_deref() })]
+    Invalid {
+        /// The file's path, or `"procedure"`.
+        origin: Box<str>,
+        /// The line (1-based), when known.
+        line: Option<usize>,
+        /// The motion's index (from 0), when the error is inside one.
+        motion: Option<usize>,
+        /// The key, when the error is about one.
+        key: Option<Box<str>>,
+        /// What is wrong.
+        message: String,
+    },
+    /// The robot file the procedure names is wrong.
+    #[error("{0}")]
+    Robot(#[from] RobotFileError),
+}
+
+struct Place<'a> {
+    line: Option<usize>,
+    motion: Option<usize>,
+    key: Option<&'a str>,
+}
+
+impl fmt::Display for Place<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some(line) = self.line {
+            write!(f, ", line {line}")?;
+        }
+        if let Some(motion) = self.motion {
+            write!(f, ", motion {motion}")?;
+        }
+        if let Some(key) = self.key {
+            write!(f, ", key `{key}`")?;
+        }
+        Ok(())
+    }
+}
+
+/// The file's top level.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ProcedureFile {
+    robot: Option<String>,
+    pose: Option<[f64; 6]>,
+    tip_left_mm: Option<[f64; 3]>,
+    tip_right_mm: Option<[f64; 3]>,
+    endoscope_depth_mm: Option<f64>,
+    motion: Vec<MotionFile>,
+}
+
+/// One `[[motion]]`: every key any type takes; which apply is checked after.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MotionFile {
+    #[serde(rename = "type")]
+    kind: String,
+    name: Option<String>,
+    pose: Option<[f64; 6]>,
+    instrument: Option<String>,
+    depth_mm: Option<f64>,
+    tip_mm: Option<[f64; 3]>,
+    tip_left_mm: Option<[f64; 3]>,
+    tip_right_mm: Option<[f64; 3]>,
+    psi_deg: Option<f64>,
+    theta_deg: Option<f64>,
+    absolute: Option<bool>,
+    velocity_mm_s: Option<f64>,
+    acceleration_mm_s2: Option<f64>,
+    velocity_deg_s: Option<f64>,
+    acceleration_deg_s2: Option<f64>,
+    until_s: Option<f64>,
+}
+
+/// Reads the procedure at `path` (a robot it names is read relative to the
+/// file's folder), starting from [`Scenario::paper`] for everything the
+/// file does not give (the sampling rate, for one).
+///
+/// # Errors
+/// [`ProcedureError::Io`] when a file cannot be read,
+/// [`ProcedureError::Invalid`] naming the line, motion and key of what is
+/// wrong, [`ProcedureError::Robot`] for the robot file's own errors.
+pub fn load(path: impl AsRef<Path>) -> Result<Scenario, ProcedureError> {
+    let path = path.as_ref();
+    let text = std::fs::read_to_string(path).map_err(|error| ProcedureError::Io {
+        path: path.to_owned(),
+        error,
+    })?;
+    let base = path.parent().unwrap_or(Path::new(""));
+    parse(&text, &path.display().to_string(), base)
+}
+
+/// A procedure's TOML text; `origin` names it in errors and a robot it
+/// names is read relative to `base`.
+///
+/// # Errors
+/// As [`load`].
+pub fn parse(text: &str, origin: &str, base: &Path) -> Result<Scenario, ProcedureError> {
+    let file: ProcedureFile = toml::from_str(text).map_err(|e| {
+        let line = e.span().map(|s| line_of(text, s.start));
+        let motion = e.span().and_then(|s| motion_at(text, s.start));
+        ProcedureError::Invalid {
+            origin: origin.into(),
+            line,
+            motion,
+            key: None,
+            message: e.message().trim_end().to_owned(),
+        }
+    })?;
+    build(file, origin, Some(text), base)
+}
+
+/// A procedure from JSON text of the same structure as the TOML file (what
+/// the Python bindings send for a dict); a robot it names is read relative
+/// to `base`. Errors name the motion and key (there are no lines).
+///
+/// # Errors
+/// As [`load`].
+pub fn parse_json(text: &str, base: &Path) -> Result<Scenario, ProcedureError> {
+    let origin = "procedure";
+    let file: ProcedureFile = serde_json::from_str(text).map_err(|e| ProcedureError::Invalid {
+        origin: origin.into(),
+        line: None,
+        motion: None,
+        key: None,
+        message: e.to_string(),
+    })?;
+    build(file, origin, None, base)
+}
+
+/// The line (1-based) of byte offset `at`.
+fn line_of(text: &str, at: usize) -> usize {
+    let at = at.min(text.len());
+    text.as_bytes()
+        .get(..at)
+        .map_or(0, |b| b.iter().filter(|&&c| c == b'\n').count())
+        + 1
+}
+
+/// Whether a line is a `[[motion]]` header.
+fn is_motion_header(line: &str) -> bool {
+    line.split('#').next().unwrap_or("").trim() == "[[motion]]"
+}
+
+/// The motion (from 0) whose table holds byte offset `at`, if any.
+fn motion_at(text: &str, at: usize) -> Option<usize> {
+    let mut offset = 0;
+    let mut count = 0usize;
+    for line in text.split_inclusive('\n') {
+        if offset > at {
+            break;
+        }
+        if is_motion_header(line) {
+            count += 1;
+        }
+        offset += line.len();
+    }
+    count.checked_sub(1)
+}
+
+/// The line of `key` in motion `motion` (`None`: the top level), or of the
+/// motion's header when the key is not written.
+fn locate(text: &str, motion: Option<usize>, key: &str) -> Option<usize> {
+    let mut current: Option<usize> = None;
+    let mut header = None;
+    for (n, line) in text.lines().enumerate() {
+        if is_motion_header(line) {
+            current = Some(current.map_or(0, |k| k + 1));
+            if current == motion {
+                header = Some(n + 1);
+            }
+            continue;
+        }
+        if current == motion {
+            let k = line.split('=').next().unwrap_or("").trim();
+            if k == key {
+                return Some(n + 1);
+            }
+        }
+    }
+    header
+}
+
+/// Builds errors with the place of a key.
+struct Errors<'a> {
+    origin: &'a str,
+    text: Option<&'a str>,
+}
+
+impl Errors<'_> {
+    fn at(&self, motion: Option<usize>, key: &str, message: String) -> ProcedureError {
+        ProcedureError::Invalid {
+            origin: self.origin.into(),
+            line: self.text.and_then(|t| locate(t, motion, key)),
+            motion,
+            key: Some(key.into()),
+            message,
+        }
+    }
+
+    fn finite<const N: usize>(
+        &self,
+        motion: Option<usize>,
+        key: &str,
+        v: [f64; N],
+    ) -> Result<[f64; N], ProcedureError> {
+        match v.iter().find(|x| !x.is_finite()) {
+            Some(x) => Err(self.at(motion, key, format!("{} is not a finite number", Num(*x)))),
+            None => Ok(v),
+        }
+    }
+
+    fn positive(
+        &self,
+        m: usize,
+        key: &str,
+        v: Option<f64>,
+        default: f64,
+    ) -> Result<f64, ProcedureError> {
+        match v {
+            None => Ok(default),
+            Some(x) if x.is_finite() && x > 0.0 => Ok(x),
+            Some(x) => Err(self.at(Some(m), key, format!("{} is not a positive number", Num(x)))),
+        }
+    }
+}
+
+fn build(
+    file: ProcedureFile,
+    origin: &str,
+    text: Option<&str>,
+    base: &Path,
+) -> Result<Scenario, ProcedureError> {
+    let errors = Errors { origin, text };
+    let mut scenario = Scenario::paper();
+    if let Some(robot) = &file.robot {
+        let path = base.join(robot);
+        scenario.robot = robot_file::load(&path)?;
+        scenario.supervisor = crate::supervisor::load(&path)?;
+    }
+    if let Some(pose) = file.pose {
+        scenario.start_mm_deg = errors.finite(None, "pose", pose)?;
+    }
+    if let Some(tip) = file.tip_left_mm {
+        scenario.tip_left_mm = errors.finite(None, "tip_left_mm", tip)?;
+    }
+    if let Some(tip) = file.tip_right_mm {
+        scenario.tip_right_mm = Some(errors.finite(None, "tip_right_mm", tip)?);
+    }
+    if let Some(depth) = file.endoscope_depth_mm {
+        scenario.endoscope_depth_mm = errors.finite(None, "endoscope_depth_mm", [depth])?[0];
+    }
+    if file.motion.is_empty() {
+        return Err(ProcedureError::Invalid {
+            origin: origin.into(),
+            line: None,
+            motion: None,
+            key: Some("motion".into()),
+            message: String::from("a procedure needs at least one [[motion]]"),
+        });
+    }
+    scenario.motions = file
+        .motion
+        .into_iter()
+        .enumerate()
+        .map(|(k, m)| motion(&errors, k, m))
+        .collect::<Result<_, _>>()?;
+    Ok(scenario)
+}
+
+/// The keys of a motion that are given, with their names.
+fn given(m: &MotionFile) -> [(&'static str, bool); 13] {
+    [
+        ("pose", m.pose.is_some()),
+        ("instrument", m.instrument.is_some()),
+        ("depth_mm", m.depth_mm.is_some()),
+        ("tip_mm", m.tip_mm.is_some()),
+        ("tip_left_mm", m.tip_left_mm.is_some()),
+        ("tip_right_mm", m.tip_right_mm.is_some()),
+        ("psi_deg", m.psi_deg.is_some()),
+        ("theta_deg", m.theta_deg.is_some()),
+        ("absolute", m.absolute.is_some()),
+        ("velocity_mm_s", m.velocity_mm_s.is_some()),
+        ("acceleration_mm_s2", m.acceleration_mm_s2.is_some()),
+        ("velocity_deg_s", m.velocity_deg_s.is_some()),
+        ("acceleration_deg_s2", m.acceleration_deg_s2.is_some()),
+    ]
+}
+
+/// The keys each type takes (besides `type`, `name` and `until_s`); `None`
+/// is the stop, which takes the limits.
+fn applies(t: Option<MotionType>, key: &str) -> bool {
+    let linear = matches!(key, "velocity_mm_s" | "acceleration_mm_s2");
+    let angular = matches!(key, "velocity_deg_s" | "acceleration_deg_s2");
+    match t {
+        Some(MotionType::Position) => key == "pose" || linear || angular,
+        Some(MotionType::Insert) => matches!(key, "instrument" | "depth_mm") || linear,
+        Some(MotionType::Manipulate) => {
+            matches!(
+                key,
+                "instrument" | "tip_mm" | "tip_left_mm" | "tip_right_mm"
+            ) || linear
+        }
+        Some(MotionType::Reorient) => {
+            matches!(key, "psi_deg" | "theta_deg" | "absolute") || angular
+        }
+        None => linear || angular,
+    }
+}
+
+fn motion(errors: &Errors<'_>, k: usize, m: MotionFile) -> Result<MotionSpec, ProcedureError> {
+    let at = Some(k);
+    let motion_type = match m.kind.as_str() {
+        "position" => Some(MotionType::Position),
+        "insert" => Some(MotionType::Insert),
+        "manipulate" => Some(MotionType::Manipulate),
+        "reorient" => Some(MotionType::Reorient),
+        "stop" => None,
+        other => {
+            return Err(errors.at(
+                at,
+                "type",
+                format!(
+                    "unknown motion type {other:?}: expected \"position\", \"insert\", \"manipulate\", \"reorient\" or \"stop\""
+                ),
+            ));
+        }
+    };
+    let type_name = motion_type.map_or("stop", MotionType::name);
+    for (key, present) in given(&m) {
+        if present && !applies(motion_type, key) {
+            return Err(errors.at(at, key, format!("does not apply to a {type_name:?} motion")));
+        }
+    }
+    let missing = |key: &str| errors.at(at, key, format!("missing for a {type_name:?} motion"));
+    let instrument = |allowed: &[&str]| -> Result<String, ProcedureError> {
+        let name = m.instrument.clone().ok_or_else(|| missing("instrument"))?;
+        if allowed.contains(&name.as_str()) {
+            Ok(name)
+        } else {
+            Err(errors.at(
+                at,
+                "instrument",
+                format!("{name:?} is not one of {}", allowed.join(", ")),
+            ))
+        }
+    };
+    let goal = match motion_type {
+        None => MotionGoal::Stop,
+        Some(MotionType::Position) => MotionGoal::Position {
+            pose_mm_deg: errors.finite(at, "pose", m.pose.ok_or_else(|| missing("pose"))?)?,
+        },
+        Some(MotionType::Insert) => {
+            let port = match instrument(&["left", "right", "endoscope"])?.as_str() {
+                "left" => Port::Left,
+                "right" => Port::Right,
+                _ => Port::Endoscope,
+            };
+            let depth = m.depth_mm.ok_or_else(|| missing("depth_mm"))?;
+            MotionGoal::Insert {
+                port,
+                depth_mm: errors.finite(at, "depth_mm", [depth])?[0],
+            }
+        }
+        Some(MotionType::Manipulate) => {
+            let which = instrument(&["left", "right", "both"])?;
+            let tip = |key: &str, v: Option<[f64; 3]>| -> Result<[f64; 3], ProcedureError> {
+                errors.finite(at, key, v.ok_or_else(|| missing(key))?)
+            };
+            let wrong = |key: &str| {
+                errors.at(
+                    at,
+                    key,
+                    format!("does not apply with instrument = {which:?} (use tip_mm for one instrument, tip_left_mm and tip_right_mm for both)"),
+                )
+            };
+            if which == "both" {
+                if m.tip_mm.is_some() {
+                    return Err(wrong("tip_mm"));
+                }
+                MotionGoal::Manipulate {
+                    tip_left_mm: Some(tip("tip_left_mm", m.tip_left_mm)?),
+                    tip_right_mm: Some(tip("tip_right_mm", m.tip_right_mm)?),
+                }
+            } else {
+                for (key, v) in [
+                    ("tip_left_mm", m.tip_left_mm),
+                    ("tip_right_mm", m.tip_right_mm),
+                ] {
+                    if v.is_some() {
+                        return Err(wrong(key));
+                    }
+                }
+                let t = tip("tip_mm", m.tip_mm)?;
+                if which == "left" {
+                    MotionGoal::Manipulate {
+                        tip_left_mm: Some(t),
+                        tip_right_mm: None,
+                    }
+                } else {
+                    MotionGoal::Manipulate {
+                        tip_left_mm: None,
+                        tip_right_mm: Some(t),
+                    }
+                }
+            }
+        }
+        Some(MotionType::Reorient) => {
+            let psi = m.psi_deg.ok_or_else(|| missing("psi_deg"))?;
+            let theta = m.theta_deg.ok_or_else(|| missing("theta_deg"))?;
+            MotionGoal::Reorient {
+                psi_deg: errors.finite(at, "psi_deg", [psi])?[0],
+                theta_deg: errors.finite(at, "theta_deg", [theta])?[0],
+                absolute: m.absolute.unwrap_or(false),
+            }
+        }
+    };
+    let d = MotionLimits::default();
+    let limits = MotionLimits {
+        velocity_mm_s: errors.positive(k, "velocity_mm_s", m.velocity_mm_s, d.velocity_mm_s)?,
+        acceleration_mm_s2: errors.positive(
+            k,
+            "acceleration_mm_s2",
+            m.acceleration_mm_s2,
+            d.acceleration_mm_s2,
+        )?,
+        velocity_deg_s: errors.positive(k, "velocity_deg_s", m.velocity_deg_s, d.velocity_deg_s)?,
+        acceleration_deg_s2: errors.positive(
+            k,
+            "acceleration_deg_s2",
+            m.acceleration_deg_s2,
+            d.acceleration_deg_s2,
+        )?,
+    };
+    let until_s = match m.until_s {
+        None => None,
+        Some(t) if t.is_finite() && t > 0.0 => Some(t),
+        Some(t) => {
+            return Err(errors.at(
+                at,
+                "until_s",
+                format!("{} is not a positive number of seconds", Num(t)),
+            ));
+        }
+    };
+    Ok(MotionSpec {
+        goal,
+        limits,
+        name: m.name,
+        until_s,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse_text(text: &str) -> Result<Scenario, ProcedureError> {
+        parse(text, "p.toml", Path::new("."))
+    }
+
+    #[test]
+    fn every_type_reads_with_its_defaults() -> Result<(), ProcedureError> {
+        let s = parse_text(
+            "pose = [15, 20, -460, -15, 10, -60]\nendoscope_depth_mm = 5\n\
+             [[motion]]\ntype = \"position\"\npose = [15, 20, -500, -15, 10, -60]\n\
+             [[motion]]\ntype = \"insert\"\ninstrument = \"endoscope\"\ndepth_mm = 60\nvelocity_mm_s = 5\n\
+             [[motion]]\ntype = \"manipulate\"\ninstrument = \"both\"\ntip_left_mm = [1, 2, 3]\ntip_right_mm = [4, 5, 6]\n\
+             [[motion]]\ntype = \"reorient\"\nname = \"camera\"\npsi_deg = 15\ntheta_deg = 25\n",
+        )?;
+        assert_eq!(s.start_mm_deg, [15.0, 20.0, -460.0, -15.0, 10.0, -60.0]);
+        assert_eq!(s.endoscope_depth_mm, 5.0);
+        assert_eq!(s.motions.len(), 4);
+        assert_eq!(
+            s.motions[1].goal,
+            MotionGoal::Insert {
+                port: Port::Endoscope,
+                depth_mm: 60.0
+            }
+        );
+        assert_eq!(s.motions[1].limits.velocity_mm_s, 5.0);
+        assert_eq!(s.motions[1].limits.acceleration_mm_s2, 20.0);
+        assert_eq!(s.motions[3].limits.velocity_deg_s, 10.0);
+        assert_eq!(s.motions[3].name.as_deref(), Some("camera"));
+        Ok(())
+    }
+
+    fn error_of(text: &str) -> String {
+        match parse_text(text) {
+            Ok(_) => String::from("no error"),
+            Err(e) => e.to_string(),
+        }
+    }
+
+    #[test]
+    fn errors_name_the_line_the_motion_and_the_key() {
+        let two = "[[motion]]\ntype = \"reorient\"\npsi_deg = 1\ntheta_deg = 1\n[[motion]]\n";
+        assert_eq!(
+            error_of(&format!(
+                "{two}type = \"insert\"\ninstrument = \"left\"\ndepth_mm = nan\n"
+            )),
+            "p.toml, line 8, motion 1, key `depth_mm`: NaN is not a finite number"
+        );
+        assert_eq!(
+            error_of(&format!("{two}type = \"insert\"\ninstrument = \"left\"\n")),
+            "p.toml, line 5, motion 1, key `depth_mm`: missing for a \"insert\" motion"
+        );
+        assert_eq!(
+            error_of(&format!(
+                "{two}type = \"insert\"\ninstrument = \"left\"\ndepth_mm = 1\npsi_deg = 2\n"
+            )),
+            "p.toml, line 9, motion 1, key `psi_deg`: does not apply to a \"insert\" motion"
+        );
+        assert_eq!(
+            error_of(&format!(
+                "{two}type = \"insert\"\ninstrument = \"middle\"\ndepth_mm = 1\n"
+            )),
+            "p.toml, line 7, motion 1, key `instrument`: \"middle\" is not one of left, right, endoscope"
+        );
+        assert_eq!(
+            error_of(&format!(
+                "{two}type = \"insert\"\ninstrument = \"left\"\ndepth_mm = 1\nvelocity_mm_s = -2\n"
+            )),
+            "p.toml, line 9, motion 1, key `velocity_mm_s`: -2 is not a positive number"
+        );
+        let unknown = error_of(&format!("{two}type = \"insert\"\nspeed = 3\n"));
+        assert!(
+            unknown.starts_with("p.toml, line 7, motion 1: unknown field `speed`"),
+            "{unknown}"
+        );
+        assert_eq!(
+            error_of(
+                "pose = [1, 2, 3]\n[[motion]]\ntype = \"reorient\"\npsi_deg = 1\ntheta_deg = 1\n"
+            )
+            .split(':')
+            .next(),
+            Some("p.toml, line 1")
+        );
+        assert_eq!(
+            error_of("pose = [0, 0, -500, 0, 0, 0]\n"),
+            "p.toml, line 1: missing field `motion`"
+        );
+        assert_eq!(
+            error_of("motion = []\n"),
+            "p.toml, key `motion`: a procedure needs at least one [[motion]]"
+        );
+        assert_eq!(
+            error_of("[[motion]]\ntype = \"jump\"\n"),
+            "p.toml, line 2, motion 0, key `type`: unknown motion type \"jump\": expected \"position\", \"insert\", \"manipulate\", \"reorient\" or \"stop\""
+        );
+        assert_eq!(
+            error_of("[[motion]]\ntype = \"reorient\"\npsi_deg = 1\ntheta_deg = 1\nuntil_s = -1\n"),
+            "p.toml, line 5, motion 0, key `until_s`: -1 is not a positive number of seconds"
+        );
+        assert_eq!(
+            error_of("[[motion]]\ntype = \"stop\"\npsi_deg = 1\n"),
+            "p.toml, line 3, motion 0, key `psi_deg`: does not apply to a \"stop\" motion"
+        );
+    }
+
+    #[test]
+    fn json_reads_like_toml() -> Result<(), ProcedureError> {
+        let s = parse_json(
+            r#"{"motion": [{"type": "manipulate", "instrument": "right", "tip_mm": [1, 2, 3]}]}"#,
+            Path::new("."),
+        )?;
+        assert_eq!(
+            s.motions[0].goal,
+            MotionGoal::Manipulate {
+                tip_left_mm: None,
+                tip_right_mm: Some([1.0, 2.0, 3.0])
+            }
+        );
+        Ok(())
+    }
+}
