@@ -18,8 +18,10 @@ pub use parasils_traj as traj;
 
 mod error;
 pub mod margin;
+pub mod motions;
 pub mod online;
 pub mod paper;
+pub mod path;
 pub mod reorientation;
 pub mod supervisor;
 

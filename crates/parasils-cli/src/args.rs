@@ -7,9 +7,9 @@ use anyhow::Result;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use parasils::paper;
 use parasils_sim::reach::ReachOptions;
-use parasils_sim::robot_file;
-use parasils_sim::scenario::Retarget;
+use parasils_sim::scenario::{Retarget, Timing};
 use parasils_sim::{Format, Scenario};
+use parasils_sim::{procedure, robot_file};
 
 /// Kinematics and motion of PARA-SILSROB, the parallel robot for
 /// single-incision laparoscopic surgery.
@@ -41,6 +41,9 @@ pub enum Command {
     Fk(FkArgs),
     /// Print the default robot geometry as TOML, to copy and edit.
     Robot,
+    /// Calibrate module 1: fit its geometry to actuator readings at measured
+    /// poses (--measurements), or choose the poses to measure (--plan N).
+    Calibrate(crate::calibrate::CalibrateArgs),
 }
 
 /// `--robot`, shared by `simulate`, `ik` and `fk`.
@@ -58,6 +61,14 @@ impl RobotArg {
         Ok(match &self.robot {
             Some(path) => robot_file::load(path)?,
             None => parasils::kin::RobotGeometry::paper(),
+        })
+    }
+
+    /// The robot file's `[supervisor]` thresholds (none without a file).
+    pub fn supervisor(&self) -> Result<parasils_sim::supervisor::SupervisorTable> {
+        Ok(match &self.robot {
+            Some(path) => parasils_sim::supervisor::load(path)?,
+            None => parasils_sim::supervisor::SupervisorTable::default(),
         })
     }
 }
@@ -100,6 +111,15 @@ impl From<SyncArg> for parasils::traj::Synchronization {
     }
 }
 
+/// How `simulate` times the reorientation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum TimingArg {
+    /// Synchronised trapezoids in psi and theta within --omega-max and --eps-max.
+    Trapezoid,
+    /// Time-optimal under the actuators' limits.
+    Optimal,
+}
+
 /// Output formats of `simulate`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum FormatArg {
@@ -130,15 +150,23 @@ pub struct SimulateArgs {
     /// Take --psi and --theta as final angles instead of increments.
     #[arg(long)]
     pub absolute: bool,
-    /// Velocity limit of each Euler angle, deg/s.
-    #[arg(long, value_name = "DEG_PER_S", default_value_t = paper::OMEGA_MAX_DEG_S, allow_hyphen_values = true)]
-    pub omega_max: f64,
-    /// Acceleration limit of each Euler angle, deg/s^2.
-    #[arg(long, value_name = "DEG_PER_S2", default_value_t = paper::EPS_MAX_DEG_S2, allow_hyphen_values = true)]
-    pub eps_max: f64,
+    /// Velocity limit of each Euler angle, deg/s [default: 10, the paper's].
+    /// With --timing optimal it binds only when given.
+    #[arg(long, value_name = "DEG_PER_S", allow_hyphen_values = true)]
+    pub omega_max: Option<f64>,
+    /// Acceleration limit of each Euler angle, deg/s^2 [default: 5, the
+    /// paper's]. With --timing optimal it binds only when given.
+    #[arg(long, value_name = "DEG_PER_S2", allow_hyphen_values = true)]
+    pub eps_max: Option<f64>,
     /// Synchronisation of psi and theta.
     #[arg(long, value_enum, default_value_t = SyncArg::Phase)]
     pub sync: SyncArg,
+    /// How the turn is timed: the paper's trapezoid in psi and theta, or
+    /// the fastest law along the same straight line whose twelve actuators
+    /// stay within their velocity and acceleration limits (the robot
+    /// file's; --omega-max and --eps-max bind as well when given).
+    #[arg(long, value_enum, default_value_t = TimingArg::Trapezoid)]
+    pub timing: TimingArg,
     /// Samples per second, Hz.
     #[arg(long, value_name = "HZ", default_value_t = paper::RATE_HZ, allow_hyphen_values = true)]
     pub rate: f64,
@@ -178,19 +206,42 @@ pub struct SimulateArgs {
     /// 10 GB cap (it must still fit in the free space).
     #[arg(long)]
     pub force: bool,
+    /// Run a procedure: the motions of FILE.toml (positioning, insertion,
+    /// tip manipulation, reorientation), each from where the previous one
+    /// ended; its start pose, tips and robot come from the file. The whole
+    /// procedure is planned and checked before any output; the output gets
+    /// the columns motion, motion_type, endoscope_depth_mm and the three
+    /// tips.
+    #[arg(
+        long,
+        value_name = "FILE.toml",
+        conflicts_with_all = ["psi", "theta", "absolute", "omega_max", "eps_max", "sync", "timing", "retarget", "stop_at", "pose", "tip_left", "tip_right", "robot"]
+    )]
+    pub procedure: Option<PathBuf>,
+    /// Plan and check the procedure, print the verdict and a table per
+    /// motion (duration, peak rates, smallest margins, warnings), write
+    /// nothing; exit non-zero when it fails.
+    #[arg(long, requires = "procedure", conflicts_with_all = ["output", "plot"])]
+    pub check: bool,
 }
 
 impl SimulateArgs {
     /// The scenario these arguments describe (loading the robot file if any).
     pub fn scenario(&self) -> Result<Scenario> {
+        if let Some(path) = &self.procedure {
+            return Ok(Scenario {
+                rate_hz: self.rate,
+                ..procedure::load(path)?
+            });
+        }
         let paper = Scenario::paper();
         Ok(Scenario {
             start_mm_deg: self.place.pose.unwrap_or(paper.start_mm_deg),
             psi_deg: self.psi,
             theta_deg: self.theta,
             absolute: self.absolute,
-            omega_max_deg_s: self.omega_max,
-            eps_max_deg_s2: self.eps_max,
+            omega_max_deg_s: self.omega_max.unwrap_or(paper.omega_max_deg_s),
+            eps_max_deg_s2: self.eps_max.unwrap_or(paper.eps_max_deg_s2),
             sync: self.sync.into(),
             rate_hz: self.rate,
             tip_left_mm: self.place.tip_left.unwrap_or(paper.tip_left_mm),
@@ -198,6 +249,14 @@ impl SimulateArgs {
             robot: self.robot.geometry()?,
             retargets: self.retarget.clone(),
             stop_at_s: self.stop_at,
+            supervisor: self.robot.supervisor()?,
+            timing: match self.timing {
+                TimingArg::Trapezoid => Timing::Trapezoid,
+                TimingArg::Optimal => Timing::Optimal {
+                    angular: self.omega_max.is_some() || self.eps_max.is_some(),
+                },
+            },
+            ..paper
         })
     }
 

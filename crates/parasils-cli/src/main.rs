@@ -4,11 +4,12 @@
 //! and the kinematics; this binary parses the arguments and prints.
 //!
 //! Modules: `args` (the arguments, the shared flags defined once),
-//! `simulate` and `pose` (the commands), `stdout` (standard output that
+//! `simulate`, `reach`, `pose` and `calibrate` (the commands), `stdout` (standard output that
 //! notices a closed pipe), `interrupt` (SIGINT and SIGTERM end a run
 //! through its error path).
 
 mod args;
+mod calibrate;
 mod interrupt;
 mod pose;
 mod reach;
@@ -49,6 +50,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Simulate(args) => simulate::simulate(&args),
         Command::Reach(args) => reach::reach(&args),
         Command::Ik(args) => pose::ik(&args),
+        Command::Calibrate(args) => calibrate::calibrate_command(&args),
         Command::Fk(args) => pose::fk(&args),
         Command::Robot => {
             let text =

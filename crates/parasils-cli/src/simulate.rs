@@ -14,7 +14,7 @@ use parasils_sim::csv::CsvSink;
 use parasils_sim::numbers::Fixed;
 use parasils_sim::output::{self, OutputFile};
 use parasils_sim::plot::PlotSink;
-use parasils_sim::summary::Summary;
+use parasils_sim::summary::{CheckReport, Summary};
 use parasils_sim::{Record, Simulation, Sink, Tee};
 
 use crate::args::{FormatArg, SimulateArgs};
@@ -79,6 +79,15 @@ impl Sink for Progress {
 pub fn simulate(args: &SimulateArgs) -> Result<()> {
     interrupt::install().context("cannot handle signals")?;
     let sim = Simulation::new(args.scenario()?)?;
+    if args.check {
+        let mut out = stdout::stdout();
+        if let Some(check) = sim.procedure_check() {
+            writeln!(out, "{}", CheckReport::new(&sim, check))
+                .and_then(|()| out.flush())
+                .context("writing to standard output")?;
+        }
+        return Ok(());
+    }
     let assumed = sim.module1_assumed();
     let mut summary = Summary::for_simulation(&sim);
     // Files are written to a temporary file beside the target and renamed
@@ -121,10 +130,14 @@ pub fn simulate(args: &SimulateArgs) -> Result<()> {
             .map(|f| f.path().to_owned())
             .collect()
     };
-    let mut plot = args
-        .plot
-        .as_ref()
-        .map(|_| PlotSink::new(sim.sample_count(), assumed));
+    let mut plot = args.plot.as_ref().map(|_| {
+        let plot = PlotSink::new(sim.sample_count(), assumed);
+        if sim.procedure().is_some() {
+            plot.marking_motions()
+        } else {
+            plot
+        }
+    });
     let mut progress = Progress::new(sim.sample_count());
 
     let run = sim.run(

@@ -338,33 +338,98 @@ fn unreachable_tip() {
     );
 }
 
+/// The default robot file with every actuator limit raised out of the way
+/// (1e9 mm/s, deg/s and per s^2), written as `fast.toml` into `dir`, so that
+/// the joint limits, strokes and singularities are what a run meets first.
+fn unlimited_robot(dir: &Path) {
+    let out = parasils(&["robot"], dir);
+    let text = String::from_utf8(out.stdout).expect("utf8");
+    let raised: Vec<String> = text
+        .lines()
+        .map(|line| match line.split_once(" = ") {
+            Some((key, _)) if key.contains("velocity_max") || key.contains("acceleration_max") => {
+                format!("{key} = 1e9")
+            }
+            _ => line.to_owned(),
+        })
+        .collect();
+    std::fs::write(dir.join("fast.toml"), raised.join("\n")).expect("write");
+}
+
 #[test]
 fn trajectory_through_a_joint_limit() {
-    // A larger reorientation drives the left module's qs2 past -80 deg at 4.444 s.
+    // A larger reorientation drives the left module's qs1 faster than its
+    // assumed 30 deg/s at 4.336 s ...
     fails_cleanly(
         &["simulate", "--psi", "40", "--theta", "25", "-o", "x.mcap"],
-        "error: at t = 4.444 s: left instrument: joint qs2 = -80.0079 deg is outside [-80, 80] deg\n",
+        "error: at t = 4.336 s: left qs1: velocity -30.0074 deg/s is beyond its limit 30 deg/s\n",
         |_| {},
+    );
+    // ... and, without actuator limits, its qs2 past -80 deg at 4.444 s.
+    fails_cleanly(
+        &[
+            "simulate",
+            "--psi",
+            "40",
+            "--theta",
+            "25",
+            "--robot",
+            "fast.toml",
+            "-o",
+            "x.mcap",
+        ],
+        "error: at t = 4.444 s: left instrument: joint qs2 = -80.0079 deg is outside [-80, 80] deg\n",
+        unlimited_robot,
     );
     fails_cleanly(
         &[
-            "simulate", "--psi", "40", "--theta", "25", "-o", "x.csv", "--plot", "p.svg",
+            "simulate",
+            "--psi",
+            "40",
+            "--theta",
+            "25",
+            "--robot",
+            "fast.toml",
+            "-o",
+            "x.csv",
+            "--plot",
+            "p.svg",
         ],
         "at t = 4.444 s",
-        |_| {},
+        unlimited_robot,
     );
     // Module 1 (assumed geometry) crosses a parallel singularity near
     // theta = 49.7 deg.
     fails_cleanly(
-        &["simulate", "--psi", "0", "--theta", "60", "-o", "x.csv"],
+        &[
+            "simulate",
+            "--psi",
+            "0",
+            "--theta",
+            "60",
+            "--robot",
+            "fast.toml",
+            "-o",
+            "x.csv",
+        ],
         "at t = 4.927 s: module 1: parallel singularity: margin 0.0099445 is below 0.01",
-        |_| {},
+        unlimited_robot,
     );
     // Module 1 runs out of stroke.
     fails_cleanly(
-        &["simulate", "--psi", "-60", "--theta", "0", "-o", "x.csv"],
+        &[
+            "simulate",
+            "--psi",
+            "-60",
+            "--theta",
+            "0",
+            "--robot",
+            "fast.toml",
+            "-o",
+            "x.csv",
+        ],
         "at t = 6.391 s: module 1: actuator q4 = 320.084 mm is outside [0, 320] mm",
-        |_| {},
+        unlimited_robot,
     );
 }
 

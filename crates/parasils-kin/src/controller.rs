@@ -39,11 +39,13 @@
 use nalgebra::Vector3;
 
 use crate::check::check_vector;
+use crate::endoscope::EndoscopeGeometry;
 use crate::error::Error;
 use crate::frame::{PlatformFrame, PlatformState, Pose};
 use crate::instrument::{
-    AssemblyMode, Instrument, InstrumentGeometry, InstrumentSolution, TipMotion,
+    AssemblyMode, Instrument, InstrumentGeometry, InstrumentSolution, JointMotion, TipMotion,
 };
+use crate::limits::{ACTUATOR_COUNT, ActuatorLimits, LimitError};
 use crate::parallel::{MarginTracker, ParallelGeometry, ParallelRobot, ParallelSolution};
 use crate::presets;
 use crate::real::Real;
@@ -74,6 +76,23 @@ impl<T: Real> TipTargets<T> {
     }
 }
 
+/// What an instrument module is commanded by in one cycle
+/// ([`Controller::step_commanded`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ModuleCommand<T: Real> {
+    /// Its tip, with the tip's velocity and acceleration, fixed frame.
+    Tip(TipMotion<T>),
+    /// Its joints, with their rates and accelerations.
+    Joints(JointMotion<T>),
+}
+
+impl<T: Real> ModuleCommand<T> {
+    /// The tip held still at `position`, mm, fixed frame.
+    pub fn still(position: Vector3<T>) -> Self {
+        Self::Tip(TipMotion::still(position))
+    }
+}
+
 /// The mirror image of a fixed-frame point (mm) across the platform's `Y'Z'`
 /// plane at `pose`: `P + R S R^T (p - P)` with `S = diag(-1, 1, 1)`.
 pub fn mirror_across_platform<T: Real>(pose: &Pose<T>, p: &Vector3<T>) -> Vector3<T> {
@@ -94,6 +113,11 @@ pub struct RobotGeometry<T: Real> {
     pub left: InstrumentGeometry<T>,
     /// The right instrument module (`side` must be [`Side::Right`]).
     pub right: InstrumentGeometry<T>,
+    /// The endoscope (its insertion depth's range).
+    pub endoscope: EndoscopeGeometry<T>,
+    /// The twelve actuators' velocity and acceleration limits (default
+    /// [`ActuatorLimits::assumed`]).
+    pub limits: ActuatorLimits<T>,
 }
 
 impl<T: Real> RobotGeometry<T> {
@@ -104,6 +128,8 @@ impl<T: Real> RobotGeometry<T> {
             module1: ParallelGeometry::assumed(),
             left: InstrumentGeometry::paper(Side::Left),
             right: InstrumentGeometry::paper(Side::Right),
+            endoscope: EndoscopeGeometry::paper(),
+            limits: ActuatorLimits::assumed(),
         }
     }
 
@@ -127,6 +153,13 @@ impl<T: Real> RobotGeometry<T> {
                 });
             }
             g.validate()?;
+        }
+        self.endoscope.validate()?;
+        if let Err(LimitError::Invalid { value, .. }) = self.limits.validate() {
+            return Err(Error::InvalidParameter {
+                what: "limits",
+                value,
+            });
         }
         Ok(())
     }
@@ -157,6 +190,12 @@ pub struct Controller<T: Real> {
     pub right: Instrument<T>,
     /// The assembly mode of each module, `[left, right]` (default A, A).
     pub modes: [AssemblyMode; 2],
+    /// The endoscope (default [`EndoscopeGeometry::paper`]).
+    pub endoscope: EndoscopeGeometry<T>,
+    /// The actuators' velocity and acceleration limits (default
+    /// [`ActuatorLimits::assumed`]); [`ActuatorLimits::check`] checks a step
+    /// against them.
+    pub limits: ActuatorLimits<T>,
     /// Module 1's weakest direction from the previous cycle.
     tracker: MarginTracker<T>,
 }
@@ -170,6 +209,8 @@ impl<T: Real> Controller<T> {
             left,
             right,
             modes: [AssemblyMode::A; 2],
+            endoscope: EndoscopeGeometry::paper(),
+            limits: ActuatorLimits::assumed(),
             tracker: MarginTracker::new(),
         }
     }
@@ -188,11 +229,14 @@ impl<T: Real> Controller<T> {
     /// [`RobotGeometry::validate`]), both instrument modules in mode A.
     pub fn from_geometry(geometry: &RobotGeometry<T>) -> Result<Self, Error> {
         geometry.validate()?;
-        Ok(Self::new(
+        let mut controller = Self::new(
             ParallelRobot::new(geometry.module1)?,
             Instrument::new(geometry.left)?,
             Instrument::new(geometry.right)?,
-        ))
+        );
+        controller.endoscope = geometry.endoscope;
+        controller.limits = geometry.limits;
+        Ok(controller)
     }
 
     /// The whole robot's geometry (module 1's guide directions normalised).
@@ -201,6 +245,8 @@ impl<T: Real> Controller<T> {
             module1: *self.module1.geometry(),
             left: *self.left.geometry(),
             right: *self.right.geometry(),
+            endoscope: self.endoscope,
+            limits: self.limits,
         }
     }
 
@@ -244,9 +290,126 @@ impl<T: Real> Controller<T> {
         })
     }
 
+    /// One control cycle of any motion type: the platform moves as
+    /// `platform` says, and each instrument module is commanded either by
+    /// its tip ([`ModuleCommand::Tip`]: the IK in the module's assembly mode,
+    /// the rates in closed form, as in [`Controller::step`]) or by its joints
+    /// ([`ModuleCommand::Joints`]: checked, the tip following by forward
+    /// kinematics). Motion type 1 holds both modules' joints while the
+    /// platform moves; type 2 drives one module's `qs3`; type 3 moves one or
+    /// both tips with the platform still; type 4 holds both tips
+    /// ([`Controller::step`], the same numbers).
+    ///
+    /// ```
+    /// use parasils_kin::{Controller, JointMotion, ModuleCommand, PlatformState, Pose, TipTargets};
+    ///
+    /// let mut controller = Controller::<f64>::paper();
+    /// let tips = TipTargets::paper();
+    /// let at_rest = PlatformState::at_rest(Pose::paper_start());
+    /// let held = controller.step(&at_rest, &tips)?;
+    /// // The right module driven by its joints, at the joints the IK gave:
+    /// // the same solution.
+    /// let right = ModuleCommand::Joints(JointMotion::held(held.right.q));
+    /// let out = controller.step_commanded(&at_rest, &ModuleCommand::still(tips.left), &right)?;
+    /// assert_eq!(out.right.q, held.right.q);
+    /// assert_eq!(out.left, held.left);
+    /// # Ok::<(), parasils_kin::Error>(())
+    /// ```
+    pub fn step_commanded(
+        &mut self,
+        platform: &PlatformState<T>,
+        left: &ModuleCommand<T>,
+        right: &ModuleCommand<T>,
+    ) -> Result<ControlStep<T>, Error> {
+        let frame = platform.frame()?;
+        let module1 = self.module1.solve_tracking(&frame, &mut self.tracker)?;
+        let solve = |m: &Instrument<T>, command: &ModuleCommand<T>, mode| match command {
+            ModuleCommand::Tip(tip) => m.solve(&frame, tip, mode),
+            ModuleCommand::Joints(joints) => m.solve_joints(joints),
+        };
+        let left = solve(&self.left, left, self.modes[0])?;
+        let right = solve(&self.right, right, self.modes[1])?;
+        Ok(ControlStep {
+            frame,
+            module1,
+            left,
+            right,
+        })
+    }
+
     /// Module 1's weakest direction from the previous cycle, and how many
     /// margins took the full decomposition (see [`MarginTracker`]).
     pub fn margin_tracker(&self) -> &MarginTracker<T> {
         &self.tracker
     }
+}
+
+/// The per-cycle checks of [`ActuatorLimits`] on a [`ControlStep`] (here, so
+/// that `limits` needs nothing of the controller).
+impl<T: Real> ActuatorLimits<T> {
+    /// Checks one control cycle's rates and accelerations (see
+    /// [`ActuatorLimits::check_rates`]).
+    pub fn check(&self, step: &ControlStep<T>) -> Result<(), LimitError> {
+        let (q_dot, q_ddot) = step_rates(step);
+        self.check_rates(&q_dot, &q_ddot)
+    }
+
+    /// Each actuator's velocity and acceleration as a fraction of its limit,
+    /// `(|q_dot| / v_max, |q_ddot| / a_max)` (0 where the limit is infinite).
+    pub fn usage(&self, step: &ControlStep<T>) -> ([T; ACTUATOR_COUNT], [T; ACTUATOR_COUNT]) {
+        let (mut v, mut a) = step_rates(step);
+        for (x, &m) in v.iter_mut().zip(&self.velocity) {
+            *x = x.abs() / m;
+        }
+        for (x, &m) in a.iter_mut().zip(&self.acceleration) {
+            *x = x.abs() / m;
+        }
+        (v, a)
+    }
+}
+
+/// The twelve actuators' velocities and accelerations of one cycle, in the
+/// order of [`Actuator::ALL`](crate::Actuator::ALL).
+pub fn step_rates<T: Real>(step: &ControlStep<T>) -> ([T; ACTUATOR_COUNT], [T; ACTUATOR_COUNT]) {
+    let m1 = (step.module1.q_dot.0, step.module1.q_ddot.0);
+    let (l, r) = (&step.left, &step.right);
+    let v = [
+        m1.0[0],
+        m1.0[1],
+        m1.0[2],
+        m1.0[3],
+        m1.0[4],
+        m1.0[5],
+        l.q_dot.qs1,
+        l.q_dot.qs2,
+        l.q_dot.qs3,
+        r.q_dot.qs1,
+        r.q_dot.qs2,
+        r.q_dot.qs3,
+    ];
+    let a = [
+        m1.1[0],
+        m1.1[1],
+        m1.1[2],
+        m1.1[3],
+        m1.1[4],
+        m1.1[5],
+        l.q_ddot.qs1,
+        l.q_ddot.qs2,
+        l.q_ddot.qs3,
+        r.q_ddot.qs1,
+        r.q_ddot.qs2,
+        r.q_ddot.qs3,
+    ];
+    (v, a)
+}
+
+/// The twelve actuator positions of one cycle, in the order of
+/// [`Actuator::ALL`](crate::Actuator::ALL) (mm, rad).
+pub fn step_positions<T: Real>(step: &ControlStep<T>) -> [T; ACTUATOR_COUNT] {
+    let m = step.module1.q.0;
+    let (l, r) = (&step.left.q, &step.right.q);
+    [
+        m[0], m[1], m[2], m[3], m[4], m[5], l.qs1, l.qs2, l.qs3, r.qs1, r.qs2, r.qs3,
+    ]
 }

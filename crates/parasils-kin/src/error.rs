@@ -102,10 +102,12 @@ impl fmt::Display for Margin {
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum Error {
-    /// A NaN or infinite input.
+    /// A NaN or infinite input; or finite input so large that a result
+    /// overflows the float type (`what` then names the result and ends with
+    /// `(overflow)`, or is `|tip_local| (beyond the float type)`).
     #[error("non-finite input: {what} = {}", Num::new(*value))]
     NonFinite {
-        /// Which input, e.g. `"pose.psi"`, `"tip.x"`.
+        /// Which input, e.g. `"pose.psi"`, `"tip.x"`, or which result.
         what: &'static str,
         /// The value (NaN or +-inf).
         value: f64,
@@ -265,6 +267,22 @@ pub enum Error {
     BranchMismatch {
         /// The actuator, 1 to 6.
         actuator: u8,
+    },
+
+    /// The endoscope's insertion depth is outside its range.
+    #[error(
+        "endoscope: insertion depth {} mm is outside [{}, {}] mm",
+        Num::outside(*value, *min, *max),
+        Num::new(*min),
+        Num::new(*max)
+    )]
+    EndoscopeDepth {
+        /// The depth, mm.
+        value: f64,
+        /// The smallest depth, mm.
+        min: f64,
+        /// The largest depth, mm.
+        max: f64,
     },
 }
 

@@ -58,6 +58,8 @@
 //!   ([`parallel::margin`]);
 //! - [`controller`]: the one call per control cycle, and the whole robot's
 //!   geometry;
+//! - [`limits`]: the actuators' velocity and acceleration limits (assumed
+//!   defaults) and the check of a cycle against them;
 //! - [`presets`]: the paper's numbers and module 1's assumed geometry, from
 //!   which every named constructor (`paper`, `assumed`, `paper_start`) is built;
 //! - [`error`]: what can go wrong, typed;
@@ -85,10 +87,12 @@ extern crate std;
 
 mod check;
 pub mod controller;
+pub mod endoscope;
 pub mod error;
 pub mod frame;
 pub mod instrument;
 mod interval;
+pub mod limits;
 mod linalg;
 pub mod parallel;
 pub mod presets;
@@ -96,18 +100,24 @@ pub mod real;
 mod side;
 mod trig;
 
-pub use controller::{ControlStep, Controller, RobotGeometry, TipTargets, mirror_across_platform};
+pub use controller::{
+    ControlStep, Controller, ModuleCommand, RobotGeometry, TipTargets, mirror_across_platform,
+    step_positions, step_rates,
+};
+pub use endoscope::EndoscopeGeometry;
 pub use error::{Error, Joint, Margin, ParallelSingularity};
 pub use frame::{PlatformFrame, PlatformState, Pose, PoseRate};
 pub use instrument::{
     AssemblyMode, Instrument, InstrumentGeometry, InstrumentMargins, InstrumentSolution,
-    JointLimits, Joints, Thresholds, TipMotion,
+    JointLimits, JointMotion, Joints, Thresholds, TipMotion,
 };
 pub use interval::Interval;
+pub use limits::{ACTUATOR_COUNT, Actuator, ActuatorLimits, LimitError, RateKind};
 pub use nalgebra;
 pub use parallel::{
-    Actuators, Branch, FkOptions, FkSolution, Guide, MarginTracker, ParallelGeometry,
-    ParallelMargins, ParallelRobot, ParallelSolution, ParallelThresholds, SymmetricLayout,
+    Actuators, Branch, Calibration, FkOptions, FkSolution, Guide, MarginTracker, ParallelGeometry,
+    ParallelMargins, ParallelRobot, ParallelSolution, ParallelThresholds, Provenance,
+    SymmetricLayout,
 };
 pub use real::Real;
 pub use side::Side;

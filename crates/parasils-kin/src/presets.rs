@@ -52,6 +52,10 @@ pub const QS2_LIMITS_DEG: [f64; 2] = [-80.0, 80.0];
 /// The default limits of `qs3`, mm (**assumed**).
 pub const QS3_LIMITS_MM: [f64; 2] = [10.0, 300.0];
 
+/// The endoscope's insertion depth range, mm: 0 at its port (the platform's
+/// origin `P`), positive inwards. **Assumed**: the paper gives no number.
+pub const ENDOSCOPE_DEPTH_MM: [f64; 2] = [0.0, 250.0];
+
 /// Module 1's **assumed** geometry: a plausible robot of the right family,
 /// not the real PARA-SILSROB, whose dimensions are not published.
 ///

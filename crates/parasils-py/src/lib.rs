@@ -15,6 +15,9 @@
 //!   `PAPER`);
 //! - [`reach`]: `Robot.reach_map`, the simulation library's reach map as
 //!   NumPy arrays;
+//! - [`calibrate`]: `parasils.calibrate`, module 1's geometry fitted to
+//!   measured poses by the calibration library (the package's Python
+//!   wrapper turns the report into a dict);
 //! - [`errors`]: the exception hierarchy (`KinematicsError` and its
 //!   subclasses, `TrajectoryError`, `RobotFileError`);
 //! - [`batch`]: shapes, broadcasting, the loop (split across threads for
@@ -26,7 +29,9 @@
 use pyo3::prelude::*;
 
 pub mod batch;
+pub mod calibrate;
 pub mod errors;
+pub mod path;
 pub mod reach;
 pub mod robot;
 pub mod simulate;
@@ -44,6 +49,7 @@ fn _parasils(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<robot::Robot>()?;
     m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(batch::batch_threads, m)?)?;
+    m.add_function(wrap_pyfunction!(calibrate::_calibrate, m)?)?;
     errors::register(m)?;
     Ok(())
 }

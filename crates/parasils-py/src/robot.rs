@@ -51,6 +51,17 @@ impl Robot {
         &self.geometry
     }
 
+    /// The robot of a geometry (validated here), read from no file.
+    pub(crate) fn from_geometry(py: Python<'_>, geometry: RobotGeometry<f64>) -> PyResult<Self> {
+        let controller = Controller::from_geometry(&geometry)
+            .map_err(|e| errors::kinematics(py, &e, None, None, ""))?;
+        Ok(Self {
+            geometry,
+            controller,
+            source: None,
+        })
+    }
+
     fn instrument(&self, side: &str) -> PyResult<&Instrument<f64>> {
         match side {
             "left" => Ok(&self.controller.left),
@@ -173,6 +184,77 @@ impl Robot {
             theta_range,
             step,
             line,
+        )
+    }
+
+    /// Motion type 4 as a path: from `pose`, psi and theta turn by `dpsi`
+    /// and `dtheta` (rad) along a straight line, s from 0 to 1, both tips
+    /// held. Returns, at each s, the twelve actuators (q1..q6 mm, left
+    /// qs1, qs2 rad, qs3 mm, right qs1, qs2 rad, qs3 mm) for order 0, their
+    /// first derivatives in s for order 1, their second for order 2: shape
+    /// (len(s), 12), exact (the closed-form rates), to feed other tools.
+    ///
+    /// pose: the start pose (x, y, z mm, psi, theta, phi rad), shape (6,).
+    /// tips: (2, 3) mm, the left tip then the right one; None: the paper's
+    ///     left tip and its mirror image across the platform at `pose`.
+    ///
+    /// Raises KinematicsError (subclass) where the path leaves the workspace.
+    #[pyo3(signature = (pose, tips, dpsi, dtheta, s, order = 0))]
+    #[allow(clippy::too_many_arguments)]
+    fn reorientation_path<'py>(
+        &self,
+        py: Python<'py>,
+        pose: ArrayArg<'py>,
+        tips: Option<ArrayArg<'py>>,
+        dpsi: f64,
+        dtheta: f64,
+        s: ArrayArg<'py>,
+        order: usize,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        crate::path::reorientation_path(py, &self.controller, pose, tips, dpsi, dtheta, s, order)
+    }
+
+    /// The fastest rest-to-rest timing of reorientation_path's turn within
+    /// the actuators' limits (velocity_max, acceleration_max: shape (12,),
+    /// mm/s or rad/s, mm/s^2 or rad/s^2, in reorientation_path's order;
+    /// None: the assumed defaults) and, when given, each Euler angle's
+    /// omega_max (rad/s) and eps_max (rad/s^2). knots: grid points on s;
+    /// checks: check points per grid interval.
+    ///
+    /// Returns a dict: "duration_s"; "phases", a list of dicts ("start_s",
+    /// "end_s", "binding" such as "module 1 q6", "limit" ("velocity" or
+    /// "acceleration"), "usage"); the schedule at the knots: "s", "t_s",
+    /// "s_dot" (1/s), "s_ddot" (1/s^2, on the interval starting there);
+    /// "worst_before_check", "passes", "stretch" (the check between knots).
+    #[pyo3(signature = (pose, tips, dpsi, dtheta, *, velocity_max = None, acceleration_max = None, omega_max = None, eps_max = None, knots = 1000, checks = 10))]
+    #[allow(clippy::too_many_arguments)]
+    fn optimal_reorientation<'py>(
+        &self,
+        py: Python<'py>,
+        pose: ArrayArg<'py>,
+        tips: Option<ArrayArg<'py>>,
+        dpsi: f64,
+        dtheta: f64,
+        velocity_max: Option<ArrayArg<'py>>,
+        acceleration_max: Option<ArrayArg<'py>>,
+        omega_max: Option<f64>,
+        eps_max: Option<f64>,
+        knots: usize,
+        checks: usize,
+    ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        crate::path::optimal_reorientation(
+            py,
+            &self.controller,
+            pose,
+            tips,
+            dpsi,
+            dtheta,
+            velocity_max,
+            acceleration_max,
+            omega_max,
+            eps_max,
+            knots,
+            checks,
         )
     }
 

@@ -8,12 +8,13 @@
 //! too, as integers.
 
 use core::convert::Infallible;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use numpy::IntoPyArray;
 use parasils_kin::RobotGeometry;
 use parasils_sim::numbers::AtTime;
-use parasils_sim::scenario::Retarget;
+use parasils_sim::procedure;
+use parasils_sim::scenario::{Retarget, Timing};
 use parasils_sim::{
     Format, OutputError, OutputFile, Record, RunError, Scenario, Simulation, SimulationError, Tee,
     columns, robot_file,
@@ -87,6 +88,22 @@ fn simulation_error(py: Python<'_>, error: &SimulationError) -> PyErr {
         SimulationError::Kinematics { t, sample, error } => {
             errors::kinematics(py, error, *sample, Some(*t), &AtTime(*t).to_string())
         }
+        SimulationError::Motion { error: inner, .. } => {
+            // The kinematics' exception class, with the whole message: the
+            // motion, the time inside it, what failed.
+            let text = error.to_string();
+            match inner.as_ref() {
+                SimulationError::Kinematics {
+                    t,
+                    sample,
+                    error: e,
+                } => {
+                    let prefix = text.strip_suffix(&e.to_string()).unwrap_or("");
+                    errors::kinematics(py, e, *sample, Some(*t), prefix)
+                }
+                _ => PyValueError::new_err(text),
+            }
+        }
         other => PyValueError::new_err(other.to_string()),
     }
 }
@@ -135,7 +152,7 @@ fn run(
         parasils_sim::output::check_size(path, *format, n, force)
             .map_err(|e| Failure::Output(e, path.clone()))?;
     }
-    let csv = columns::csv_columns(sim.scenario().has_commands());
+    let csv = columns::csv_columns_of(sim.scenario());
     let mut table: Vec<Vec<f64>> = Vec::with_capacity(csv.len());
     for _ in csv {
         let mut c = Vec::new();
@@ -219,6 +236,8 @@ pub(crate) fn paper_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     retarget = None,
     stop_at_s = None,
     force = false,
+    procedure = None,
+    timing = "trapezoid",
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn simulate<'py>(
@@ -239,7 +258,20 @@ pub(crate) fn simulate<'py>(
     retarget: Option<Bound<'py, PyAny>>,
     stop_at_s: Option<f64>,
     force: bool,
+    procedure: Option<Bound<'py, PyAny>>,
+    timing: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let timing = match timing {
+        "trapezoid" => Timing::Trapezoid,
+        "optimal" => Timing::Optimal {
+            angular: omega_max_deg_s.is_some() || eps_max_deg_s2.is_some(),
+        },
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "timing must be 'trapezoid' or 'optimal', got {timing:?}"
+            )));
+        }
+    };
     let sync = match sync {
         "phase" => Synchronization::Phase,
         "time" => Synchronization::Time,
@@ -260,6 +292,32 @@ pub(crate) fn simulate<'py>(
             )));
         }
     };
+    if let Some(procedure) = procedure {
+        let given = [
+            ("psi_deg", psi_deg.is_some()),
+            ("theta_deg", theta_deg.is_some()),
+            ("absolute", absolute),
+            ("omega_max_deg_s", omega_max_deg_s.is_some()),
+            ("eps_max_deg_s2", eps_max_deg_s2.is_some()),
+            ("sync", sync != Synchronization::Phase),
+            ("pose_mm_deg", pose_mm_deg.is_some()),
+            ("tip_left_mm", tip_left_mm.is_some()),
+            ("tip_right_mm", tip_right_mm.is_some()),
+            ("robot", robot.is_some()),
+            ("retarget", retarget.is_some()),
+            ("stop_at_s", stop_at_s.is_some()),
+        ];
+        if let Some((name, _)) = given.iter().find(|(_, g)| *g) {
+            return Err(PyTypeError::new_err(format!(
+                "{name} cannot be given with procedure=: a procedure has its own start, robot and motions"
+            )));
+        }
+        let scenario = Scenario {
+            rate_hz: rate_hz.unwrap_or(Scenario::paper().rate_hz),
+            ..procedure_scenario(py, &procedure)?
+        };
+        return finish(py, scenario, out, format, force);
+    }
     enum RobotArg {
         Paper,
         Geometry(Box<RobotGeometry<f64>>),
@@ -281,10 +339,13 @@ pub(crate) fn simulate<'py>(
     let start_mm_deg = fixed::<6>(pose_mm_deg, "pose_mm_deg")?;
     let tip_left_mm = fixed::<3>(tip_left_mm, "tip_left_mm")?;
     let tip_right_mm = fixed::<3>(tip_right_mm, "tip_right_mm")?;
-    let robot = match robot {
-        RobotArg::Paper => paper.robot,
-        RobotArg::Geometry(g) => *g,
-        RobotArg::File(path) => robot_file::load(&path).map_err(|e| errors::robot_file(py, &e))?,
+    let (robot, supervisor) = match robot {
+        RobotArg::Paper => (paper.robot, paper.supervisor),
+        RobotArg::Geometry(g) => (*g, paper.supervisor),
+        RobotArg::File(path) => (
+            robot_file::load(&path).map_err(|e| errors::robot_file(py, &e))?,
+            parasils_sim::supervisor::load(&path).map_err(|e| errors::robot_file(py, &e))?,
+        ),
     };
     let scenario = Scenario {
         start_mm_deg: start_mm_deg.unwrap_or(paper.start_mm_deg),
@@ -300,7 +361,42 @@ pub(crate) fn simulate<'py>(
         robot,
         retargets,
         stop_at_s,
+        supervisor,
+        timing,
+        ..paper
     };
+    finish(py, scenario, out, format, force)
+}
+
+/// `procedure=`: a path to a procedure file (TOML), or a dict of the same
+/// structure (its robot path relative to the working directory).
+fn procedure_scenario(py: Python<'_>, value: &Bound<'_, PyAny>) -> PyResult<Scenario> {
+    let error = |e: procedure::ProcedureError| match e {
+        procedure::ProcedureError::Robot(e) => errors::robot_file(py, &e),
+        procedure::ProcedureError::Io { .. } => PyOSError::new_err(e.to_string()),
+        e => PyValueError::new_err(e.to_string()),
+    };
+    if value.is_instance_of::<PyDict>() {
+        let json = py.import("json")?.call_method1("dumps", (value,))?;
+        let text: String = json.extract()?;
+        return procedure::parse_json(&text, Path::new(".")).map_err(error);
+    }
+    let path: PathBuf = value.extract().map_err(|_| {
+        PyTypeError::new_err(
+            "procedure must be a path to a procedure file (str or os.PathLike) or a dict",
+        )
+    })?;
+    procedure::load(&path).map_err(error)
+}
+
+/// Runs `scenario` (into `out` if given) and returns its columns.
+fn finish<'py>(
+    py: Python<'py>,
+    scenario: Scenario,
+    out: Option<PathBuf>,
+    format: Option<Format>,
+    force: bool,
+) -> PyResult<Bound<'py, PyDict>> {
     let out = match out {
         Some(p) => {
             let f = match format {

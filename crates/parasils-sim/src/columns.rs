@@ -466,6 +466,79 @@ pub fn csv_columns(commands: bool) -> &'static [Column] {
     if commands { &CSV_WITH_COMMAND } else { &CSV }
 }
 
+/// The columns a procedure's CSV adds after [`CSV`]: the motion under way
+/// (its index from 0 and its type, 1 to 4), the endoscope's depth, and the
+/// three tips (the instruments' by forward kinematics from their joints,
+/// the endoscope's from its depth), mm, fixed frame.
+pub const PROCEDURE: [Column; 12] = {
+    const fn in_csv(c: Column) -> Column {
+        Column { csv: true, ..c }
+    }
+    const fn endoscope(name: &'static str, get: fn(&Record) -> f64) -> Column {
+        Column {
+            name,
+            unit: MM,
+            channel: None,
+            csv: true,
+            integer: false,
+            get,
+        }
+    }
+    [
+        Column {
+            name: "motion",
+            unit: INDEX,
+            channel: None,
+            csv: true,
+            integer: true,
+            get: |r| f64::from(r.motion),
+        },
+        Column {
+            name: "motion_type",
+            unit: INDEX,
+            channel: None,
+            csv: true,
+            integer: true,
+            get: |r| f64::from(r.motion_type),
+        },
+        endoscope("endoscope_depth_mm", |r| r.endoscope_depth),
+        in_csv(LEFT.tip[0]),
+        in_csv(LEFT.tip[1]),
+        in_csv(LEFT.tip[2]),
+        in_csv(RIGHT.tip[0]),
+        in_csv(RIGHT.tip[1]),
+        in_csv(RIGHT.tip[2]),
+        endoscope("endoscope_tip_x_mm", |r| r.endoscope_tip.x),
+        endoscope("endoscope_tip_y_mm", |r| r.endoscope_tip.y),
+        endoscope("endoscope_tip_z_mm", |r| r.endoscope_tip.z),
+    ]
+};
+
+/// The CSV's columns in a procedure: [`CSV`], then [`PROCEDURE`].
+pub const CSV_WITH_PROCEDURE: [Column; CSV_COUNT + 12] = {
+    let mut out = [COMMAND; CSV_COUNT + 12];
+    let mut k = 0;
+    while k < CSV_COUNT + 12 {
+        out[k] = if k < CSV_COUNT {
+            CSV[k]
+        } else {
+            PROCEDURE[k - CSV_COUNT]
+        };
+        k += 1;
+    }
+    out
+};
+
+/// The CSV's columns of `scenario`'s run: [`CSV_WITH_PROCEDURE`] for a
+/// procedure, [`CSV_WITH_COMMAND`] with commands, [`CSV`] otherwise.
+pub fn csv_columns_of(scenario: &crate::Scenario) -> &'static [Column] {
+    if scenario.motions.is_empty() {
+        csv_columns(scenario.has_commands())
+    } else {
+        &CSV_WITH_PROCEDURE
+    }
+}
+
 /// The position of `column` among the [`CSV`] columns (by name, which is
 /// unique); `None` for an MCAP-only column and for [`COMMAND`].
 pub fn csv_index(column: &Column) -> Option<usize> {

@@ -12,6 +12,13 @@
 //! run in memory. Every writer reads the records through one table of
 //! [`columns`] (name, unit, MCAP channel, value).
 //!
+//! A scenario may instead be a **procedure**: a list of motions of the
+//! paper's four types ([`Scenario::motions`], read from a file by
+//! [`procedure`]), each from where the previous one ended, planned and
+//! checked in full by [`Simulation::new`] before any record is written. Its
+//! output has twelve more columns ([`columns::PROCEDURE`]: the motion, the
+//! endoscope's depth, the three tips).
+//!
 //! A scenario may also command new goals and a stop while the platform
 //! moves ([`Scenario::retargets`], [`Scenario::stop_at_s`]): such a run goes
 //! through the online controller ([`parasils::OnlineController`], with its
@@ -43,6 +50,9 @@
 //! | module | concept |
 //! |---|---|
 //! | [`scenario`] | the inputs in user units (mm, deg, deg/s, deg/s^2, Hz), the defaults stated once, the commands |
+//! | [`motion`] | a procedure's motions in user units: goals of the paper's four types, limits, names |
+//! | [`procedure`] | procedure files (TOML) into a scenario with motions |
+//! | [`supervisor`] | the margin supervisor's thresholds in the robot file (`[supervisor]`) |
 //! | [`engine`] | [`Simulation`]: validation, planning, the commands' schedule, the one run loop |
 //! | [`record`] | [`Record`]: one instant, typed, in library units |
 //! | [`columns`] | the one table of output columns |
@@ -53,8 +63,9 @@
 //! | [`reach`] | reach maps: the orientations reachable with both tips held |
 //! | [`numbers`] | numbers in messages, readable whatever their size |
 //!
-//! Imports go one way: `numbers`, `scenario` < `record` < `columns`, `sink` <
-//! `engine` < the sinks < `output`; `robot_file` stands alone.
+//! Imports go one way: `numbers`, `motion` < `scenario` < `record` <
+//! `columns`, `sink` < `engine` < the sinks < `output`; `robot_file` stands
+//! alone, and `procedure` reads files into a `scenario` with it.
 //!
 //! The robot's geometry (module 1 and both instrument modules, with their
 //! limits) is read from and written to TOML by [`robot_file`]. Module 1's
@@ -71,16 +82,20 @@ pub mod columns;
 pub mod csv;
 pub mod engine;
 pub mod mcap;
+pub mod motion;
 pub mod numbers;
 pub mod output;
 #[cfg(feature = "plot")]
 pub mod plot;
+pub mod procedure;
 pub mod reach;
 pub mod record;
 pub mod robot_file;
 pub mod scenario;
 pub mod sink;
 pub mod summary;
+pub mod supervisor;
+pub mod timing;
 
 pub use engine::{RunError, Simulation, SimulationError};
 pub use output::{Format, OutputError, OutputFile};

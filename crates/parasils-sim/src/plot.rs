@@ -117,6 +117,9 @@ pub struct PlotSink {
     /// The latest sample, when not kept.
     last: Option<Point>,
     module1_assumed: bool,
+    /// In a procedure: where each motion starts (s), its index and type
+    /// (1 to 4), marked on every panel. `None` outside procedures.
+    motions: Option<Vec<(f64, u32, u8)>>,
 }
 
 impl PlotSink {
@@ -130,7 +133,15 @@ impl PlotSink {
             points: Vec::with_capacity(total_samples.min(MAX_POINTS) + 1),
             last: None,
             module1_assumed,
+            motions: None,
         }
+    }
+
+    /// The same sink, marking each motion's span (a dashed line where it
+    /// starts, its index and type above): for a procedure's run.
+    pub fn marking_motions(mut self) -> Self {
+        self.motions = Some(Vec::new());
+        self
     }
 
     /// The number of points that will be plotted per series.
@@ -176,7 +187,11 @@ impl PlotSink {
         root.fill(&WHITE).map_err(e)?;
         let root = root
             .titled(
-                "PARA-SILSROB endoscope reorientation: the paper's figures 5-7",
+                if self.motions.is_some() {
+                    "PARA-SILSROB procedure: the platform, module 1 and the left module, motion by motion"
+                } else {
+                    "PARA-SILSROB endoscope reorientation: the paper's figures 5-7"
+                },
                 (FONT, 28).into_font().style(FontStyle::Bold),
             )
             .map_err(e)?;
@@ -270,6 +285,7 @@ impl PlotSink {
                 .iter()
                 .flat_map(|s| self.series().map(|p| (s.get)(p))),
         );
+        let y_span = y.clone();
         let y2 = secondary.map_or(0.0..1.0, |(_, s)| range(self.series().map(|p| (s.get)(p))));
         let mut builder = ChartBuilder::on(&area);
         builder
@@ -291,6 +307,29 @@ impl PlotSink {
             .label_style((FONT, 14))
             .axis_desc_style((FONT, 16))
             .draw()?;
+        for (t, k, kind) in self.motions.iter().flatten() {
+            let (lo, hi) = (y_span.start, y_span.end);
+            let grey = RGBColor(120, 120, 120);
+            if *t > 0.0 {
+                let steps = 40;
+                let dash = (hi - lo) / f64::from(2 * steps);
+                chart.draw_series((0..steps).map(|i| {
+                    let y0 = lo + f64::from(2 * i) * dash;
+                    PathElement::new([(*t, y0), (*t, y0 + dash)], grey.stroke_width(1))
+                }))?;
+            }
+            let name = match kind {
+                1 => "position",
+                2 => "insert",
+                3 => "manipulate",
+                _ => "reorient",
+            };
+            chart.draw_series(core::iter::once(Text::new(
+                format!("{k}: {kind} {name}"),
+                (*t, hi),
+                (FONT, 13).into_font().color(&grey),
+            )))?;
+        }
         for s in series {
             chart.draw_series(LineSeries::new(
                 self.series().map(|p| (p.t, (s.get)(p))),
@@ -435,6 +474,11 @@ impl Sink for PlotSink {
 
     fn push(&mut self, record: &Record) -> Result<(), Self::Error> {
         let p = Point::of(record);
+        if let Some(m) = &mut self.motions
+            && m.last().is_none_or(|(_, k, _)| *k != record.motion)
+        {
+            m.push((record.t, record.motion, record.motion_type));
+        }
         if self.seen.is_multiple_of(self.stride) {
             self.points.push(p);
             self.last = None;

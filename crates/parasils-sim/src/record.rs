@@ -79,9 +79,37 @@ pub struct Record {
     /// `parasils::supervisor`); always empty in a run without commands,
     /// which has no supervisor.
     pub warnings: MarginSet,
+    /// The index of the procedure's motion under way, from 0 (0 in a run
+    /// without a procedure).
+    pub motion: u32,
+    /// Its type, 1 to 4 (the paper's numbering; 4 in a run without a
+    /// procedure).
+    pub motion_type: u8,
+    /// The endoscope's insertion depth, mm (0 at its port, positive
+    /// inwards; written in procedures only).
+    pub endoscope_depth: f64,
+    /// The endoscope's tip, mm, fixed frame (written in procedures only).
+    pub endoscope_tip: Vector3<f64>,
 }
 
 impl Record {
+    /// The twelve actuators' rates and accelerations in the order of
+    /// [`parasils::kin::Actuator::ALL`]: `q1..q6` (mm/s), then each
+    /// module's `qs1`, `qs2` (rad/s), `qs3` (mm/s).
+    pub fn actuator_rates(&self) -> ([f64; 12], [f64; 12]) {
+        let pick = |m: [f64; 6], l: [f64; 3], r: [f64; 3]| {
+            core::array::from_fn(|k| match k {
+                0..6 => m[k],
+                6..9 => l[k - 6],
+                _ => r[(k - 9).min(2)],
+            })
+        };
+        (
+            pick(self.module1.q_dot, self.left.q_dot, self.right.q_dot),
+            pick(self.module1.q_ddot, self.left.q_ddot, self.right.q_ddot),
+        )
+    }
+
     /// The pose's Euler angles in degrees as [`Record::angles_deg`] writes
     /// them, given the start's angles in degrees and in radians.
     pub fn degrees_from_start(

@@ -36,11 +36,18 @@ use core::fmt;
 use std::path::{Path, PathBuf};
 
 use nalgebra::Vector3;
+use parasils::kin::limits;
 use parasils::kin::{
-    Branch, FkOptions, Guide, InstrumentGeometry, Interval, JointLimits, ParallelGeometry,
-    ParallelThresholds, RobotGeometry, Side, Thresholds,
+    ActuatorLimits, Branch, Calibration, EndoscopeGeometry, FkOptions, Guide, InstrumentGeometry,
+    Interval, JointLimits, ParallelGeometry, ParallelThresholds, RobotGeometry, Side, Thresholds,
 };
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+mod locate;
+mod write;
+
+use locate::locate;
+pub use write::to_toml_string;
 
 /// What went wrong with a robot file.
 ///
@@ -153,6 +160,33 @@ pub struct RobotFile {
     pub left: InstrumentFile,
     /// The right instrument module.
     pub right: InstrumentFile,
+    /// `[endoscope]`: its insertion depth's range (default `[0, 250]` mm,
+    /// assumed, when the table is missing).
+    #[serde(default = "EndoscopeFile::paper")]
+    pub endoscope: EndoscopeFile,
+    /// `[supervisor]`: the margin supervisor's thresholds, read by
+    /// [`crate::supervisor`] (accepted here, not part of the geometry).
+    #[serde(default, skip_serializing)]
+    pub supervisor: Option<toml::Table>,
+}
+
+/// The endoscope in the file: `[endoscope]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EndoscopeFile {
+    /// The insertion depth's range `[min, max]`, mm: 0 at the port (the
+    /// platform's origin `P`), positive inwards.
+    #[serde(deserialize_with = "interval")]
+    pub depth_mm: [f64; 2],
+}
+
+impl EndoscopeFile {
+    fn paper() -> Self {
+        let d = EndoscopeGeometry::<f64>::paper().depth;
+        Self {
+            depth_mm: [d.min, d.max],
+        }
+    }
 }
 
 /// Module 1 in the file: `[module1]`, six `[[module1.guides]]` (`q1` to `q6`
@@ -186,6 +220,9 @@ pub struct Module1File {
     pub guides: [GuideFile; 6],
     /// The three legs' platform nodes, leg 1 (`q1`, `q2`) to leg 3 (`q5`, `q6`).
     pub legs: [LegFile; 3],
+    /// `[module1.calibration]`, written by `parasils calibrate`: `poses`, `rms_mm`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub calibration: Option<Calibration>,
 }
 
 /// One actuator in the file.
@@ -204,9 +241,18 @@ pub struct GuideFile {
     /// `s_j`, `1` or `-1`: which root of the inverse kinematics.
     #[serde(deserialize_with = "branch_sign", serialize_with = "branch_sign_out")]
     pub branch: Branch,
-    /// The slider's stroke `[min, max]`, mm.
+    /// The slider's stroke `[min, max]`, mm, on the reading.
     #[serde(deserialize_with = "interval")]
     pub stroke_mm: [f64; 2],
+    /// `o_j`, the reading minus the slider's position along the guide, mm (absent: 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub encoder_offset_mm: Option<f64>,
+    /// The slider's velocity limit, mm/s (default assumed 50).
+    #[serde(default = "limit_slider_v", deserialize_with = "positive")]
+    pub velocity_max_mm_s: f64,
+    /// The slider's acceleration limit, mm/s^2 (default assumed 100).
+    #[serde(default = "limit_slider_a", deserialize_with = "positive")]
+    pub acceleration_max_mm_s2: f64,
 }
 
 /// One leg in the file.
@@ -252,6 +298,43 @@ pub struct InstrumentFile {
     /// Smallest accepted `qs3`, mm.
     #[serde(deserialize_with = "positive")]
     pub qs3_min_mm: f64,
+    /// `qs1`'s velocity limit, deg/s (default assumed 30).
+    #[serde(default = "limit_qs12_v", deserialize_with = "positive")]
+    pub qs1_velocity_max_deg_s: f64,
+    /// `qs2`'s velocity limit, deg/s (default assumed 30).
+    #[serde(default = "limit_qs12_v", deserialize_with = "positive")]
+    pub qs2_velocity_max_deg_s: f64,
+    /// `qs3`'s velocity limit, mm/s (default assumed 60).
+    #[serde(default = "limit_qs3_v", deserialize_with = "positive")]
+    pub qs3_velocity_max_mm_s: f64,
+    /// `qs1`'s acceleration limit, deg/s^2 (default assumed 60).
+    #[serde(default = "limit_qs12_a", deserialize_with = "positive")]
+    pub qs1_acceleration_max_deg_s2: f64,
+    /// `qs2`'s acceleration limit, deg/s^2 (default assumed 60).
+    #[serde(default = "limit_qs12_a", deserialize_with = "positive")]
+    pub qs2_acceleration_max_deg_s2: f64,
+    /// `qs3`'s acceleration limit, mm/s^2 (default assumed 60).
+    #[serde(default = "limit_qs3_a", deserialize_with = "positive")]
+    pub qs3_acceleration_max_mm_s2: f64,
+}
+
+fn limit_slider_v() -> f64 {
+    limits::SLIDER_VELOCITY_MAX_MM_S
+}
+fn limit_slider_a() -> f64 {
+    limits::SLIDER_ACCELERATION_MAX_MM_S2
+}
+fn limit_qs12_v() -> f64 {
+    limits::QS12_VELOCITY_MAX_DEG_S
+}
+fn limit_qs12_a() -> f64 {
+    limits::QS12_ACCELERATION_MAX_DEG_S2
+}
+fn limit_qs3_v() -> f64 {
+    limits::QS3_VELOCITY_MAX_MM_S
+}
+fn limit_qs3_a() -> f64 {
+    limits::QS3_ACCELERATION_MAX_MM_S2
 }
 
 fn finite<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
@@ -352,8 +435,37 @@ fn mm_interval(v: [f64; 2]) -> Interval<f64> {
 }
 
 impl RobotFile {
+    /// The twelve actuators' limits the file gives, library units.
+    fn limits(&self) -> ActuatorLimits<f64> {
+        let mut out = ActuatorLimits::assumed();
+        for (j, g) in self.module1.guides.iter().enumerate() {
+            out.velocity[j] = g.velocity_max_mm_s;
+            out.acceleration[j] = g.acceleration_max_mm_s2;
+        }
+        for (base, m) in [(6, &self.left), (9, &self.right)] {
+            let [v, a] = m.limits();
+            out.velocity[base..base + 3].copy_from_slice(&v);
+            out.acceleration[base..base + 3].copy_from_slice(&a);
+        }
+        out
+    }
+
     /// The file's form of a geometry (radians to degrees).
     pub fn from_geometry(g: &RobotGeometry<f64>) -> Self {
+        let mut file = Self::from_geometry_without_limits(g);
+        let l = &g.limits;
+        for (j, guide) in file.module1.guides.iter_mut().enumerate() {
+            guide.velocity_max_mm_s = l.velocity[j];
+            guide.acceleration_max_mm_s2 = l.acceleration[j];
+        }
+        for (base, m) in [(6, &mut file.left), (9, &mut file.right)] {
+            let pick = |x: &[f64; 12]| [x[base], x[base + 1], x[base + 2]];
+            m.set_limits([pick(&l.velocity), pick(&l.acceleration)]);
+        }
+        file
+    }
+
+    fn from_geometry_without_limits(g: &RobotGeometry<f64>) -> Self {
         let m = &g.module1;
         Self {
             module1: Module1File {
@@ -370,11 +482,19 @@ impl RobotFile {
                     link_length_mm: g.link_length,
                     branch: g.branch,
                     stroke_mm: [g.stroke.min, g.stroke.max],
+                    encoder_offset_mm: (g.encoder_offset != 0.0).then_some(g.encoder_offset),
+                    velocity_max_mm_s: limit_slider_v(),
+                    acceleration_max_mm_s2: limit_slider_a(),
                 }),
                 legs: m.nodes.map(|a| LegFile { node_mm: a.into() }),
+                calibration: m.calibration,
             },
             left: InstrumentFile::from_geometry(&g.left),
             right: InstrumentFile::from_geometry(&g.right),
+            endoscope: EndoscopeFile {
+                depth_mm: [g.endoscope.depth.min, g.endoscope.depth.max],
+            },
+            supervisor: None,
         }
     }
 
@@ -385,12 +505,14 @@ impl RobotFile {
         RobotGeometry {
             module1: ParallelGeometry {
                 assumed: m.assumed,
+                calibration: m.calibration,
                 guides: m.guides.clone().map(|g| Guide {
                     point: Vector3::from(g.point_mm),
                     direction: Vector3::from(g.direction),
                     link_length: g.link_length_mm,
                     branch: g.branch,
                     stroke: mm_interval(g.stroke_mm),
+                    encoder_offset: g.encoder_offset_mm.unwrap_or(0.0),
                 }),
                 nodes: m.legs.clone().map(|l| Vector3::from(l.node_mm)),
                 thresholds: ParallelThresholds {
@@ -406,6 +528,10 @@ impl RobotFile {
             },
             left: self.left.to_geometry(Side::Left),
             right: self.right.to_geometry(Side::Right),
+            endoscope: EndoscopeGeometry {
+                depth: mm_interval(self.endoscope.depth_mm),
+            },
+            limits: self.limits(),
         }
     }
 }
@@ -424,7 +550,41 @@ impl InstrumentFile {
             reach_tolerance_rel: g.thresholds.reach,
             cos_qs2_min: g.thresholds.cos_qs2,
             qs3_min_mm: g.thresholds.qs3,
+            qs1_velocity_max_deg_s: limit_qs12_v(),
+            qs2_velocity_max_deg_s: limit_qs12_v(),
+            qs3_velocity_max_mm_s: limit_qs3_v(),
+            qs1_acceleration_max_deg_s2: limit_qs12_a(),
+            qs2_acceleration_max_deg_s2: limit_qs12_a(),
+            qs3_acceleration_max_mm_s2: limit_qs3_a(),
         }
+    }
+
+    /// The file's limits of this module, `[qs1, qs2, qs3]`, velocity then
+    /// acceleration, in library units (rad and mm).
+    fn limits(&self) -> [[f64; 3]; 2] {
+        [
+            [
+                self.qs1_velocity_max_deg_s.to_radians(),
+                self.qs2_velocity_max_deg_s.to_radians(),
+                self.qs3_velocity_max_mm_s,
+            ],
+            [
+                self.qs1_acceleration_max_deg_s2.to_radians(),
+                self.qs2_acceleration_max_deg_s2.to_radians(),
+                self.qs3_acceleration_max_mm_s2,
+            ],
+        ]
+    }
+
+    /// Sets this module's limits from library units (`[qs1, qs2, qs3]`,
+    /// velocity then acceleration).
+    fn set_limits(&mut self, [v, a]: [[f64; 3]; 2]) {
+        self.qs1_velocity_max_deg_s = to_deg(v[0]);
+        self.qs2_velocity_max_deg_s = to_deg(v[1]);
+        self.qs3_velocity_max_mm_s = v[2];
+        self.qs1_acceleration_max_deg_s2 = to_deg(a[0]);
+        self.qs2_acceleration_max_deg_s2 = to_deg(a[1]);
+        self.qs3_acceleration_max_mm_s2 = a[2];
     }
 
     /// The module on `side` (degrees to radians), not yet validated.
@@ -449,102 +609,6 @@ impl InstrumentFile {
     }
 }
 
-/// The header of every file this module writes.
-const HEADER: &str = "\
-# PARA-SILSROB robot geometry: module 1 (the 6-DOF parallel robot) and the
-# two spherical instrument modules, with their limits and thresholds.
-# Every key names its unit: _mm millimetres, _deg degrees, _rel relative;
-# module 1's positions are in the fixed frame OXYZ (-Z towards the patient),
-# its nodes and the ports (rcm_mm) in the platform frame.
-#
-# Module 1's default dimensions are ASSUMED, not the real robot's, which are
-# not published (see docs/model.md, section \"Module 1, the parallel robot\").
-# Replace them with the real ones and set `assumed = false`; as long as it is
-# true, every module-1 number the CLI prints is labelled as coming from an
-# assumed geometry.
-";
-
-/// Comments appended to the lines whose key they explain.
-const KEY_COMMENTS: [(&str, &str); 15] = [
-    ("assumed", "true: the dimensions below are assumed"),
-    ("serial_margin_min", "smallest accepted |e.u|/l, in (0, 1)"),
-    (
-        "parallel_margin_min",
-        "FK: smallest accepted parallel margin",
-    ),
-    (
-        "parallel_margin_command_min",
-        "each cycle: smallest accepted parallel margin",
-    ),
-    ("euler_cos_theta_min", "FK: smallest accepted |cos theta|"),
-    ("fk_tolerance_rel", "FK: max |f_j| / l_j at convergence"),
-    ("fk_max_iterations", "FK: Newton steps at most"),
-    ("direction", "u_j, normalised on loading"),
-    ("branch", "s_j: 1 or -1"),
-    ("stroke_mm", "[min, max]"),
-    ("node_mm", "a_i, platform frame"),
-    ("rcm_mm", "the port, platform frame"),
-    (
-        "reach_tolerance_rel",
-        "out of reach beyond |v_x| > cos(beta) (1 + this)",
-    ),
-    ("cos_qs2_min", "singular below"),
-    ("qs3_min_mm", "singular below"),
-];
-
-/// The TOML text of a geometry, with a header and comments: what
-/// `parasils robot` prints and `robots/default.toml` holds.
-pub fn to_toml_string(geometry: &RobotGeometry<f64>) -> Result<String, RobotFileError> {
-    let body = toml::to_string(&RobotFile::from_geometry(geometry))?;
-    let mut out = String::from(HEADER);
-    let (mut guide, mut leg) = (0, 0);
-    for line in body.lines() {
-        let line = &exponent_form(line);
-        let trimmed = line.trim();
-        if trimmed.starts_with('[') && !out.ends_with("\n\n") {
-            out.push('\n');
-        }
-        out.push_str(line);
-        match trimmed {
-            "[[module1.guides]]" => {
-                guide += 1;
-                out.push_str(&format!(" # q{guide}"));
-            }
-            "[[module1.legs]]" => {
-                leg += 1;
-                out.push_str(&format!(
-                    " # leg {leg}: the node of q{} and q{}",
-                    2 * leg - 1,
-                    2 * leg
-                ));
-            }
-            _ => {
-                let key = trimmed.split('=').next().unwrap_or("").trim();
-                if let Some((_, comment)) = KEY_COMMENTS.iter().find(|(k, _)| *k == key) {
-                    out.push_str(" # ");
-                    out.push_str(comment);
-                }
-            }
-        }
-        out.push('\n');
-    }
-    Ok(out)
-}
-
-/// `key = 0.0000000000001` as `key = 1e-13`: a small number in exponent
-/// form, which reads the same (TOML floats may have an exponent).
-fn exponent_form(line: &str) -> String {
-    if let Some((key, value)) = line.split_once(" = ")
-        && let Ok(v) = value.trim().parse::<f64>()
-        && v != 0.0
-        && v.abs() < 1e-3
-        && value.contains('.')
-    {
-        return format!("{key} = {v:e}");
-    }
-    line.to_owned()
-}
-
 /// The geometry in a robot file's text, validated. Errors name `"robot file"`
 /// as their origin; see [`load`] for a path.
 pub fn parse(text: &str) -> Result<RobotGeometry<f64>, RobotFileError> {
@@ -555,10 +619,11 @@ fn parse_from(text: &str, origin: &str) -> Result<RobotGeometry<f64>, RobotFileE
     let file: RobotFile = toml::from_str(text).map_err(|e| parse_error(text, origin, e))?;
     let geometry = file.to_geometry();
     // Module by module, so that an instrument's error says which side.
-    let checks: [(&str, Result<(), parasils::kin::Error>); 3] = [
+    let checks: [(&str, Result<(), parasils::kin::Error>); 4] = [
         ("module1", geometry.module1.validate()),
         ("left", geometry.left.validate()),
         ("right", geometry.right.validate()),
+        ("endoscope", geometry.endoscope.validate()),
     ];
     for (table, result) in checks {
         if let Err(error) = result {
@@ -575,115 +640,9 @@ fn parse_from(text: &str, origin: &str) -> Result<RobotGeometry<f64>, RobotFileE
     Ok(geometry)
 }
 
-/// Where a parameter sits in the file.
-struct Place {
-    key: String,
-    line: Option<usize>,
-    text: Option<String>,
-}
-
-/// The file's table, occurrence and key of the parameter a validation error
-/// names (`module1.guides[2].link_length` is `link_length_mm` in the third
-/// `[[module1.guides]]`), and its line.
-fn locate(text: &str, table: &str, error: &parasils::kin::Error) -> Option<Place> {
-    let what = match error {
-        parasils::kin::Error::InvalidParameter { what, .. }
-        | parasils::kin::Error::NonFinite { what, .. } => *what,
-        _ => return None,
-    };
-    let indexed = |prefix: &str| -> Option<(usize, &str)> {
-        let rest = what.strip_prefix(prefix)?;
-        let (index, field) = rest.split_once(']')?;
-        Some((index.parse().ok()?, field.trim_start_matches('.')))
-    };
-    let (header, occurrence, key, label): (&str, usize, &str, String) =
-        if let Some((j, field)) = indexed("module1.guides[") {
-            let key = match field.split('.').next().unwrap_or("") {
-                "point" => "point_mm",
-                "direction" => "direction",
-                "link_length" => "link_length_mm",
-                "stroke" => "stroke_mm",
-                _ => "",
-            };
-            (
-                "[[module1.guides]]",
-                j,
-                key,
-                format!(" #{} (q{})", j + 1, j + 1),
-            )
-        } else if let Some((i, _)) = indexed("module1.nodes[") {
-            ("[[module1.legs]]", i, "node_mm", format!(" #{}", i + 1))
-        } else if what == "module1.nodes" {
-            ("[[module1.legs]]", 0, "node_mm", String::from(" #1"))
-        } else if table == "module1" {
-            let key = match what {
-                "module1.thresholds.serial" => "serial_margin_min",
-                "module1.thresholds.parallel" => "parallel_margin_min",
-                "module1.thresholds.parallel_command" => "parallel_margin_command_min",
-                "module1.thresholds.euler" => "euler_cos_theta_min",
-                "module1.fk.tolerance" => "fk_tolerance_rel",
-                "module1.fk.max_iterations" => "fk_max_iterations",
-                _ => "",
-            };
-            ("[module1]", 0, key, String::new())
-        } else {
-            let field = what.strip_prefix("instrument.")?;
-            let key = match field.split('.').next().unwrap_or("") {
-                "alpha" => "alpha_deg",
-                "beta" => "beta_deg",
-                "radius" => "radius_mm",
-                "rcm" => "rcm_mm",
-                "limits" => match field {
-                    "limits.qs1" => "qs1_deg",
-                    "limits.qs2" => "qs2_deg",
-                    _ => "qs3_mm",
-                },
-                "thresholds" => match field {
-                    "thresholds.reach" => "reach_tolerance_rel",
-                    "thresholds.cos_qs2" => "cos_qs2_min",
-                    _ => "qs3_min_mm",
-                },
-                _ => "",
-            };
-            let header = if table == "left" { "[left]" } else { "[right]" };
-            (header, 0, key, String::new())
-        };
-    let mut seen = None;
-    let mut header_line = None;
-    let mut found = None;
-    for (n, line) in text.lines().enumerate() {
-        let content = line.split('#').next().unwrap_or("").trim();
-        if content.starts_with('[') {
-            if seen.is_some_and(|k| k == occurrence) && header_line.is_some() {
-                break;
-            }
-            if content == header {
-                seen = Some(seen.map_or(0, |k| k + 1));
-                if seen == Some(occurrence) {
-                    header_line = Some((n + 1, line));
-                }
-            }
-            continue;
-        }
-        if header_line.is_some() && !key.is_empty() {
-            let k = content.split('=').next().unwrap_or("").trim();
-            if k == key {
-                found = Some((n + 1, line));
-                break;
-            }
-        }
-    }
-    let at = found.or(header_line);
-    Some(Place {
-        key: format!("{header}{label} {key}").trim_end().to_owned(),
-        line: at.map(|(n, _)| n),
-        text: at.map(|(_, t)| t.to_owned()),
-    })
-}
-
 /// A [`RobotFileError::Parse`] with the line, column, key and text of the
 /// error's position.
-fn parse_error(text: &str, origin: &str, source: toml::de::Error) -> RobotFileError {
+pub(crate) fn parse_error(text: &str, origin: &str, source: toml::de::Error) -> RobotFileError {
     let position = source.span().map(|span| {
         let start = span.start.min(text.len());
         let before = &text[..start];

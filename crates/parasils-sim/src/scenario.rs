@@ -13,6 +13,9 @@ use parasils::paper;
 use parasils::traj::{Limits, Synchronization};
 use serde::Serialize;
 
+use crate::motion::MotionSpec;
+use crate::supervisor::SupervisorTable;
+
 /// The inputs of one endoscope reorientation (motion type 4), in user units:
 /// mm, degrees, deg/s, deg/s^2, Hz.
 ///
@@ -68,6 +71,20 @@ pub struct Scenario {
     pub retargets: Vec<Retarget>,
     /// The time of a controlled stop, s from the start; `None` for no stop.
     pub stop_at_s: Option<f64>,
+    /// A procedure's motions, in order (see [`crate::motion`]); empty for
+    /// the paper's single reorientation (`psi_deg`, `theta_deg` and the
+    /// limits above), which is what a run without motions does.
+    pub motions: Vec<MotionSpec>,
+    /// The endoscope's insertion depth at the start, mm (0 at its port,
+    /// positive inwards).
+    pub endoscope_depth_mm: f64,
+    /// How the reorientation is timed: the paper's trapezoid (default) or
+    /// the fastest law within the actuators' limits.
+    pub timing: Timing,
+    /// The margin supervisor's thresholds the robot file sets (its
+    /// `[supervisor]` table; none by default): they replace the defaults in
+    /// procedures' warnings and in runs with commands.
+    pub supervisor: SupervisorTable,
 }
 
 /// A new goal commanded at `t_s`: `psi_deg` and `theta_deg` are read like
@@ -172,6 +189,10 @@ impl Scenario {
             robot: RobotGeometry::paper(),
             retargets: Vec::new(),
             stop_at_s: None,
+            motions: Vec::new(),
+            endoscope_depth_mm: 0.0,
+            supervisor: SupervisorTable::default(),
+            timing: Timing::Trapezoid,
         }
     }
 
@@ -294,8 +315,29 @@ impl Scenario {
                 })
                 .collect(),
             stop_at: self.stop_at_s,
+            motions: &self.motions,
+            endoscope_depth_mm: (!self.motions.is_empty()).then_some(self.endoscope_depth_mm),
+            timing: self.timing,
         }
     }
+}
+
+/// How a reorientation is timed along its straight line in `(psi, theta)`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Timing {
+    /// The paper's: `psi` and `theta` on synchronised trapezoids within
+    /// [`Scenario::omega_max_deg_s`] and [`Scenario::eps_max_deg_s2`].
+    #[default]
+    Trapezoid,
+    /// The fastest rest-to-rest law whose twelve actuators stay within their
+    /// velocity and acceleration limits (the robot's); the angular limits
+    /// bind as well when `angular` is true (see [`crate::timing`]).
+    Optimal {
+        /// Whether [`Scenario::omega_max_deg_s`] and
+        /// [`Scenario::eps_max_deg_s2`] bind too.
+        angular: bool,
+    },
 }
 
 /// A [`Retarget`] in library units (s, rad), for records.
@@ -343,6 +385,20 @@ pub struct LibraryUnits<'a> {
     /// The time of the stop, s, if any.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stop_at: Option<f64>,
+    /// A procedure's motions, as given (in their own units: mm, deg, mm/s,
+    /// deg/s, s), if any.
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    pub motions: &'a [MotionSpec],
+    /// A procedure's starting endoscope depth, mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub endoscope_depth_mm: Option<f64>,
+    /// The timing, when it is not the paper's trapezoid.
+    #[serde(skip_serializing_if = "is_trapezoid")]
+    pub timing: Timing,
+}
+
+fn is_trapezoid(t: &Timing) -> bool {
+    *t == Timing::Trapezoid
 }
 
 #[cfg(test)]

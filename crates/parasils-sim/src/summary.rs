@@ -10,11 +10,15 @@ use core::fmt;
 use parasils::supervisor::MarginSet;
 
 use crate::columns::{self, CSV_COUNT, Column};
+use parasils::kin::{ACTUATOR_COUNT, Actuator, ActuatorLimits};
+
+use crate::engine::procedure::ProcedureCheck;
 use crate::engine::{Scheduled, Simulation};
 use crate::numbers::Fixed;
 use crate::record::Record;
 use crate::scenario::CommandKind;
 use crate::sink::Sink;
+use crate::timing::{OptimalReorientation, PhaseSummary};
 
 /// Running extremes of every CSV column ([`columns::CSV`]), and the
 /// commands as they took effect.
@@ -26,6 +30,9 @@ pub struct Summary {
     /// Whether module 1 runs on the assumed default geometry (the text says
     /// so).
     pub module1_assumed: bool,
+    /// Where module 1's dimensions come from, when known (a calibrated
+    /// geometry is labelled with its record).
+    module1_provenance: Option<parasils::kin::Provenance>,
     /// The commands scheduled, in a run with commands (else empty), and
     /// whether their angles are final ones.
     schedule: Vec<Scheduled>,
@@ -37,6 +44,15 @@ pub struct Summary {
     warned: usize,
     first_warning: Option<f64>,
     warnings: MarginSet,
+    /// A procedure's check (its motions and warnings), listed after the
+    /// margins.
+    procedure: Option<ProcedureCheck>,
+    /// The actuators' limits, and each actuator's largest fraction of its
+    /// velocity and of its acceleration limit so far.
+    limits: ActuatorLimits<f64>,
+    usage: [[f64; ACTUATOR_COUNT]; 2],
+    /// The time-optimal law's phases, for a run timed with it.
+    phases: Vec<PhaseSummary>,
 }
 
 impl Default for Summary {
@@ -58,6 +74,12 @@ impl Sink for Summary {
             self.first_warning.get_or_insert(record.t);
             self.warnings = self.warnings.union(record.warnings);
         }
+        let (q_dot, q_ddot) = record.actuator_rates();
+        let [uv, ua] = &mut self.usage;
+        for (k, (v, a)) in q_dot.iter().zip(&q_ddot).enumerate() {
+            uv[k] = uv[k].max(v.abs() / self.limits.velocity[k]);
+            ua[k] = ua[k].max(a.abs() / self.limits.acceleration[k]);
+        }
         for (i, column) in columns::CSV.iter().enumerate() {
             let v = column.value(record);
             self.min[i] = self.min[i].min(v);
@@ -76,12 +98,17 @@ impl Summary {
             min: [f64::INFINITY; CSV_COUNT],
             max: [f64::NEG_INFINITY; CSV_COUNT],
             module1_assumed,
+            module1_provenance: None,
             schedule: Vec::new(),
             absolute: false,
             effective: Vec::new(),
             warned: 0,
             first_warning: None,
             warnings: MarginSet::EMPTY,
+            procedure: None,
+            limits: ActuatorLimits::assumed(),
+            usage: [[0.0; ACTUATOR_COUNT]; 2],
+            phases: Vec::new(),
         }
     }
 
@@ -90,10 +117,17 @@ impl Summary {
     /// lists with the times they took effect.
     pub fn for_simulation(sim: &Simulation) -> Self {
         let mut s = Self::new(sim.module1_assumed());
+        s.module1_provenance = Some(sim.scenario().robot.module1.provenance());
         if sim.scenario().has_commands() {
             s.schedule = sim.schedule().to_vec();
             s.absolute = sim.scenario().absolute;
         }
+        s.procedure = sim.procedure_check().cloned();
+        s.limits = sim.controller().limits;
+        s.phases = sim
+            .optimal()
+            .map(OptimalReorientation::phases)
+            .unwrap_or_default();
         s
     }
 
@@ -183,6 +217,8 @@ impl fmt::Display for Summary {
                 f,
                 "  (module 1 uses the ASSUMED default geometry: the real robot's dimensions are not published; pass --robot FILE.toml)"
             )?;
+        } else if let Some(p @ parasils::kin::Provenance::Calibrated(_)) = self.module1_provenance {
+            writeln!(f, "  (module 1 {p})")?;
         }
         for j in 0..6 {
             let (lo, hi) = r(&columns::Q_MM[j]);
@@ -232,10 +268,134 @@ impl fmt::Display for Summary {
             Fixed(r(&columns::MODULE1_SERIAL_MARGIN).0, 4),
             Fixed(r(&columns::MODULE1_PARALLEL_MARGIN).0, 4)
         )?;
+        write!(f, "\nactuator limits, peak use (velocity, acceleration):")?;
+        for (k, a) in Actuator::ALL.iter().enumerate() {
+            let name = a.to_string().replace("module 1 ", "");
+            if k % 6 == 0 {
+                write!(f, "\n ")?;
+            }
+            write!(
+                f,
+                " {name} {} {}",
+                Fixed(self.usage[0][k], 3),
+                Fixed(self.usage[1][k], 3)
+            )?;
+        }
+        if !self.phases.is_empty() {
+            write!(f, "\ntime-optimal timing, what limits each phase:")?;
+            for p in &self.phases {
+                write!(f, "\n  {p}")?;
+            }
+        }
         if !self.schedule.is_empty() {
             self.write_commands(f)?;
         }
+        if let Some(check) = &self.procedure {
+            write!(f, "\n{}", MotionTable(check))?;
+        }
         Ok(())
+    }
+}
+
+/// A procedure's motions as a table (type, name, start, duration, peak
+/// rates, smallest margins, largest tip error), then every supervisor
+/// warning with its motion and times.
+struct MotionTable<'a>(&'a ProcedureCheck);
+
+impl fmt::Display for MotionTable<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        use parasils::supervisor::Margin;
+        writeln!(
+            f,
+            "motion type        name                         start_s duration_s q_rate_mm_s qs12_rate_deg_s qs3_rate_mm_s min_cos_qs2 min_serial min_parallel min_stroke_mm tip_err_mm"
+        )?;
+        for m in &self.0.motions {
+            let s = &m.smallest;
+            let name: String = m
+                .name
+                .name
+                .as_deref()
+                .unwrap_or("-")
+                .chars()
+                .take(28)
+                .collect();
+            writeln!(
+                f,
+                "{:>6} {}:{:<10} {:<28} {:>7} {:>10} {:>11} {:>15} {:>13} {:>11} {:>10} {:>12} {:>13} {:>10.3e}",
+                m.name.index,
+                m.name.motion_type.number(),
+                m.name.type_name(),
+                name,
+                Fixed(m.start_s, 3),
+                Fixed(m.duration_s, 3),
+                Fixed(m.peak_module1_mm_s, 3),
+                Fixed(m.peak_joint_rad_s.to_degrees(), 3),
+                Fixed(m.peak_qs3_mm_s, 3),
+                Fixed(s[Margin::LeftCosQs2].min(s[Margin::RightCosQs2]), 4),
+                Fixed(s[Margin::Serial], 4),
+                Fixed(s[Margin::Parallel], 4),
+                Fixed(s[Margin::Stroke], 3),
+                m.tip_err_mm
+            )?;
+        }
+        if self.0.warnings.is_empty() {
+            write!(f, "supervisor: no margin below its warning threshold")
+        } else {
+            write!(f, "supervisor warnings ({}):", self.0.warnings.len())?;
+            for w in &self.0.warnings {
+                let name = self.0.motions.get(w.motion).map(|m| m.name.to_string());
+                write!(
+                    f,
+                    "\n  {}: {} below {} {} from t = {} to {} s (smallest {})",
+                    name.as_deref().unwrap_or("?"),
+                    w.margin.name(),
+                    crate::numbers::Num(w.threshold),
+                    w.margin.unit(),
+                    Fixed(w.from_s, 3),
+                    Fixed(w.until_s, 3),
+                    crate::numbers::Num(w.smallest),
+                )?;
+            }
+            Ok(())
+        }
+    }
+}
+
+/// What `parasils simulate --procedure FILE --check` prints of a procedure
+/// that passed its check: the verdict, then the motions' table and the
+/// warnings. (A procedure that fails does not get this far: its error names
+/// the motion, the time inside it and what failed.)
+#[derive(Debug)]
+pub struct CheckReport<'a> {
+    sim: &'a Simulation,
+    check: &'a ProcedureCheck,
+}
+
+impl<'a> CheckReport<'a> {
+    /// The report of `sim`'s `check`.
+    pub fn new(sim: &'a Simulation, check: &'a ProcedureCheck) -> Self {
+        Self { sim, check }
+    }
+}
+
+impl fmt::Display for CheckReport<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "procedure OK: {} motions, {} s, {} samples at {} Hz, every sample within the joint limits, strokes, reach and singularity thresholds; {} supervisor warnings",
+            self.check.motions.len(),
+            Fixed(self.sim.duration(), 3),
+            self.sim.sample_count(),
+            crate::numbers::Num(self.sim.scenario().rate_hz),
+            self.check.warnings.len()
+        )?;
+        if self.sim.module1_assumed() {
+            writeln!(
+                f,
+                "(module 1 uses the ASSUMED default geometry: the real robot's dimensions are not published)"
+            )?;
+        }
+        write!(f, "{}", MotionTable(self.check))
     }
 }
 

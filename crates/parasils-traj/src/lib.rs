@@ -56,6 +56,8 @@
 //! - [`sync`]: [`Multi`] and [`Synchronization`], `N` axes together;
 //! - [`online`]: [`OnlineTrapezoid`] and [`OnlineMulti`], from any current
 //!   state (moving or not) to rest at a target, and the controlled stop;
+//! - [`optimal`]: the time-optimal timing of a given path under velocity
+//!   and acceleration limits (reachability analysis over a caller's grid);
 //! - [`sampler`]: [`Sampler`], the fixed-rate iterator;
 //! - [`profile`]: the [`Motion`] and [`Profile`] traits and [`State`];
 //! - [`error`]: [`Error`]; [`real`]: the [`Real`] float trait.
@@ -80,6 +82,7 @@
 pub mod double_s;
 pub mod error;
 pub mod online;
+pub mod optimal;
 pub mod profile;
 pub mod real;
 pub mod sampler;

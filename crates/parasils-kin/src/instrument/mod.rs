@@ -74,5 +74,6 @@ pub use crate::side::Side;
 pub use geometry::InstrumentGeometry;
 pub use solver::Instrument;
 pub use types::{
-    AssemblyMode, InstrumentMargins, InstrumentSolution, JointLimits, Joints, Thresholds, TipMotion,
+    AssemblyMode, InstrumentMargins, InstrumentSolution, JointLimits, JointMotion, Joints,
+    Thresholds, TipMotion,
 };

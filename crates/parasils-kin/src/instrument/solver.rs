@@ -5,8 +5,10 @@
 use nalgebra::{Matrix3, Vector3};
 
 use super::geometry::InstrumentGeometry;
-use super::types::{AssemblyMode, InstrumentMargins, InstrumentSolution, Joints, TipMotion};
-use crate::check::check_vector;
+use super::types::{
+    AssemblyMode, InstrumentMargins, InstrumentSolution, JointMotion, Joints, TipMotion,
+};
+use crate::check::{check_results, check_vector};
 use crate::error::{Error, Margin};
 use crate::frame::{PlatformFrame, PlatformState, Pose};
 use crate::real::Real;
@@ -154,11 +156,14 @@ impl<T: Real> Instrument<T> {
     /// (the paper's equations 2 and 4; see `docs/model.md`, *Instrument
     /// modules*).
     ///
-    /// Fails only on non-finite input.
+    /// Fails on non-finite input, and on finite input so large that the
+    /// tip overflows the float type.
     pub fn fk(&self, pose: &Pose<T>, q: &Joints<T>) -> Result<Vector3<T>, Error> {
         pose.check_finite()?;
         q.check_finite()?;
-        Ok(pose.rotation() * self.fk_platform(q) + pose.position())
+        let tip = pose.rotation() * self.fk_platform(q) + pose.position();
+        check_results(tip.as_slice(), "tip (overflow)")?;
+        Ok(tip)
     }
 
     /// The orientation of the module's last frame (the tool frame) in its
@@ -282,6 +287,14 @@ impl<T: Real> Instrument<T> {
         let p = self.in_left_convention(p_local);
         let th = &self.geometry.thresholds;
         let qs3 = p.norm();
+        // Finite coordinates whose distance overflows the float type (past
+        // about 1e154 mm in f64, 1e19 in f32): no finite qs3 reaches them.
+        if !qs3.finite() {
+            return Err(Error::NonFinite {
+                what: "|tip_local| (beyond the float type)",
+                value: qs3.to_f64(),
+            });
+        }
         if !(qs3 >= th.qs3) {
             return Err(Error::Singular {
                 side: self.geometry.side,
@@ -422,7 +435,10 @@ impl<T: Real> Instrument<T> {
         self.check_singular(k.d / self.cos_beta, q.qs3)?;
         // The tip in the platform frame.
         let c = self.geometry.rcm + self.in_left_convention(&(self.rot_alpha(&k.w) * -q.qs3));
-        Ok(self.rates_unchecked(frame, q, &k, &c, tip_velocity, tip_acceleration))
+        let (q_dot, q_ddot) =
+            self.rates_unchecked(frame, q, &k, &c, tip_velocity, tip_acceleration);
+        check_rates(self.geometry.side, &q_dot, &q_ddot)?;
+        Ok((q_dot, q_ddot))
     }
 
     /// The rates at `q` (basis `k`), the tip at `c` (mm, platform frame).
@@ -481,6 +497,7 @@ impl<T: Real> Instrument<T> {
         let k = self.basis_of(&trig);
         let (q_dot, q_ddot) =
             self.rates_unchecked(frame, &q, &k, &c, &tip.velocity, &tip.acceleration);
+        check_rates(self.geometry.side, &q_dot, &q_ddot)?;
         Ok(InstrumentSolution {
             q,
             q_dot,
@@ -490,6 +507,26 @@ impl<T: Real> Instrument<T> {
                 qs3: q.qs3,
                 limits: self.geometry.limits.margins(&q),
             },
+        })
+    }
+
+    /// The module with its joints commanded directly (see [`JointMotion`]):
+    /// the joints checked (finite, within their limits, away from the
+    /// singular thresholds, as [`Instrument::solve`] checks the IK's), their
+    /// rates passed through, and the margins at `q`. The tip follows by
+    /// forward kinematics ([`Instrument::fk_platform`]).
+    pub fn solve_joints(&self, motion: &JointMotion<T>) -> Result<InstrumentSolution<T>, Error> {
+        motion.q.check_finite()?;
+        motion.q_dot.check_finite()?;
+        motion.q_ddot.check_finite()?;
+        self.geometry.limits.check(self.geometry.side, &motion.q)?;
+        let margins = self.margins(&motion.q);
+        self.check_singular(margins.cos_qs2, motion.q.qs3)?;
+        Ok(InstrumentSolution {
+            q: motion.q,
+            q_dot: motion.q_dot,
+            q_ddot: motion.q_ddot,
+            margins,
         })
     }
 
@@ -509,6 +546,23 @@ fn unwrap_near<T: Real>(angle: T, reference: T) -> T {
     let two_pi = T::two_pi();
     let turns = ((reference - angle) / two_pi).round();
     angle + turns * two_pi
+}
+
+/// `Err(Error::NonFinite)` when the joint rates or accelerations overflowed
+/// (finite inputs too large for the float type).
+fn check_rates<T: Real>(side: Side, q_dot: &Joints<T>, q_ddot: &Joints<T>) -> Result<(), Error> {
+    let (rates, accelerations) = match side {
+        Side::Left => (
+            "left instrument: joint rates (overflow)",
+            "left instrument: joint accelerations (overflow)",
+        ),
+        Side::Right => (
+            "right instrument: joint rates (overflow)",
+            "right instrument: joint accelerations (overflow)",
+        ),
+    };
+    check_results(&q_dot.to_array(), rates)?;
+    check_results(&q_ddot.to_array(), accelerations)
 }
 
 #[cfg(test)]

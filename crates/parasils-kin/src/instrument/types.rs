@@ -212,6 +212,33 @@ pub struct InstrumentSolution<T> {
     pub margins: InstrumentMargins<T>,
 }
 
+/// Joints commanded directly, with their rates and accelerations: a module
+/// whose joints are held (motion types 1 and 4 for the module that does not
+/// move its tip) or driven one by one (motion type 2, the insertion along the
+/// tool's axis, which moves `qs3` only).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct JointMotion<T> {
+    /// Joint positions (rad, rad, mm).
+    pub q: Joints<T>,
+    /// Joint velocities (rad/s, rad/s, mm/s).
+    pub q_dot: Joints<T>,
+    /// Joint accelerations (rad/s^2, rad/s^2, mm/s^2).
+    pub q_ddot: Joints<T>,
+}
+
+impl<T: Real> JointMotion<T> {
+    /// The joints `q` held still.
+    pub fn held(q: Joints<T>) -> Self {
+        let zero = Joints::new(T::zero(), T::zero(), T::zero());
+        Self {
+            q,
+            q_dot: zero,
+            q_ddot: zero,
+        }
+    }
+}
+
 /// A tip target in the fixed frame with its velocity and acceleration.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

@@ -7,12 +7,16 @@ CLI's units, which its argument names and column names carry).
 
 - :class:`Robot`: the robot's geometry and its solvers (instrument modules'
   IK, FK and rates; module 1's IK, FK and rates), each on one sample or a
-  batch of rows, looped in Rust without the GIL.
+  batch of rows, looped in Rust without the GIL; the endoscope's turn as a
+  path with its exact derivatives (``Robot.reorientation_path``) and timed as
+  fast as the actuators' limits allow (``Robot.optimal_reorientation``).
 - :func:`simulate`: the simulation library's run, as ``parasils simulate``
   does it, returning its CSV table as a dict of NumPy columns
   (``pandas.DataFrame(parasils.simulate())``), and writing CSV or MCAP with
   ``out=``; new goals and a stop commanded while the platform moves with
   ``retarget=`` and ``stop_at_s=``.
+- :func:`calibrate`: module 1's geometry fitted to actuator readings at
+  measured poses, returning the fitted :class:`Robot` and a report.
 - :data:`COLUMNS`: the names of those columns, each with its unit.
 - :func:`batch_threads`: the number of threads a large batch runs on
   (``PARASILS_NUM_THREADS``, else the CPUs available).
@@ -77,6 +81,8 @@ def simulate(
     stop_at_s=None,
     pose=None,
     force=False,
+    procedure=None,
+    timing="trapezoid",
 ):
     """Simulates an endoscope reorientation (motion type 4) with the
     simulation library, as ``parasils simulate`` does: the platform turns
@@ -125,6 +131,24 @@ def simulate(
     - force: write ``out`` even above the 10 GB cap (--force).
     - pose: deprecated name of pose_mm_deg (a DeprecationWarning; removed in
       the next release).
+    - timing: "trapezoid" (default: the paper's, within omega_max_deg_s and
+      eps_max_deg_s2) or "optimal" (--timing optimal): the fastest turn along
+      the same straight line whose twelve actuators stay within the robot's
+      velocity and acceleration limits; omega_max_deg_s and eps_max_deg_s2
+      bind as well only when given other values than the paper's.
+    - procedure: run a procedure instead (--procedure): a procedure file's
+      path (TOML) or a dict of the same structure, e.g.
+      ``{"motion": [{"type": "insert", "instrument": "endoscope",
+      "depth_mm": 40}]}``. It gives the start (pose, tips, endoscope depth),
+      the robot and the motions (motion types 1 to 4: "position", "insert",
+      "manipulate", "reorient"), so only rate_hz, out, format and force may
+      be given with it (TypeError otherwise). The whole procedure is planned
+      and checked before anything is returned or written. Its table has
+      twelve more columns after the others: ``motion`` and ``motion_type``
+      (int64: the motion's index from 0, the paper's type 1 to 4),
+      ``endoscope_depth_mm``, and the tips ``left_tip_x_mm`` ..
+      ``right_tip_z_mm``, ``endoscope_tip_x_mm`` .. ``endoscope_tip_z_mm``
+      (mm, fixed frame).
 
     A run with commands (retarget or stop_at_s) goes through the online
     controller, as a robot's controller runs it, with its margin supervisor:
@@ -160,7 +184,37 @@ def simulate(
             stacklevel=2,
         )
         pose_mm_deg = pose
+    if procedure is not None:
+        scenario = {
+            "psi_deg": psi_deg != _PAPER["psi_deg"],
+            "theta_deg": theta_deg != _PAPER["theta_deg"],
+            "absolute": absolute,
+            "omega_max_deg_s": omega_max_deg_s != _PAPER["omega_max_deg_s"],
+            "eps_max_deg_s2": eps_max_deg_s2 != _PAPER["eps_max_deg_s2"],
+            "sync": sync != "phase",
+            "pose_mm_deg": pose_mm_deg is not None,
+            "tip_left_mm": tip_left_mm is not None,
+            "tip_right_mm": tip_right_mm is not None,
+            "robot": robot is not None,
+            "retarget": retarget is not None,
+            "stop_at_s": stop_at_s is not None,
+        }
+        for name, given in scenario.items():
+            if given:
+                raise TypeError(
+                    f"simulate() got {name} with procedure: a procedure has its own "
+                    "start, robot and motions"
+                )
+        return _parasils.simulate(
+            procedure=procedure, rate_hz=rate_hz, out=out, format=format, force=force
+        )
+    angular_given = (
+        omega_max_deg_s != _PAPER["omega_max_deg_s"] or eps_max_deg_s2 != _PAPER["eps_max_deg_s2"]
+    )
+    if timing == "optimal" and not angular_given:
+        omega_max_deg_s = eps_max_deg_s2 = None
     return _parasils.simulate(
+        timing=timing,
         psi_deg=psi_deg,
         theta_deg=theta_deg,
         absolute=absolute,
@@ -178,6 +232,42 @@ def simulate(
         stop_at_s=stop_at_s,
         force=force,
     )
+
+
+def calibrate(robot, q, poses, sigma=None):
+    """Calibrate module 1: fit its geometry to actuator readings at measured
+    platform poses (``parasils calibrate``'s fit, the same Rust code).
+
+    ``q`` holds the readings ``q1..q6`` (mm) and ``poses`` the measured
+    poses ``(x, y, z, psi, theta, phi)`` (mm, rad), one row per pose, shape
+    ``(N, 6)``: NumPy arrays, pandas frames or nested lists. ``sigma`` gives
+    the measurements' standard deviations ``(readings mm, position mm,
+    angles rad)``, three numbers for every row or an ``(N, 3)`` array; with
+    ``None`` every equation weighs the same. ``robot`` is the nominal robot:
+    the fit starts from its module 1 and keeps the parameters the poses
+    cannot see at its values.
+
+    Returns ``(fitted, report)``: the fitted :class:`Robot` (module 1 no
+    longer assumed, its calibration recorded; ``fitted.to_toml()`` writes
+    it) and the report as a dict (RMS residual before and after, each
+    identified parameter with its standard deviation, the fixed ones with
+    the reason, the observability indices). Raises ``ValueError`` naming
+    the row or the problem: a NaN, a pose out of the nominal robot's reach,
+    too few poses, divergence.
+    """
+    import json
+
+    import numpy as np
+
+    def table(name, a, width):
+        a = np.ascontiguousarray(np.asarray(a, dtype=np.float64))
+        if a.ndim == 1 and a.shape[0] == width:
+            a = a.reshape(1, width)
+        return a
+
+    s = None if sigma is None else table("sigma", sigma, 3)
+    fitted, report = _parasils._calibrate(robot, table("q", q, 6), table("poses", poses, 6), s)
+    return fitted, json.loads(report)
 
 
 __all__ = [
@@ -200,5 +290,6 @@ __all__ = [
     "TrajectoryError",
     "__version__",
     "batch_threads",
+    "calibrate",
     "simulate",
 ]

@@ -54,6 +54,42 @@ class Robot:
         "dpsi", "dtheta" (rad), "feasible", "reachable", "line", "limiting"
         (indices into "codes"), "margin", "boundary_points" (rad),
         "boundary_limiting", "boundary" (polylines), "module1_assumed"."""
+    def reorientation_path(
+        self,
+        pose: _Array,
+        tips: Optional[_Array],
+        dpsi: float,
+        dtheta: float,
+        s: _Array,
+        order: Literal[0, 1, 2] = 0,
+    ) -> _F64:
+        """Motion type 4 as a path s in [0, 1]: psi and theta turn by dpsi,
+        dtheta (rad) from `pose` (6,) along a straight line, tips (2, 3) mm
+        held (None: the paper's left tip and its mirror image). Returns the
+        twelve actuators (q1..q6 mm, left and right qs1, qs2 rad, qs3 mm) at
+        each s for order 0, their first (order 1) or second (order 2)
+        derivatives in s: shape (len(s), 12), exact."""
+    def optimal_reorientation(
+        self,
+        pose: _Array,
+        tips: Optional[_Array],
+        dpsi: float,
+        dtheta: float,
+        *,
+        velocity_max: Optional[_Array] = None,
+        acceleration_max: Optional[_Array] = None,
+        omega_max: Optional[float] = None,
+        eps_max: Optional[float] = None,
+        knots: int = 1000,
+        checks: int = 10,
+    ) -> Dict[str, Any]:
+        """The fastest rest-to-rest timing of reorientation_path's turn within
+        the actuators' limits ((12,) each, mm or rad per s and s^2; None: the
+        assumed defaults) and, when given, each Euler angle's omega_max
+        (rad/s) and eps_max (rad/s^2): "duration_s", "phases" (dicts with
+        "start_s", "end_s", "binding", "limit", "usage"), the schedule at the
+        knots "s", "t_s", "s_dot", "s_ddot", and the check's
+        "worst_before_check", "passes", "stretch"."""
     @overload
     def instrument_ik(
         self,
@@ -186,6 +222,8 @@ def simulate(
     stop_at_s: Optional[float] = None,
     pose: Optional[Sequence[float]] = None,
     force: bool = False,
+    procedure: Union[_Path, Dict[str, Any], None] = None,
+    timing: Literal["trapezoid", "optimal"] = "trapezoid",
 ) -> Dict[str, npt.NDArray[Any]]:
     """``parasils simulate`` from the simulation library: the CSV table as
     NumPy columns keyed by COLUMNS (float64). ``pose_mm_deg`` is (x, y, z mm,
@@ -196,7 +234,29 @@ def simulate(
     either has one more column, ``command`` (int64, the index of the active
     command). ``out`` is checked before writing: OSError (ENOSPC) above the
     free space, ValueError above the 10 GB cap unless ``force=True``. The
-    defaults are the paper's scenario."""
+    defaults are the paper's scenario.
+
+    ``procedure`` runs a procedure instead (``--procedure``): a path to a
+    procedure file (TOML) or a dict of the same structure, which gives the
+    start, the robot and the motions (only ``rate_hz``, ``out``, ``format``
+    and ``force`` may be given with it). The whole procedure is checked
+    before anything is returned or written; a failure raises the error of
+    the kinematics naming the motion (index from 0, type, name) and the time
+    inside it. Its table has twelve more columns: ``motion`` and
+    ``motion_type`` (int64), ``endoscope_depth_mm`` and the three tips
+    ``left_tip_x_mm`` .. ``endoscope_tip_z_mm``."""
+
+def calibrate(
+    robot: Robot,
+    q: npt.ArrayLike,
+    poses: npt.ArrayLike,
+    sigma: Optional[npt.ArrayLike] = None,
+) -> Tuple[Robot, Dict[str, Any]]:
+    """Fit module 1's geometry to actuator readings ``q`` (N, 6) mm at
+    measured poses ``poses`` (N, 6) mm and rad; ``sigma``: the standard
+    deviations (readings mm, position mm, angles rad), three numbers or
+    (N, 3), or None for equal weights. Returns the fitted Robot and the
+    report as a dict; raises ValueError naming the row or the problem."""
 
 def batch_threads() -> int:
     """The number of threads a batch of 4096 rows or more runs on:

@@ -25,6 +25,7 @@
 //! however long the run.
 
 use nalgebra::Vector3;
+use parasils::kin::LimitError;
 use parasils::kin::{
     AssemblyMode, ControlStep, Controller, Instrument, InstrumentSolution, PlatformState,
     TipTargets,
@@ -32,8 +33,13 @@ use parasils::kin::{
 use parasils::supervisor::{MarginSet, Margins};
 use parasils::traj::Sampler;
 use parasils::{MotionKind, OnlineController, Reorientation, Supervisor};
+use procedure::{ProcedureCheck, ProcedurePlan};
 
-use crate::numbers::{AtTime, Num};
+use crate::scenario::Timing;
+use crate::timing::{OptimalReorientation, TimingError, TimingOptions};
+
+use crate::motion::MotionName;
+use crate::numbers::{AtTime, Fixed, Num};
 use crate::record::{InstrumentRecord, Module1Record, Record};
 use crate::scenario::{Command, CommandKind, Scenario};
 use crate::sink::Sink;
@@ -43,7 +49,7 @@ use crate::sink::Sink;
 /// Each message names its subject once: the robot's geometry, the
 /// trajectory, the commands, or the sample's time followed by the
 /// kinematics' own message (which names the module).
-#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum SimulationError {
     /// The robot's geometry is invalid.
@@ -67,6 +73,46 @@ pub enum SimulationError {
     /// The retargets or the stop cannot be scheduled.
     #[error("commands: {0}")]
     Commands(CommandError),
+    /// A motion of a procedure failed: which one, when inside it, and what
+    /// failed (the error's own time is from the procedure's start).
+    #[error(
+        "{motion}, {} s into it{}: {}",
+        Fixed(*t_motion, 3),
+        error.time_s().map(|t| format!(" (t = {} s)", Fixed(t, 3))).unwrap_or_default(),
+        error.without_time()
+    )]
+    Motion {
+        /// The motion.
+        motion: Box<MotionName>,
+        /// The time inside it, s.
+        t_motion: f64,
+        /// What failed.
+        error: Box<SimulationError>,
+    },
+    /// A procedure's motions do not follow each other (a stop with nothing
+    /// to stop, a motion of another type after one cut short while moving).
+    #[error("{0}")]
+    Procedure(String),
+    /// An actuator's velocity or acceleration beyond its limit at a sample.
+    #[error("{}{error}", AtTime(*t))]
+    ActuatorLimit {
+        /// The sample's time, s.
+        t: f64,
+        /// The sample's index.
+        sample: Option<usize>,
+        /// Which actuator, the value and the limit.
+        error: LimitError,
+    },
+    /// The time-optimal law cannot be computed.
+    #[error("time-optimal timing: {0}")]
+    Timing(TimingError),
+    /// An option that does not apply to this run.
+    #[error("{0}")]
+    Unsupported(&'static str),
+    /// The margin supervisor's thresholds are invalid (a stop threshold not
+    /// above the solvers' hard one, a warning below its stop threshold).
+    #[error("supervisor thresholds: {0}")]
+    Supervisor(parasils::Error),
     /// The online controller refused a call for another reason than the
     /// kinematics or the trajectory (for instance, a supervisor threshold).
     #[error("{}{error}", AtTime(*t))]
@@ -78,6 +124,30 @@ pub enum SimulationError {
         /// What failed.
         error: parasils::Error,
     },
+}
+
+impl SimulationError {
+    /// The message without its leading time (for errors placed in a
+    /// motion, which give the time inside it).
+    fn without_time(&self) -> String {
+        match self {
+            SimulationError::Kinematics { error, .. } => error.to_string(),
+            SimulationError::Controller { error, .. } => error.to_string(),
+            SimulationError::ActuatorLimit { error, .. } => error.to_string(),
+            e => e.to_string(),
+        }
+    }
+
+    /// The time of the failure, s from the start, when there is one.
+    pub fn time_s(&self) -> Option<f64> {
+        match self {
+            SimulationError::Kinematics { t, .. }
+            | SimulationError::Controller { t, .. }
+            | SimulationError::ActuatorLimit { t, .. } => Some(*t),
+            SimulationError::Motion { error, .. } => error.time_s(),
+            _ => None,
+        }
+    }
 }
 
 /// A command as the errors name it: `the reorientation`, `retarget 2` (the
@@ -106,6 +176,10 @@ impl core::fmt::Display for CommandName {
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum CommandError {
+    /// Retargets and stops change the paper's reorientation while it runs;
+    /// a procedure plans its motions in full instead.
+    #[error("retargets and stops apply to a single reorientation, not to a procedure's motions")]
+    InProcedure,
     /// A time or an angle is NaN or infinite.
     #[error("{command}: {what} = {} is not a finite number", Num(*value))]
     NonFinite {
@@ -202,6 +276,38 @@ enum Plan {
     /// With commands: the online controller, at rest at the start, and the
     /// sampling rate.
     Online(OnlineController<f64>, f64),
+    /// A procedure: its motions on one time line.
+    Procedure(Sampler<f64, ProcedurePlan>),
+    /// Without commands, timed to the actuators' limits.
+    Optimal(Sampler<f64, OptimalReorientation>),
+}
+
+/// What a record says besides the kinematics: the command and motion it
+/// belongs to, the supervisor's warnings, the endoscope.
+#[derive(Debug, Clone, Copy)]
+struct Context {
+    command: u32,
+    kind: CommandKind,
+    warnings: MarginSet,
+    motion: u32,
+    motion_type: u8,
+    endoscope_depth: f64,
+    endoscope_tip: Vector3<f64>,
+}
+
+impl Context {
+    /// A run without a procedure: motion 0, of type 4.
+    fn command(command: u32, kind: CommandKind, warnings: MarginSet) -> Self {
+        Self {
+            command,
+            kind,
+            warnings,
+            motion: 0,
+            motion_type: 4,
+            endoscope_depth: 0.0,
+            endoscope_tip: Vector3::zeros(),
+        }
+    }
 }
 
 /// A scenario, validated and planned, ready to run.
@@ -217,6 +323,22 @@ pub struct Simulation {
     /// The start's Euler angles, deg (the user's) and rad.
     start_deg: [f64; 3],
     start_rad: [f64; 3],
+    /// The margin supervisor whose warnings a procedure's records carry.
+    supervisor: Supervisor<f64>,
+    /// A procedure's check, made in [`Simulation::new`].
+    check: Option<ProcedureCheck>,
+}
+
+/// The supervisor of `scenario` on `controller`: [`supervisor_for`] with the
+/// thresholds the robot file sets, validated.
+fn scenario_supervisor(
+    scenario: &Scenario,
+    controller: &Controller<f64>,
+) -> Result<Supervisor<f64>, SimulationError> {
+    let s = scenario.supervisor.apply(supervisor_for(controller));
+    s.validate(&Margins::hard(controller))
+        .map_err(SimulationError::Supervisor)?;
+    Ok(s)
 }
 
 /// The supervisor of `controller`: [`Supervisor::default`], each stop
@@ -312,7 +434,63 @@ impl Simulation {
                 });
             }
         }
-        let (plan, schedule, count, duration) = if scenario.has_commands() {
+        let procedure = !scenario.motions.is_empty();
+        let (plan, schedule, count, duration) = if procedure {
+            if scenario.has_commands() {
+                return Err(SimulationError::Commands(CommandError::InProcedure));
+            }
+            if scenario.timing != Timing::Trapezoid {
+                return Err(SimulationError::Unsupported(
+                    "the time-optimal timing applies to the single reorientation, not yet to a procedure's motions",
+                ));
+            }
+            let plan = ProcedurePlan::new(&scenario, &controller)?;
+            let duration = plan.duration();
+            let sampler =
+                Sampler::new(plan, scenario.rate_hz).map_err(SimulationError::Trajectory)?;
+            let schedule = vec![Scheduled {
+                command: scenario.commands()[0],
+                goal_rad: None,
+                sample: 0,
+                t_s: 0.0,
+            }];
+            (
+                Plan::Procedure(sampler.clone()),
+                schedule,
+                sampler.sample_count(),
+                duration,
+            )
+        } else if let Timing::Optimal { angular } = scenario.timing {
+            if scenario.has_commands() {
+                return Err(SimulationError::Unsupported(
+                    "the time-optimal timing plans one reorientation from rest to rest: it does not take retargets or a stop",
+                ));
+            }
+            let options = TimingOptions {
+                angular: angular.then(|| [scenario.limits(); 2]),
+                ..TimingOptions::default()
+            };
+            let plan = OptimalReorientation::plan(
+                &controller,
+                start,
+                scenario.goal_rad(),
+                tips,
+                &controller.limits,
+                &options,
+            )
+            .map_err(SimulationError::Timing)?;
+            let duration = plan.duration();
+            let sampler =
+                Sampler::new(plan, scenario.rate_hz).map_err(SimulationError::Trajectory)?;
+            let schedule = vec![Scheduled {
+                command: scenario.commands()[0],
+                goal_rad: Some(scenario.goal_rad()),
+                sample: 0,
+                t_s: 0.0,
+            }];
+            let count = sampler.sample_count();
+            (Plan::Optimal(sampler), schedule, count, duration)
+        } else if scenario.has_commands() {
             Self::plan_online(&scenario, controller, tips)?
         } else {
             let sampler = reorientation
@@ -328,9 +506,10 @@ impl Simulation {
             (Plan::Rest(sampler), schedule, count, duration)
         };
         let [_, _, _, psi, theta, phi] = scenario.start_mm_deg;
-        Ok(Self {
+        let mut sim = Self {
             start_deg: [psi, theta, phi],
             start_rad: [start.psi, start.theta, start.phi],
+            supervisor: scenario_supervisor(&scenario, &controller)?,
             scenario,
             controller,
             tips,
@@ -338,7 +517,51 @@ impl Simulation {
             schedule,
             count,
             duration,
-        })
+            check: None,
+        };
+        if let Plan::Procedure(sampler) = &sim.plan {
+            // Plan, then check, then write: every sample computed once here,
+            // so that a failure is known before the first byte of output.
+            let mut check = ProcedureCheck::new(sampler.motion());
+            let mut run = ProcedureRun::new(sampler.clone(), controller);
+            while let Some(r) = run.next(&sim) {
+                let (record, margins) = r?;
+                check.push(&record, &margins, &sim.supervisor);
+            }
+            if let Some(e) = sampler.motion().failure() {
+                return Err(e.clone());
+            }
+            sim.check = Some(check);
+        }
+        Ok(sim)
+    }
+
+    /// A procedure's check (per motion: duration, peak rates, smallest
+    /// margins; the supervisor's warnings), made before any output; `None`
+    /// for a run without motions.
+    pub fn procedure_check(&self) -> Option<&ProcedureCheck> {
+        self.check.as_ref()
+    }
+
+    /// The time-optimal law, for a run timed with [`Timing::Optimal`].
+    pub fn optimal(&self) -> Option<&OptimalReorientation> {
+        match &self.plan {
+            Plan::Optimal(sampler) => Some(sampler.motion()),
+            _ => None,
+        }
+    }
+
+    /// A procedure's plan; `None` for a run without motions.
+    pub fn procedure(&self) -> Option<&ProcedurePlan> {
+        match &self.plan {
+            Plan::Procedure(sampler) => Some(sampler.motion()),
+            _ => None,
+        }
+    }
+
+    /// The margin supervisor whose thresholds a procedure's warnings use.
+    pub fn supervisor(&self) -> &Supervisor<f64> {
+        &self.supervisor
     }
 
     /// The online plan: the commands validated and scheduled, the
@@ -361,7 +584,7 @@ impl Simulation {
             tips,
             scenario.start(),
             [scenario.limits(); 2],
-            supervisor_for(&controller),
+            scenario_supervisor(scenario, &controller)?,
         )
         .map_err(|e| online_error(e, 0.0, 0))?;
         // The run planned: every command at its sample, no cycle run (the
@@ -432,6 +655,13 @@ impl Simulation {
                 sampler: sampler.clone(),
                 controller: self.controller,
             },
+            Plan::Procedure(sampler) => {
+                Inner::Procedure(ProcedureRun::new(sampler.clone(), self.controller))
+            }
+            Plan::Optimal(sampler) => Inner::Optimal {
+                sampler: sampler.clone(),
+                controller: self.controller,
+            },
             Plan::Online(online, rate) => Inner::Online(OnlineRun {
                 controller: *online,
                 rate: *rate,
@@ -458,17 +688,15 @@ impl Simulation {
     }
 
     /// The record of sample `index` at `t`: the platform `state` and the
-    /// controller's `out` for it, under command `command` of kind `kind`.
-    #[allow(clippy::too_many_arguments)]
+    /// controller's `out` for it, the tips commanded `targets`, in `context`.
     fn record(
         &self,
         index: usize,
         t: f64,
         state: &PlatformState<f64>,
         out: &ControlStep<f64>,
-        command: u32,
-        kind: CommandKind,
-        warnings: MarginSet,
+        targets: &TipTargets<f64>,
+        context: Context,
     ) -> Record {
         let module = |m: &Instrument<f64>,
                       sol: &InstrumentSolution<f64>,
@@ -522,17 +750,21 @@ impl Simulation {
                 &self.controller.left,
                 &out.left,
                 self.controller.modes[0],
-                self.tips.left,
+                targets.left,
             ),
             right: module(
                 &self.controller.right,
                 &out.right,
                 self.controller.modes[1],
-                self.tips.right,
+                targets.right,
             ),
-            command,
-            kind,
-            warnings,
+            command: context.command,
+            kind: context.kind,
+            warnings: context.warnings,
+            motion: context.motion,
+            motion_type: context.motion_type,
+            endoscope_depth: context.endoscope_depth,
+            endoscope_tip: context.endoscope_tip,
         }
     }
 }
@@ -661,6 +893,147 @@ enum Inner {
         controller: Controller<f64>,
     },
     Online(OnlineRun),
+    Procedure(ProcedureRun),
+    Optimal {
+        sampler: Sampler<f64, OptimalReorientation>,
+        controller: Controller<f64>,
+    },
+}
+
+/// The record of a planned reorientation's sample `k` at `t` in `state`:
+/// the controller's step, checked against the actuators' limits.
+fn planned_record(
+    sim: &Simulation,
+    controller: &mut Controller<f64>,
+    k: usize,
+    t: f64,
+    state: &PlatformState<f64>,
+) -> Result<Record, SimulationError> {
+    let out = controller
+        .step(state, &sim.tips)
+        .map_err(|error| SimulationError::Kinematics {
+            t,
+            sample: Some(k),
+            error,
+        })?;
+    check_limits(controller, &out, t, k)?;
+    Ok(sim.record(
+        k,
+        t,
+        state,
+        &out,
+        &sim.tips,
+        Context::command(0, CommandKind::Reorient, MarginSet::EMPTY),
+    ))
+}
+
+/// `step` against the actuators' limits of `controller`.
+fn check_limits(
+    controller: &Controller<f64>,
+    step: &ControlStep<f64>,
+    t: f64,
+    k: usize,
+) -> Result<(), SimulationError> {
+    controller
+        .limits
+        .check(step)
+        .map_err(|error| SimulationError::ActuatorLimit {
+            t,
+            sample: Some(k),
+            error,
+        })
+}
+
+/// A procedure's run under way.
+#[derive(Debug)]
+struct ProcedureRun {
+    sampler: Sampler<f64, ProcedurePlan>,
+    controller: Controller<f64>,
+    done: bool,
+}
+
+impl ProcedureRun {
+    fn new(sampler: Sampler<f64, ProcedurePlan>, controller: Controller<f64>) -> Self {
+        Self {
+            sampler,
+            controller,
+            done: false,
+        }
+    }
+
+    /// The next record with its margins; after a failure, nothing more.
+    fn next(
+        &mut self,
+        sim: &Simulation,
+    ) -> Option<Result<(Record, Margins<f64>), SimulationError>> {
+        if self.done {
+            return None;
+        }
+        let s = self.sampler.next()?;
+        let (t, k) = (s.time, s.index);
+        let (m, sample) = s.state;
+        let plan = self.sampler.motion();
+        let planned = plan.motions.get(m);
+        let in_motion = |error: SimulationError| SimulationError::Motion {
+            motion: Box::new(planned.map_or_else(
+                || crate::motion::MotionName {
+                    index: m,
+                    motion_type: parasils::motions::MotionType::Reorient,
+                    stop: false,
+                    name: None,
+                },
+                |p| p.name.clone(),
+            )),
+            t_motion: t - planned.map_or(0.0, |p| p.start_s),
+            error: Box::new(error),
+        };
+        let fail = |error| {
+            in_motion(SimulationError::Kinematics {
+                t,
+                sample: Some(k),
+                error,
+            })
+        };
+        let result = (|| {
+            let out = self
+                .controller
+                .step_commanded(&sample.platform, &sample.left, &sample.right)
+                .map_err(fail)?;
+            let endoscope_tip = self
+                .controller
+                .endoscope
+                .tip(&out.frame, sample.endoscope.position)
+                .map_err(fail)?;
+            self.controller.limits.check(&out).map_err(|error| {
+                in_motion(SimulationError::ActuatorLimit {
+                    t,
+                    sample: Some(k),
+                    error,
+                })
+            })?;
+            let margins = Margins::of(&out);
+            let targets = procedure::commanded_tips(&self.controller, &sample, &out.frame);
+            let motion_type = plan
+                .motions
+                .get(m)
+                .map_or(4, |p| p.motion.motion_type().number());
+            let context = Context {
+                command: 0,
+                kind: CommandKind::Reorient,
+                warnings: sim.supervisor.check(&margins).warnings,
+                motion: u32::try_from(m).unwrap_or(u32::MAX),
+                motion_type,
+                endoscope_depth: sample.endoscope.position,
+                endoscope_tip,
+            };
+            let record = sim.record(k, t, &sample.platform, &out, &targets, context);
+            Ok((record, margins))
+        })();
+        if result.is_err() {
+            self.done = true;
+        }
+        Some(result)
+    }
 }
 
 /// An online run under way.
@@ -689,28 +1062,16 @@ impl Iterator for Records<'_> {
                 controller,
             } => {
                 let s = sampler.next()?;
-                let (t, k) = (s.time, s.index);
-                Some(
-                    controller
-                        .step(&s.state, &sim.tips)
-                        .map(|out| {
-                            sim.record(
-                                k,
-                                t,
-                                &s.state,
-                                &out,
-                                0,
-                                CommandKind::Reorient,
-                                MarginSet::EMPTY,
-                            )
-                        })
-                        .map_err(|error| SimulationError::Kinematics {
-                            t,
-                            sample: Some(k),
-                            error,
-                        }),
-                )
+                Some(planned_record(sim, controller, s.index, s.time, &s.state))
             }
+            Inner::Optimal {
+                sampler,
+                controller,
+            } => {
+                let s = sampler.next()?;
+                Some(planned_record(sim, controller, s.index, s.time, &s.state))
+            }
+            Inner::Procedure(run) => run.next(sim).map(|r| r.map(|(record, _)| record)),
             Inner::Online(run) => {
                 if run.done {
                     return None;
@@ -736,6 +1097,7 @@ impl OnlineRun {
             self.pending += 1;
         }
         let cycle = self.controller.tick(t).map_err(|e| online_error(e, t, k))?;
+        check_limits(self.controller.controller(), &cycle.step, t, k)?;
         if cycle.kind == MotionKind::SupervisorStop {
             self.kind = CommandKind::SupervisorStop;
         }
@@ -744,9 +1106,8 @@ impl OnlineRun {
             t,
             &cycle.state,
             &cycle.step,
-            cycle.command,
-            self.kind,
-            cycle.warnings,
+            &sim.tips,
+            Context::command(cycle.command, self.kind, cycle.warnings),
         );
         let finished = self.pending >= sim.schedule.len() && self.controller.is_at_rest(t);
         match k.checked_add(1) {
@@ -757,5 +1118,6 @@ impl OnlineRun {
     }
 }
 
+pub mod procedure;
 #[cfg(test)]
 mod tests;

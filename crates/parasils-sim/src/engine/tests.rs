@@ -32,10 +32,28 @@ fn the_paper_run_holds_the_tips_and_starts_on_the_user_s_degrees() {
 
 #[test]
 fn errors_name_their_subject_and_time_once() {
+    // Within the assumed actuator limits, q4 is first too fast (4.6 s).
+    let fast = Simulation::new(Scenario {
+        psi_deg: -60.0,
+        theta_deg: 0.0,
+        rate_hz: 100.0,
+        ..Scenario::paper()
+    })
+    .expect("plans")
+    .run(&mut |_: &Record| Ok::<(), core::convert::Infallible>(()))
+    .expect_err("q4 too fast");
+    assert_eq!(
+        fast.to_string(),
+        "at t = 4.600 s: module 1 q4: velocity 50.1196 mm/s is beyond its limit 50 mm/s"
+    );
+    // Without them, it leaves its stroke (6.4 s).
+    let mut robot = parasils::kin::RobotGeometry::paper();
+    robot.limits = parasils::kin::ActuatorLimits::unlimited();
     let e = Simulation::new(Scenario {
         psi_deg: -60.0,
         theta_deg: 0.0,
         rate_hz: 100.0,
+        robot,
         ..Scenario::paper()
     })
     .expect("plans")

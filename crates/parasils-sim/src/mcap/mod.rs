@@ -175,6 +175,12 @@ pub struct McapSink<W: Write + Seek> {
     motion: Option<(u16, u32)>,
     /// The commands as they took effect: index, kind, first time.
     commands: Vec<(u32, CommandKind, f64)>,
+    /// In a procedure: each motion's name as a JSON string (`null` for
+    /// none), for `/motion`.
+    motion_names: Option<Vec<String>>,
+    /// In a procedure: the three tips (left, right, endoscope) where the
+    /// last `/scene` drew them, and how many path pieces were drawn.
+    paths: Option<([Vector3<f64>; 3], u32)>,
     geometry: SceneGeometry,
     targets: [Vector3<f64>; 2],
     options: McapOptions,
@@ -318,7 +324,16 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
             SCENE_UPDATE_SCHEMA.as_bytes(),
         )?;
         let scene = writer.add_channel(scene_schema, SCENE_TOPIC, "json", &no_meta)?;
-        let motion = if scenario.has_commands() {
+        let procedure = !scenario.motions.is_empty();
+        let motion = if procedure {
+            let schema = serde_json::to_vec_pretty(&schema::procedure_motion_schema())?;
+            let schema_id =
+                writer.add_schema(schema::PROCEDURE_MOTION_SCHEMA_NAME, "jsonschema", &schema)?;
+            Some((
+                writer.add_channel(schema_id, MOTION_TOPIC, "json", &no_meta)?,
+                0,
+            ))
+        } else if scenario.has_commands() {
             let schema = serde_json::to_vec_pretty(&schema::motion_schema())?;
             let schema_id = writer.add_schema(schema::MOTION_SCHEMA_NAME, "jsonschema", &schema)?;
             Some((
@@ -339,6 +354,14 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
             scene: (scene, 0),
             motion,
             commands: Vec::new(),
+            motion_names: procedure.then(|| {
+                scenario
+                    .motions
+                    .iter()
+                    .map(|m| serde_json::to_string(&m.name).unwrap_or_else(|_| "null".to_owned()))
+                    .collect()
+            }),
+            paths: None,
             geometry,
             targets: [tips.left, tips.right],
             options,
@@ -423,10 +446,22 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
         self.tf.1 = seq.wrapping_add(1);
 
         self.buf.clear();
+        // In a procedure: the endoscope at its true depth, and the piece of
+        // each tip's path since the last scene (kept: no lifetime).
+        let procedure = self.motion_names.as_ref().map(|_| {
+            let now = [record.left.tip, record.right.tip, record.endoscope_tip];
+            let (from, n) = self.paths.unwrap_or((now, 0));
+            self.paths = Some((now, n.wrapping_add(1)));
+            scene::ProcedureScene {
+                path_from: from,
+                path_piece: n,
+            }
+        });
         scene::write_scene(
             &self.geometry,
             &self.targets,
             record,
+            procedure.as_ref(),
             ns,
             &mut self.buf,
             &mut self.ryu,
@@ -482,7 +517,15 @@ impl<W: Write + Seek + Send + 'static> Sink for McapSink<W> {
             self.data[k].sequence = seq.wrapping_add(1);
         }
 
-        if let Some((id, seq)) = self.motion {
+        if let (Some((id, seq)), Some(names)) = (self.motion, &self.motion_names) {
+            self.buf.clear();
+            let name = names
+                .get(record.motion as usize)
+                .map_or("null", String::as_str);
+            write_procedure_motion(&mut self.buf, &mut self.ryu, record, name)?;
+            self.write(id, seq, ns);
+            self.motion = Some((id, seq.wrapping_add(1)));
+        } else if let Some((id, seq)) = self.motion {
             self.buf.clear();
             self.buf.extend_from_slice(b"{\"t_s\":");
             if let Err(value) = push_num(&mut self.buf, &mut self.ryu, record.t) {
@@ -524,6 +567,66 @@ impl<W: Write + Seek + Send + 'static> Sink for McapSink<W> {
         }
         Ok(())
     }
+}
+
+/// A procedure's `/motion` message for `record`: the motion under way (its
+/// index, type and `name`, a JSON string or `null`) and the endoscope.
+fn write_procedure_motion(
+    buf: &mut Vec<u8>,
+    ryu: &mut ryu::Buffer,
+    record: &Record,
+    name: &str,
+) -> Result<(), McapError> {
+    let fields = [
+        ("{\"t_s\":", "t_s", record.t),
+        (
+            ",\"endoscope_depth_mm\":",
+            "endoscope_depth_mm",
+            record.endoscope_depth,
+        ),
+        (
+            ",\"endoscope_tip_x_mm\":",
+            "endoscope_tip_x_mm",
+            record.endoscope_tip.x,
+        ),
+        (
+            ",\"endoscope_tip_y_mm\":",
+            "endoscope_tip_y_mm",
+            record.endoscope_tip.y,
+        ),
+        (
+            ",\"endoscope_tip_z_mm\":",
+            "endoscope_tip_z_mm",
+            record.endoscope_tip.z,
+        ),
+    ];
+    for (key, field, value) in fields {
+        buf.extend_from_slice(key.as_bytes());
+        if let Err(value) = push_num(buf, ryu, value) {
+            return Err(McapError::NonFinite {
+                topic: MOTION_TOPIC,
+                field,
+                t: record.t,
+                value,
+            });
+        }
+    }
+    buf.extend_from_slice(b",\"motion\":");
+    buf.extend_from_slice(itoa::Buffer::new().format(record.motion).as_bytes());
+    buf.extend_from_slice(b",\"motion_type\":");
+    buf.extend_from_slice(itoa::Buffer::new().format(record.motion_type).as_bytes());
+    buf.extend_from_slice(b",\"type_name\":\"");
+    let type_name = match record.motion_type {
+        1 => "position",
+        2 => "insert",
+        3 => "manipulate",
+        _ => "reorient",
+    };
+    buf.extend_from_slice(type_name.as_bytes());
+    buf.extend_from_slice(b"\",\"name\":");
+    buf.extend_from_slice(name.as_bytes());
+    buf.push(b'}');
+    Ok(())
 }
 
 #[cfg(test)]

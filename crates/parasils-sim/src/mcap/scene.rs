@@ -39,7 +39,8 @@ const M: f64 = 1e-3;
 /// its `parasils.scenario` metadata.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct SceneGeometry {
-    /// Guide points `G_j`, mm, fixed frame.
+    /// Guide points where the reading is 0, `G_j - o_j u_j` (`G_j` itself
+    /// without an encoder offset), mm, fixed frame.
     pub guide_points_mm: [[f64; 3]; 6],
     /// Guide unit directions `u_j`, fixed frame.
     pub guide_directions: [[f64; 3]; 6],
@@ -72,7 +73,10 @@ impl SceneGeometry {
         let v = |v: &Vector3<f64>| [v.x, v.y, v.z];
         let modules: [&InstrumentGeometry<f64>; 2] = [&robot.left, &robot.right];
         Ok(Self {
-            guide_points_mm: m1.guides.map(|g| v(&g.point)),
+            // Where the reading is 0: the slider is at `G_j + (q_j - o_j) u_j`.
+            guide_points_mm: m1
+                .guides
+                .map(|g| v(&(g.point - g.direction * g.encoder_offset))),
             guide_directions: m1.guides.map(|g| v(&g.direction)),
             strokes_mm: m1.guides.map(|g| [g.stroke.min, g.stroke.max]),
             link_lengths_mm: m1.guides.map(|g| g.link_length),
@@ -198,10 +202,19 @@ fn spheres(diameter: f64, color: [f64; 4], centres: &[Vector3<f64>]) -> Spheres<
     }
 }
 
+/// What a procedure's `/scene` adds: the piece of each tip's path (left,
+/// right, endoscope, mm) from where the previous scene drew it.
+pub(crate) struct ProcedureScene {
+    /// The tips at the previous scene (at the first, the tips now).
+    pub path_from: [Vector3<f64>; 3],
+    /// The piece's number, from 0: its entity is `tip_paths_<n>`.
+    pub path_piece: u32,
+}
+
 /// One scene entity's primitives, in metres, world frame.
 #[derive(Default)]
 struct Entity<'p> {
-    id: &'static str,
+    id: &'p str,
     lines: Vec<Line<'p>>,
     spheres: Vec<Spheres<'p>>,
     /// One filled triangle list: `(color, points)`.
@@ -302,10 +315,16 @@ impl Json<'_> {
 /// sliders and legs (slider `B_j` to node `A_i`), the platform triangle and
 /// its spokes to `P`, the endoscope along `-z'` from `P` (a nominal length),
 /// both instrument shafts (RCM to tip) and the target tips.
+///
+/// In a procedure, the endoscope is drawn at its true depth (from above `P`
+/// down to its tip), the targets are left out (each motion has its own), and
+/// a kept entity per scene adds the piece of the three tips' paths since the
+/// previous scene, so that the paths build up without being sent again.
 pub(crate) fn write_scene(
     g: &SceneGeometry,
     targets: &[Vector3<f64>; 2],
     record: &Record,
+    procedure: Option<&ProcedureScene>,
     ns: u64,
     out: &mut Vec<u8>,
     ryu: &mut ryu::Buffer,
@@ -340,7 +359,10 @@ pub(crate) fn write_scene(
     let z = r.column(2).into_owned();
     let endoscope = [
         world(p + ENDOSCOPE_ABOVE_MM * z),
-        world(p - ENDOSCOPE_BELOW_MM * z),
+        match procedure {
+            Some(_) => world(record.endoscope_tip),
+            None => world(p - ENDOSCOPE_BELOW_MM * z),
+        },
     ];
     let rcms_world = [
         world(frame.to_fixed(&g.rcm(0))),
@@ -354,7 +376,14 @@ pub(crate) fn write_scene(
     } else {
         &[]
     };
-    let entities = [
+    let now = [record.left.tip, record.right.tip, record.endoscope_tip].map(world);
+    let pieces = procedure.map(|s| {
+        (
+            format!("tip_paths_{}", s.path_piece),
+            [0, 1, 2].map(|k| [world(s.path_from[k]), now[k]]),
+        )
+    });
+    let mut entities = vec![
         Entity {
             id: "module1_guides",
             lines: vec![line(LINE_LIST, 0.004, GREY, &guides[..])],
@@ -384,7 +413,11 @@ pub(crate) fn write_scene(
         Entity {
             id: "endoscope",
             lines: vec![line(LINE_STRIP, 0.006, ENDOSCOPE, &endoscope[..])],
-            metadata: &[("length", "nominal: the insertion is not simulated")],
+            metadata: if procedure.is_some() {
+                &[("length", "to its tip at the simulated insertion depth")]
+            } else {
+                &[("length", "nominal: the insertion is not simulated")]
+            },
             ..Entity::default()
         },
         Entity {
@@ -405,12 +438,24 @@ pub(crate) fn write_scene(
             ],
             ..Entity::default()
         },
-        Entity {
+    ];
+    match &pieces {
+        None => entities.push(Entity {
             id: "tip_targets",
             spheres: vec![spheres(0.012, TARGET, &targets[..])],
             ..Entity::default()
-        },
-    ];
+        }),
+        Some((id, [l, r, e])) => entities.push(Entity {
+            id,
+            lines: vec![
+                line(LINE_STRIP, 0.002, LEFT, &l[..]),
+                line(LINE_STRIP, 0.002, RIGHT, &r[..]),
+                line(LINE_STRIP, 0.002, ENDOSCOPE, &e[..]),
+            ],
+            metadata: &[("path", "the tips' paths: left, right, endoscope")],
+            ..Entity::default()
+        }),
+    }
     let mut j = Json::new(out, ryu);
     j.raw("{\"deletions\":[],\"entities\":[");
     for (k, e) in entities.iter().enumerate() {

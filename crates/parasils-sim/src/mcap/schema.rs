@@ -90,6 +90,35 @@ pub(crate) fn motion_schema() -> serde_json::Value {
     })
 }
 
+/// The name of `/motion`'s JSON schema in a procedure.
+pub(crate) const PROCEDURE_MOTION_SCHEMA_NAME: &str = "parasils.ProcedureMotion";
+
+/// The JSON Schema of a procedure's `/motion` messages: the motion under way
+/// and the endoscope.
+pub(crate) fn procedure_motion_schema() -> serde_json::Value {
+    let number =
+        |unit: &str| serde_json::json!({"type": "number", "description": format!("unit: {unit}")});
+    serde_json::json!({
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "title": PROCEDURE_MOTION_SCHEMA_NAME,
+        "description": "The procedure's motion under way (index from 0, the paper's type 1 to 4, its name) and the endoscope's insertion",
+        "type": "object",
+        "properties": {
+            "t_s": number("s"),
+            "endoscope_depth_mm": number("mm"),
+            "endoscope_tip_x_mm": number("mm"),
+            "endoscope_tip_y_mm": number("mm"),
+            "endoscope_tip_z_mm": number("mm"),
+            "motion": {"type": "integer", "minimum": 0, "description": "index of the motion (the CSV's motion column)"},
+            "motion_type": {"type": "integer", "minimum": 1, "maximum": 4, "description": "the paper's motion type (the CSV's motion_type column)"},
+            "type_name": {"type": "string", "enum": ["position", "insert", "manipulate", "reorient"], "description": "the type as procedure files name it"},
+            "name": {"type": ["string", "null"], "description": "the motion's name in the procedure, if it has one"},
+        },
+        "required": ["t_s", "endoscope_depth_mm", "endoscope_tip_x_mm", "endoscope_tip_y_mm", "endoscope_tip_z_mm", "motion", "motion_type", "type_name", "name"],
+        "additionalProperties": false,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
