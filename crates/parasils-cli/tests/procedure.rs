@@ -97,6 +97,10 @@ fn check_prints_the_verdict_and_a_table_and_writes_nothing() {
     assert_eq!(rows.len(), 6, "{stdout}");
     assert!(rows[3].contains("4:reorient") && rows[3].contains("camera to the target"));
     assert!(stdout.contains("supervisor: no margin below its warning threshold"));
+    // Each actuator's peak as a fraction of its limits: module 1's q6 at
+    // 0.715 of its velocity limit during the turn (35.7 of 50 mm/s).
+    assert!(stdout.contains("actuator limits, peak use (velocity, acceleration):"));
+    assert!(stdout.contains(" q6 0.715 0.205"), "{stdout}");
     assert_eq!(std::fs::read_dir(dir.path()).expect("dir").count(), 0);
 }
 

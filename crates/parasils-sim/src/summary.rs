@@ -268,19 +268,7 @@ impl fmt::Display for Summary {
             Fixed(r(&columns::MODULE1_SERIAL_MARGIN).0, 4),
             Fixed(r(&columns::MODULE1_PARALLEL_MARGIN).0, 4)
         )?;
-        write!(f, "\nactuator limits, peak use (velocity, acceleration):")?;
-        for (k, a) in Actuator::ALL.iter().enumerate() {
-            let name = a.to_string().replace("module 1 ", "");
-            if k % 6 == 0 {
-                write!(f, "\n ")?;
-            }
-            write!(
-                f,
-                " {name} {} {}",
-                Fixed(self.usage[0][k], 3),
-                Fixed(self.usage[1][k], 3)
-            )?;
-        }
+        write!(f, "\n{}", Usage(&self.usage))?;
         if !self.phases.is_empty() {
             write!(f, "\ntime-optimal timing, what limits each phase:")?;
             for p in &self.phases {
@@ -292,6 +280,28 @@ impl fmt::Display for Summary {
         }
         if let Some(check) = &self.procedure {
             write!(f, "\n{}", MotionTable(check))?;
+        }
+        Ok(())
+    }
+}
+
+/// Each actuator's peak use of its limits, velocity and acceleration.
+struct Usage<'a>(&'a [[f64; ACTUATOR_COUNT]; 2]);
+
+impl fmt::Display for Usage<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "actuator limits, peak use (velocity, acceleration):")?;
+        for (k, a) in Actuator::ALL.iter().enumerate() {
+            let name = a.to_string().replace("module 1 ", "");
+            if k % 6 == 0 {
+                write!(f, "\n ")?;
+            }
+            write!(
+                f,
+                " {name} {} {}",
+                Fixed(self.0[0][k], 3),
+                Fixed(self.0[1][k], 3)
+            )?;
         }
         Ok(())
     }
@@ -395,7 +405,8 @@ impl fmt::Display for CheckReport<'_> {
                 "(module 1 uses the ASSUMED default geometry: the real robot's dimensions are not published)"
             )?;
         }
-        write!(f, "{}", MotionTable(self.check))
+        writeln!(f, "{}", MotionTable(self.check))?;
+        write!(f, "{}", Usage(&self.check.usage))
     }
 }
 

@@ -526,7 +526,7 @@ impl Simulation {
             let mut run = ProcedureRun::new(sampler.clone(), controller);
             while let Some(r) = run.next(&sim) {
                 let (record, margins) = r?;
-                check.push(&record, &margins, &sim.supervisor);
+                check.push(&record, &margins, &sim.supervisor, &controller.limits);
             }
             if let Some(e) = sampler.motion().failure() {
                 return Err(e.clone());

@@ -3,6 +3,7 @@
 //! any output (see [`Simulation::new`](super::Simulation::new)).
 
 use nalgebra::Vector3;
+use parasils::kin::ActuatorLimits;
 use parasils::kin::{
     Controller, Instrument, JointMotion, Joints, ModuleCommand, PlatformFrame, PlatformState, Pose,
     TipTargets,
@@ -504,6 +505,10 @@ pub struct ProcedureCheck {
     pub motions: Vec<MotionCheck>,
     /// Every episode of a margin below its warning threshold.
     pub warnings: Vec<Warning>,
+    /// Each actuator's largest fraction of its velocity limit (`[0]`) and
+    /// of its acceleration limit (`[1]`) over the procedure, in the order of
+    /// [`parasils::kin::Actuator::ALL`].
+    pub usage: [[f64; 12]; 2],
     /// Per margin, the warning under way: its place in `warnings` and the
     /// last sample's index.
     open: [Option<(usize, usize)>; Margin::COUNT],
@@ -528,6 +533,7 @@ impl ProcedureCheck {
                 })
                 .collect(),
             warnings: Vec::new(),
+            usage: [[0.0; 12]; 2],
             open: [None; Margin::COUNT],
         }
     }
@@ -538,7 +544,14 @@ impl ProcedureCheck {
         record: &Record,
         margins: &Margins<f64>,
         supervisor: &Supervisor<f64>,
+        limits: &ActuatorLimits<f64>,
     ) {
+        let (q_dot, q_ddot) = record.actuator_rates();
+        let [uv, ua] = &mut self.usage;
+        for (k, (v, a)) in q_dot.iter().zip(&q_ddot).enumerate() {
+            uv[k] = uv[k].max(v.abs() / limits.velocity[k]);
+            ua[k] = ua[k].max(a.abs() / limits.acceleration[k]);
+        }
         let k = record.motion as usize;
         let Some(m) = self.motions.get_mut(k) else {
             return;
