@@ -131,7 +131,12 @@ pub fn simulate(args: &SimulateArgs) -> Result<()> {
             .collect()
     };
     let mut plot = args.plot.as_ref().map(|_| {
-        let plot = PlotSink::new(sim.sample_count(), assumed);
+        let mut plot = PlotSink::new(sim.sample_count(), assumed);
+        if let p @ parasils::kin::Provenance::Calibrated(_) =
+            sim.scenario().robot.module1.provenance()
+        {
+            plot = plot.calibrated(p.to_string());
+        }
         if sim.procedure().is_some() {
             plot.marking_motions()
         } else {

@@ -102,3 +102,26 @@ fn the_shared_flags_and_bad_grids() {
     let out = parasils(&["reach", "-o", "map.txt"]);
     assert!(!out.status.success());
 }
+
+#[test]
+fn a_calibrated_robot_is_labelled_so_in_the_reach_summary_and_the_mcap_metadata() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let text = ok(&["robot"]).replace(
+        "assumed = true",
+        "assumed = false\ncalibration = { poses = 40, rms_mm = 0.0125 }",
+    );
+    let robot = dir.path().join("fitted.toml");
+    std::fs::write(&robot, text).expect("write");
+    let robot_s = robot.to_str().expect("path");
+    let summary = ok(&["reach", "--step", "10", "--no-line", "--robot", robot_s]);
+    assert!(
+        summary.contains("module 1: calibrated (RMS 0.0125 mm over 40 poses)"),
+        "{summary}"
+    );
+    let mcap = dir.path().join("run.mcap");
+    let mcap_s = mcap.to_str().expect("path");
+    ok(&["simulate", "--rate", "50", "--robot", robot_s, "-o", mcap_s]);
+    let bytes = std::fs::read(&mcap).expect("written");
+    let needle = b"calibrated (RMS 0.0125 mm over 40 poses)";
+    assert!(bytes.windows(needle.len()).any(|w| w == needle));
+}

@@ -138,6 +138,14 @@ impl Robot {
         self.geometry.module1.assumed
     }
 
+    /// Where module 1's geometry comes from, as every output labels it:
+    /// "assumed geometry (not the real robot's)", "calibrated (RMS ... mm
+    /// over N poses)" for a calibrated robot file, or "measured".
+    #[getter]
+    fn module1_provenance(&self) -> String {
+        self.geometry.module1.provenance().to_string()
+    }
+
     /// The reach map: which camera orientations the platform can take from
     /// `pose` with both tips held still (motion type 4: `P` and `phi`
     /// fixed), over a grid of (dpsi, dtheta) increments, each checked by the

@@ -117,6 +117,9 @@ pub struct PlotSink {
     /// The latest sample, when not kept.
     last: Option<Point>,
     module1_assumed: bool,
+    /// A calibrated module 1's label ("calibrated (RMS ... mm over N
+    /// poses)"), shown instead of the assumed-geometry note.
+    module1_note: Option<String>,
     /// In a procedure: where each motion starts (s), its index and type
     /// (1 to 4), marked on every panel. `None` outside procedures.
     motions: Option<Vec<(f64, u32, u8)>>,
@@ -133,8 +136,16 @@ impl PlotSink {
             points: Vec::with_capacity(total_samples.min(MAX_POINTS) + 1),
             last: None,
             module1_assumed,
+            module1_note: None,
             motions: None,
         }
+    }
+
+    /// The same sink, saying that module 1 is calibrated: `label` is its
+    /// provenance ("calibrated (RMS ... mm over N poses)").
+    pub fn calibrated(mut self, label: String) -> Self {
+        self.module1_note = Some(format!("Module 1's geometry is {label}"));
+        self
     }
 
     /// The same sink, marking each motion's span (a dashed line where it
@@ -216,10 +227,13 @@ impl PlotSink {
             color: PALETTE[j],
             get: Box::new(move |p| p.q[j]),
         });
-        let note = self.module1_assumed.then_some(
-            "Module 1's geometry is ASSUMED (the robot's dimensions are unpublished): \
+        let note = self
+            .module1_note
+            .as_deref()
+            .or(self.module1_assumed.then_some(
+                "Module 1's geometry is ASSUMED (the robot's dimensions are unpublished): \
              the method, not the real robot's values",
-        );
+            ));
         self.panel(
             &panels[1],
             "(b) Module 1 actuators q1..q6 (fig. 6)",

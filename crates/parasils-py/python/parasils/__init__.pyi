@@ -40,6 +40,10 @@ class Robot:
     @property
     def module1_assumed(self) -> bool:
         """Whether module 1's geometry is assumed (not the real robot's)."""
+    @property
+    def module1_provenance(self) -> str:
+        """Where module 1's geometry comes from: "assumed geometry (not the real
+        robot's)", "calibrated (RMS ... mm over N poses)" or "measured"."""
     def reach_map(
         self,
         pose: npt.ArrayLike,

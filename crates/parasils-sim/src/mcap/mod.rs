@@ -228,12 +228,13 @@ fn scenario_metadata(
     );
     meta.insert(
         "module1_geometry".to_owned(),
-        if geometry.module1_assumed {
-            "assumed: not the real robot's dimensions (unpublished)"
-        } else {
-            "given by the user"
-        }
-        .to_owned(),
+        match scenario.robot.module1.provenance() {
+            parasils::kin::Provenance::Assumed => {
+                "assumed: not the real robot's dimensions (unpublished)".to_owned()
+            }
+            parasils::kin::Provenance::Measured => "given by the user".to_owned(),
+            p => p.to_string(),
+        },
     );
     meta.insert(
         "units".to_owned(),

@@ -186,6 +186,9 @@ pub struct ReachMap {
     pub start_deg: [f64; 2],
     /// Whether module 1's geometry is the assumed one.
     pub module1_assumed: bool,
+    /// Where module 1's geometry comes from, as the summary says it:
+    /// assumed, calibrated (with its RMS residual and poses), or measured.
+    pub module1_provenance: String,
 }
 
 /// A point of the boundary, refined along one grid edge.

@@ -139,8 +139,8 @@ impl ReachSummary {
                 let _ = writeln!(s, "  {:<28} {n} points", c.code());
             }
         }
-        if map.module1_assumed {
-            s.push_str("module 1: assumed geometry (not the real robot's)\n");
+        if map.module1_assumed || map.module1_provenance.starts_with("calibrated") {
+            let _ = writeln!(s, "module 1: {}", map.module1_provenance);
         }
         s
     }
