@@ -37,11 +37,17 @@ fn cell_at(map: &ReachMap, k_psi: i64, k_theta: i64) -> usize {
     map.index(c, r)
 }
 
-/// `simulate` of the paper's setup to `(dpsi, dtheta)`, deg.
+/// `simulate` of the paper's setup to `(dpsi, dtheta)`, deg, without the
+/// actuators' rate limits: a reach map is about poses (joint limits,
+/// strokes, reach, singularities), which hold whatever the timing, while the
+/// rates depend on how fast the turn is made.
 fn simulate(dpsi: f64, dtheta: f64) -> Result<(), Error> {
+    let mut robot = parasils::kin::RobotGeometry::paper();
+    robot.limits = parasils::kin::ActuatorLimits::unlimited();
     let sim = Simulation::new(Scenario {
         psi_deg: dpsi,
         theta_deg: dtheta,
+        robot,
         ..Scenario::paper()
     })
     .expect("plans");
