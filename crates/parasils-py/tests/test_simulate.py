@@ -209,24 +209,49 @@ def cli_error(cli, *args):
     return proc.stderr.strip().removeprefix("parasils: error: ")
 
 
+def fast_robot(cli, folder):
+    """The default robot file with every actuator rate limit raised out of
+    the way (1e9), so that joint limits and singularities are met first."""
+    text = subprocess.run([cli, "robot"], capture_output=True, text=True, check=True).stdout
+    lines = [
+        line.split(" = ")[0] + " = 1e9"
+        if ("velocity_max" in line or "acceleration_max" in line) and " = " in line
+        else line
+        for line in text.splitlines()
+    ]
+    path = folder / "fast.toml"
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_an_actuator_too_fast_during_the_motion(cli):
+    # Within the assumed rate limits, the left module's qs1 is too fast first.
+    with pytest.raises(ValueError) as e:
+        parasils.simulate(psi_deg=60.0, theta_deg=60.0)
+    assert str(e.value) == cli_error(cli, "--psi", 60, "--theta", 60)
+    assert "is beyond its limit" in str(e.value)
+
+
 def test_joint_limit_during_the_motion(cli, tmp_path):
+    robot = fast_robot(cli, tmp_path)
     out = tmp_path / "run.csv"
     with pytest.raises(parasils.JointLimitError) as e:
-        parasils.simulate(psi_deg=60.0, theta_deg=60.0, out=out)
+        parasils.simulate(psi_deg=60.0, theta_deg=60.0, out=out, robot=robot)
     err = e.value
     assert (err.side, err.joint) == ("left", "qs2")
     assert err.row == 4075 and err.t == pytest.approx(4.075, abs=1e-12)
-    assert str(err) == cli_error(cli, "--psi", 60, "--theta", 60)
+    assert str(err) == cli_error(cli, "--psi", 60, "--theta", 60, "--robot", robot)
     assert str(err).startswith("at t = 4.075 s: left instrument: joint qs2")
     # A failed run leaves nothing behind, like the CLI.
-    assert list(tmp_path.iterdir()) == []
+    assert list(tmp_path.iterdir()) == [robot]
 
 
-def test_parallel_singularity_during_the_motion(cli):
+def test_parallel_singularity_during_the_motion(cli, tmp_path):
+    robot = fast_robot(cli, tmp_path)
     with pytest.raises(parasils.ParallelSingularError) as e:
-        parasils.simulate(psi_deg=-60.0, theta_deg=40.0)
+        parasils.simulate(psi_deg=-60.0, theta_deg=40.0, robot=robot)
     assert e.value.t > 0 and e.value.row == round(e.value.t * 1000)
-    assert str(e.value) == cli_error(cli, "--psi", -60, "--theta", 40)
+    assert str(e.value) == cli_error(cli, "--psi", -60, "--theta", 40, "--robot", robot)
 
 
 def test_unreachable_tip():
