@@ -170,7 +170,9 @@ def simulate(
     Raises a KinematicsError subclass when a sample fails (with .row, the
     sample's index, and .t, its time in s), TrajectoryError for limits or a
     rate that cannot be planned, RobotFileError or OSError for the robot
-    file, OSError when ``out`` cannot be written, ValueError for a bad
+    file, OSError when ``out`` cannot be written, ValueError when an actuator's
+    velocity or acceleration exceeds its limit at a sample (naming the actuator,
+    the value, the limit and the time, as the CLI does) and for a bad
     argument (retargets out of time order, a negative or non-finite time,
     two commands on one sample). The simulation runs without the GIL.
     """
