@@ -392,7 +392,7 @@ impl fmt::Display for CheckReport<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(
             f,
-            "procedure OK: {} motions, {} s, {} samples at {} Hz, every sample within the joint limits, strokes, reach and singularity thresholds; {} supervisor warnings",
+            "procedure OK: {} motions, {} s, {} samples at {} Hz, every sample within the joint limits, strokes, actuator rate limits, reach and singularity thresholds; {} supervisor warnings",
             self.check.motions.len(),
             Fixed(self.sim.duration(), 3),
             self.sim.sample_count(),
