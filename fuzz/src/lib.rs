@@ -5,9 +5,9 @@
 //! `FUZZING.md` for what each target checks.
 
 // The `parasils` command's argument definitions, compiled unchanged: the
-// command is a binary, so the files `args.rs` needs sit at this crate's root
-// under the names the command gives them (`crate::calibrate`,
-// `crate::stdout`).
+// command is a binary, so its files sit at this crate's root under the names
+// the command gives them (`crate::args`, and `crate::calibrate` with the
+// `crate::stdout` it uses).
 #[allow(
     dead_code,
     missing_docs,

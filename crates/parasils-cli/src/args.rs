@@ -6,6 +6,8 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use parasils::paper;
+use parasils_calib::FitOptions;
+use parasils_calib::plan::PlanOptions;
 use parasils_sim::reach::ReachOptions;
 use parasils_sim::scenario::{Retarget, Timing};
 use parasils_sim::{Format, Scenario};
@@ -43,7 +45,7 @@ pub enum Command {
     Robot,
     /// Calibrate module 1: fit its geometry to actuator readings at measured
     /// poses (--measurements), or choose the poses to measure (--plan N).
-    Calibrate(crate::calibrate::CalibrateArgs),
+    Calibrate(CalibrateArgs),
 }
 
 /// `--robot`, shared by `simulate`, `ik` and `fk`.
@@ -477,4 +479,54 @@ impl ReachArgs {
             threads: self.threads,
         }
     }
+}
+
+/// Arguments of `parasils calibrate`.
+#[derive(Debug, Args)]
+pub struct CalibrateArgs {
+    /// The nominal robot: the start of the fit, and the values of the
+    /// parameters the measurements cannot see.
+    #[command(flatten)]
+    pub robot: RobotArg,
+    /// Measurements as CSV, one row per pose, with the columns of
+    /// `simulate`'s CSV: q1_mm..q6_mm (the readings), x_mm, y_mm, z_mm,
+    /// psi_deg, theta_deg, phi_deg (the measured pose); optional per-row
+    /// standard deviations sigma_q_mm, sigma_position_mm, sigma_angle_deg.
+    #[arg(
+        long,
+        value_name = "FILE.csv",
+        required_unless_present = "plan",
+        conflicts_with = "plan"
+    )]
+    pub measurements: Option<PathBuf>,
+    /// Instead of fitting, choose N poses to measure (written to -o as CSV
+    /// with the nominal readings), compared with N random poses.
+    #[arg(long, value_name = "N")]
+    pub plan: Option<usize>,
+    /// The fitted robot file (TOML), or with --plan the poses (CSV).
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: PathBuf,
+    /// Also write the report as JSON to FILE.
+    #[arg(long, value_name = "FILE.json")]
+    pub report: Option<PathBuf>,
+    /// Standard deviation of the readings for rows without sigma_q_mm, mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.0)]
+    pub sigma_q_mm: f64,
+    /// Standard deviation of each measured coordinate for rows without
+    /// sigma_position_mm, mm.
+    #[arg(long, value_name = "MM", default_value_t = 0.0)]
+    pub sigma_position_mm: f64,
+    /// Standard deviation of each measured Euler angle for rows without
+    /// sigma_angle_deg, deg.
+    #[arg(long, value_name = "DEG", default_value_t = 0.0)]
+    pub sigma_angle_deg: f64,
+    /// Levenberg-Marquardt iterations at most.
+    #[arg(long, value_name = "N", default_value_t = FitOptions::default().max_iterations)]
+    pub max_iterations: u32,
+    /// --plan: the random candidates to choose from.
+    #[arg(long, value_name = "N", default_value_t = PlanOptions::default().candidates, requires = "plan")]
+    pub candidates: usize,
+    /// --plan: the random generator's seed.
+    #[arg(long, default_value_t = PlanOptions::default().seed, requires = "plan")]
+    pub seed: u64,
 }

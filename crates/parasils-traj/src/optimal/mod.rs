@@ -78,10 +78,12 @@
 //! # Ok::<(), optimal::Error<core::convert::Infallible>>(())
 //! ```
 
+mod plan;
 mod schedule;
 mod solve;
 mod types;
 
-pub use schedule::{CERTIFY_PASSES, Phases, Planned, Schedule, certify, plan};
+pub use plan::{CERTIFY_PASSES, Planned, certify, plan};
+pub use schedule::{Phases, Schedule};
 pub use solve::{fill_uniform, solve};
 pub use types::{Certificate, Derivatives, Error, Knot, Path, Phase, RowLimits};
