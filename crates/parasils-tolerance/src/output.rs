@@ -1,0 +1,158 @@
+//! A study's results as a file: CSV or Parquet, chosen by the extension,
+//! one row per sample with the columns [`COLUMNS`]. Written to a temporary
+//! file beside the target and renamed at the end: a failed write leaves
+//! nothing behind and the previous file untouched.
+
+use std::io::{BufWriter, Write};
+use std::path::Path;
+use std::sync::Arc;
+
+use parasils_sim::OutputError;
+use parasils_sim::output::{persist, temp_beside};
+use parquet::data_type::{BoolType, DoubleType, Int64Type};
+use parquet::file::properties::WriterProperties;
+use parquet::file::writer::SerializedFileWriter;
+use parquet::schema::parser::parse_message_type;
+
+use crate::study::Results;
+
+/// The columns, in file order.
+pub const COLUMNS: [&str; 6] = [
+    "sample",
+    "left_tip_dev_mm",
+    "right_tip_dev_mm",
+    "pose_position_err_mm",
+    "pose_rotation_err_deg",
+    "failed",
+];
+
+/// The output formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// Comma-separated text, `failed` as 0 or 1, failed rows' deviations
+    /// `NaN`.
+    Csv,
+    /// Apache Parquet, uncompressed: `sample` INT64, the deviations DOUBLE
+    /// (NaN on failed rows), `failed` BOOLEAN.
+    Parquet,
+}
+
+impl Format {
+    /// The format of `path`'s extension (`.csv`, `.parquet`), `None` for
+    /// any other.
+    pub fn from_path(path: &Path) -> Option<Self> {
+        match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
+            "csv" => Some(Format::Csv),
+            "parquet" => Some(Format::Parquet),
+            _ => None,
+        }
+    }
+}
+
+/// Writes `results` to `path` in `format`, atomically.
+///
+/// # Errors
+/// [`OutputError`]: the folder cannot be written in, or a write fails.
+pub fn write(results: &Results, path: &Path, format: Format) -> Result<(), OutputError> {
+    if path.is_dir() {
+        return Err(OutputError::IsFolder {
+            path: path.to_owned(),
+        });
+    }
+    let tmp = temp_beside(path)?;
+    let io = |error: std::io::Error| OutputError::Io {
+        path: path.to_owned(),
+        error,
+    };
+    let file = tmp.as_file().try_clone().map_err(io)?;
+    match format {
+        Format::Csv => {
+            let mut w = BufWriter::new(file);
+            write_csv(results, &mut w).map_err(io)?;
+            w.flush().map_err(io)?;
+        }
+        Format::Parquet => write_parquet(results, file)
+            .map_err(|e| io(std::io::Error::other(format!("the Parquet writer: {e}"))))?,
+    }
+    tmp.as_file().sync_all().map_err(io)?;
+    persist(tmp, path)
+}
+
+/// The results as CSV text into `w`: shortest round-trip decimals.
+///
+/// # Errors
+/// The writer's.
+pub fn write_csv(results: &Results, w: &mut impl Write) -> std::io::Result<()> {
+    writeln!(w, "{}", COLUMNS.join(","))?;
+    for i in 0..results.len() {
+        writeln!(
+            w,
+            "{},{:?},{:?},{:?},{:?},{}",
+            results.sample[i],
+            results.left_tip_dev_mm[i],
+            results.right_tip_dev_mm[i],
+            results.pose_position_err_mm[i],
+            results.pose_rotation_err_deg[i],
+            u8::from(results.failed[i])
+        )?;
+    }
+    Ok(())
+}
+
+fn write_parquet(results: &Results, file: std::fs::File) -> parquet::errors::Result<()> {
+    let schema = Arc::new(parse_message_type(
+        "message tolerance {
+            REQUIRED INT64 sample;
+            REQUIRED DOUBLE left_tip_dev_mm;
+            REQUIRED DOUBLE right_tip_dev_mm;
+            REQUIRED DOUBLE pose_position_err_mm;
+            REQUIRED DOUBLE pose_rotation_err_deg;
+            REQUIRED BOOLEAN failed;
+        }",
+    )?);
+    let props = Arc::new(WriterProperties::builder().build());
+    let mut writer = SerializedFileWriter::new(BufWriter::new(file), schema, props)?;
+    // Row groups of at most a million rows: a reader can stream a large study.
+    let rows = results.len();
+    let group = 1 << 20;
+    let mut start = 0;
+    while start < rows || (rows == 0 && start == 0) {
+        let end = (start + group).min(rows);
+        let mut rg = writer.next_row_group()?;
+        let mut k = 0;
+        while let Some(mut col) = rg.next_column()? {
+            match k {
+                0 => {
+                    let v: Vec<i64> = results.sample[start..end]
+                        .iter()
+                        .map(|&s| i64::try_from(s).unwrap_or(i64::MAX))
+                        .collect();
+                    col.typed::<Int64Type>().write_batch(&v, None, None)?;
+                }
+                1..=4 => {
+                    let c = [
+                        &results.left_tip_dev_mm,
+                        &results.right_tip_dev_mm,
+                        &results.pose_position_err_mm,
+                        &results.pose_rotation_err_deg,
+                    ][k - 1];
+                    col.typed::<DoubleType>()
+                        .write_batch(&c[start..end], None, None)?;
+                }
+                _ => {
+                    col.typed::<BoolType>()
+                        .write_batch(&results.failed[start..end], None, None)?;
+                }
+            }
+            col.close()?;
+            k += 1;
+        }
+        rg.close()?;
+        if rows == 0 {
+            break;
+        }
+        start = end;
+    }
+    writer.close()?;
+    Ok(())
+}

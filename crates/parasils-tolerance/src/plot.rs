@@ -1,0 +1,1 @@
+//! The histogram of the tip deviations as a picture (feature `plot`).
