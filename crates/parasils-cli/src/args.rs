@@ -46,6 +46,11 @@ pub enum Command {
     /// Calibrate module 1: fit its geometry to actuator readings at measured
     /// poses (--measurements), or choose the poses to measure (--plan N).
     Calibrate(CalibrateArgs),
+    /// Tolerance analysis: how far the instrument tips really move along a
+    /// motion when the controller drives the nominal model of a robot built
+    /// within tolerances (Monte Carlo over perturbed robots, with the
+    /// first-order sensitivity of each parameter family).
+    Tolerance(ToleranceArgs),
 }
 
 /// `--robot`, shared by `simulate`, `ik` and `fk`.
@@ -529,4 +534,67 @@ pub struct CalibrateArgs {
     /// --plan: the random generator's seed.
     #[arg(long, default_value_t = PlanOptions::default().seed, requires = "plan")]
     pub seed: u64,
+}
+
+/// Arguments of `parasils tolerance`.
+#[derive(Debug, Args)]
+pub struct ToleranceArgs {
+    /// The tolerance specification (TOML; see --print-spec). Default: the
+    /// default tolerances that --print-spec prints.
+    #[arg(long, value_name = "FILE.toml")]
+    pub spec: Option<PathBuf>,
+    /// Print the specification (the default one, or --spec's) as TOML and
+    /// exit.
+    #[arg(long)]
+    pub print_spec: bool,
+    /// The number of perturbed robots.
+    #[arg(
+        short = 'n',
+        long = "samples",
+        value_name = "N",
+        default_value_t = 1000
+    )]
+    pub samples: u64,
+    /// The seed: robot i depends only on it and on i.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// The motion: a procedure file (its robot and start come from the
+    /// file). Default: the paper's reorientation.
+    #[arg(long, value_name = "FILE.toml", conflicts_with = "robot")]
+    pub procedure: Option<PathBuf>,
+    /// The rate the motion is sampled at, Hz.
+    #[arg(long, value_name = "HZ", default_value_t = 100.0)]
+    pub rate: f64,
+    /// The nominal robot.
+    #[command(flatten)]
+    pub robot: RobotArg,
+    /// Threads to use (0: every core).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+    /// Write one row per robot to FILE: .csv or .parquet (columns sample,
+    /// left_tip_dev_mm, right_tip_dev_mm, pose_position_err_mm,
+    /// pose_rotation_err_deg, failed).
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: Option<PathBuf>,
+    /// Draw the histogram of the tip deviations and the sensitivity ranking
+    /// to FILE.png or FILE.svg.
+    #[arg(long, value_name = "FILE.png")]
+    pub plot: Option<PathBuf>,
+}
+
+impl ToleranceArgs {
+    /// The motion's scenario.
+    pub fn scenario(&self) -> Result<Scenario> {
+        if let Some(path) = &self.procedure {
+            return Ok(Scenario {
+                rate_hz: self.rate,
+                ..procedure::load(path)?
+            });
+        }
+        Ok(Scenario {
+            rate_hz: self.rate,
+            robot: self.robot.geometry()?,
+            ..Scenario::paper()
+        })
+    }
 }

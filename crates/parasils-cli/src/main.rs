@@ -4,7 +4,7 @@
 //! and the kinematics; this binary parses the arguments and prints.
 //!
 //! Modules: `args` (the arguments, the shared flags defined once),
-//! `simulate`, `reach`, `pose` and `calibrate` (the commands), `stdout` (standard output that
+//! `simulate`, `reach`, `pose`, `calibrate` and `tolerance` (the commands), `stdout` (standard output that
 //! notices a closed pipe), `interrupt` (SIGINT and SIGTERM end a run
 //! through its error path).
 
@@ -15,6 +15,7 @@ mod pose;
 mod reach;
 mod simulate;
 mod stdout;
+mod tolerance;
 
 use std::io::Write;
 use std::process::ExitCode;
@@ -52,6 +53,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Ik(args) => pose::ik(&args),
         Command::Calibrate(args) => calibrate::calibrate_command(&args),
         Command::Fk(args) => pose::fk(&args),
+        Command::Tolerance(args) => tolerance::tolerance(&args),
         Command::Robot => {
             let text =
                 parasils_sim::robot_file::to_toml_string(&parasils::kin::RobotGeometry::paper())?;

@@ -3,41 +3,12 @@
 //! file loaded by the other commands, and bad input refused with one line
 //! and no file.
 
-use std::path::Path;
-use std::process::{Command, Output};
+mod common;
 
 use parasils::kin::{ParallelRobot, Pose, RobotGeometry};
 use parasils_sim::robot_file;
 
-fn parasils(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_parasils"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn ok(args: &[&str]) -> String {
-    let out = parasils(args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).expect("UTF-8")
-}
-
-/// The error line of a failing run, after checking it failed with one line.
-fn fails(args: &[&str]) -> String {
-    let out = parasils(args);
-    assert!(!out.status.success());
-    let err = String::from_utf8(out.stderr).expect("UTF-8");
-    assert_eq!(err.lines().count(), 1, "{err}");
-    err
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().expect("UTF-8 path")
-}
+use common::{fails, ok, s};
 
 /// The paper's robot with module 1 moved by up to about 1.5 mm and 0.5 deg
 /// and encoder offsets, as a robot file.

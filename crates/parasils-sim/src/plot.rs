@@ -21,8 +21,9 @@ pub const MAX_POINTS: usize = 2000;
 
 /// The image size, pixels.
 const SIZE: (u32, u32) = (1200, 1500);
-/// The font family name the embedded font is registered under.
-pub(crate) const FONT: &str = "sans-serif";
+/// The font family name the embedded font is registered under (by
+/// [`render_figure`]).
+pub const FONT: &str = "sans-serif";
 
 /// What can go wrong while plotting.
 #[derive(Debug, thiserror::Error)]
@@ -393,9 +394,10 @@ impl Series {
     }
 }
 
-/// A picture the crate draws ([`PlotSink`]'s figures, the reach map): what
-/// [`render_figure`] needs of it.
-pub(crate) trait Figure {
+/// A picture drawn with this module's font and file handling
+/// ([`PlotSink`]'s figures, the reach map, a tolerance study's histogram):
+/// what [`render_figure`] needs of it.
+pub trait Figure {
     /// Draws the picture on `root`.
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String>;
 }
@@ -411,7 +413,7 @@ impl Figure for PlotSink {
 ///
 /// # Errors
 /// [`PlotError::Font`], [`PlotError::Render`] (I/O included).
-pub(crate) fn render_figure(
+pub fn render_figure(
     figure: &impl Figure,
     out: &Path,
     format: ImageFormat,
