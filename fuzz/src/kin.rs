@@ -334,7 +334,16 @@ fn module1_in<T: FuzzFloat>(inp: &mut Input) {
                 .residual(&pose, &q)
                 .expect("finite pose and actuators");
             let eps = T::EPS;
-            let scale = 1.0 + norm(&pose.position()) / robot.length_scale().wide();
+            // The sizes involved: the platform's position against the
+            // nodes, and each reading's offset against its link (the reading
+            // `slider + o_j` rounds to the precision of `o_j`).
+            let offsets = robot
+                .geometry()
+                .guides
+                .iter()
+                .map(|g| g.encoder_offset.wide().abs() / g.link_length.wide())
+                .fold(0.0, f64::max);
+            let scale = 1.0 + norm(&pose.position()) / robot.length_scale().wide() + offsets;
             assert!(
                 at.wide() <= 64.0 * eps * scale,
                 "the IK's actuators {q:?} leave a residual {} at their own pose {pose:?} ({}), geometry {:?}",

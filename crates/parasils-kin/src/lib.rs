@@ -115,9 +115,9 @@ pub use interval::Interval;
 pub use limits::{ACTUATOR_COUNT, Actuator, ActuatorLimits, LimitError, RateKind};
 pub use nalgebra;
 pub use parallel::{
-    Actuators, Branch, Calibration, FkOptions, FkSolution, Guide, MarginTracker, ParallelGeometry,
-    ParallelMargins, ParallelRobot, ParallelSolution, ParallelThresholds, Provenance,
-    SymmetricLayout,
+    Actuators, Branch, Calibration, FkOptions, FkSolution, Guide, MAX_OFFSET_LINKS, MarginTracker,
+    ParallelGeometry, ParallelMargins, ParallelRobot, ParallelSolution, ParallelThresholds,
+    Provenance, SymmetricLayout,
 };
 pub use real::Real;
 pub use side::Side;

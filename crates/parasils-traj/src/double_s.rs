@@ -160,14 +160,21 @@ impl<T: Real> SShape<T> {
         Some(shape)
     }
 
-    /// This shape scaled by `k` in space (same phase times).
-    pub(crate) fn scaled(&self, k: T) -> Self {
-        Self {
+    /// This shape scaled by `k` in space (same phase times); `None` when a
+    /// scaled jerk, acceleration or velocity is not a normal number (a
+    /// subnormal one holds too few significant bits for the axis to end on
+    /// its goal).
+    pub(crate) fn scaled(&self, k: T) -> Option<Self> {
+        let shape = Self {
             j: self.j * k,
             a_p: self.a_p * k,
             v_p: self.v_p * k,
             ..*self
-        }
+        };
+        [shape.j, shape.a_p, shape.v_p]
+            .iter()
+            .all(|x| x.is_normal())
+            .then_some(shape)
     }
 
     fn checked(t_j: T, t_a: T, t_v: T, j: T, a_p: T, v_p: T) -> Option<Self> {

@@ -132,7 +132,7 @@ impl<T: Real, const N: usize> Multi<T, N, Trapezoid<T>> {
                 );
                 let shape = Shape::min_time(big, Limits::new(v, a))
                     .ok_or_else(|| out_of_range(lead_axis, big))?;
-                for (ax, p) in axes.iter_mut().zip(own) {
+                for (i, (ax, p)) in axes.iter_mut().zip(own).enumerate() {
                     *ax = if p.distance() > T::zero() {
                         let k = p.distance() / big;
                         Trapezoid::from_shape(
@@ -140,7 +140,9 @@ impl<T: Real, const N: usize> Multi<T, N, Trapezoid<T>> {
                             p.goal(),
                             p.direction(),
                             p.distance(),
-                            shape.scaled(k),
+                            shape
+                                .scaled(k)
+                                .ok_or_else(|| out_of_range(i, p.distance()))?,
                         )
                     } else {
                         Trapezoid::still(p.start(), p.goal(), shape.duration)
@@ -202,7 +204,7 @@ impl<T: Real, const N: usize> Multi<T, N, DoubleS<T>> {
                 );
                 let shape = SShape::min_time(big, JerkLimits::new(v, a, j))
                     .ok_or_else(|| out_of_range(lead_axis, big))?;
-                for (ax, p) in axes.iter_mut().zip(own) {
+                for (i, (ax, p)) in axes.iter_mut().zip(own).enumerate() {
                     *ax = if p.distance() > T::zero() {
                         let k = p.distance() / big;
                         DoubleS::from_shape(
@@ -210,7 +212,9 @@ impl<T: Real, const N: usize> Multi<T, N, DoubleS<T>> {
                             p.goal(),
                             p.direction(),
                             p.distance(),
-                            shape.scaled(k),
+                            shape
+                                .scaled(k)
+                                .ok_or_else(|| out_of_range(i, p.distance()))?,
                         )
                     } else {
                         DoubleS::still(p.start(), p.goal(), shape.duration)
@@ -301,6 +305,42 @@ mod tests {
         assert_eq!(m.lead(), None);
         assert_eq!(m.sample(0.5), [State::rest(1.0), State::rest(2.0)]);
         Ok(())
+    }
+
+    #[test]
+    fn a_share_too_small_for_normal_numbers_is_out_of_range() {
+        // Axis 1 moves 1e-300 of axis 0's distance: its scaled velocity and
+        // acceleration (about 1e-300) are still normal numbers in f64; at
+        // 1e-312 of it they are subnormal, and refused.
+        let ok = Multi::new(
+            [0.0_f64, 0.0],
+            [100.0, 1e-298],
+            [Limits::new(1.0, 1.0); 2],
+            Synchronization::Phase,
+        );
+        assert!(ok.is_ok(), "{ok:?}");
+        let r = Multi::new(
+            [0.0_f64, 0.0],
+            [100.0, 1e-310],
+            [Limits::new(1.0, 1.0); 2],
+            Synchronization::Phase,
+        );
+        assert!(matches!(r, Err(Error::OutOfRange { axis: 1, .. })), "{r:?}");
+        let r = Multi::double_s(
+            [0.0_f64, 0.0],
+            [100.0, 1e-310],
+            [JerkLimits::new(1.0, 1.0, 1.0); 2],
+            Synchronization::Phase,
+        );
+        assert!(matches!(r, Err(Error::OutOfRange { axis: 1, .. })), "{r:?}");
+        // Time synchronisation keeps the axis's own shape: no scaling.
+        let r = Multi::new(
+            [0.0_f64, 0.0],
+            [100.0, 1e-310],
+            [Limits::new(1.0, 1.0); 2],
+            Synchronization::Time,
+        );
+        assert!(r.is_ok(), "{r:?}");
     }
 
     #[test]

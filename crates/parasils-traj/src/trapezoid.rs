@@ -107,13 +107,16 @@ impl<T: Real> Shape<T> {
         Self::checked(v, limits.a_max, t_a, t_c, duration)
     }
 
-    /// This shape scaled by `k` in space (same phase times).
-    pub(crate) fn scaled(&self, k: T) -> Self {
-        Self {
+    /// This shape scaled by `k` in space (same phase times); `None` when a
+    /// scaled velocity or acceleration is not a normal number (a subnormal
+    /// one holds too few significant bits for the axis to end on its goal).
+    pub(crate) fn scaled(&self, k: T) -> Option<Self> {
+        let shape = Self {
             v: self.v * k,
             a: self.a * k,
             ..*self
-        }
+        };
+        (shape.v.is_normal() && shape.a.is_normal()).then_some(shape)
     }
 
     fn checked(v: T, a: T, t_a: T, t_c: T, duration: T) -> Option<Self> {

@@ -81,6 +81,10 @@ impl Branch {
     }
 }
 
+/// The largest encoder offset a guide accepts, in lengths of its link
+/// ([`ParallelGeometry::validate`]).
+pub const MAX_OFFSET_LINKS: f64 = 1000.0;
+
 /// One actuator of module 1: its straight guide, its slider's stroke, and the
 /// link from the slider to its leg's node.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -105,7 +109,10 @@ pub struct Guide<T: Real> {
     /// `o_j`, the encoder's zero offset, mm: the reading `q_j` (what the
     /// firmware sees, and every `q_j` the solvers take or return) is the
     /// slider's position along its guide from `G_j` plus `o_j`, so that
-    /// `B_j = G_j + (q_j - o_j) u_j`. Default 0; found by calibration.
+    /// `B_j = G_j + (q_j - o_j) u_j`. Default 0; found by calibration. At
+    /// most [`MAX_OFFSET_LINKS`] link lengths in size: the reading carries
+    /// the slider's position to the float type's precision times
+    /// `|o_j| / l_j`.
     #[cfg_attr(feature = "serde", serde(default = "zero"))]
     pub encoder_offset: T,
 }
@@ -419,7 +426,8 @@ impl<T: Real> ParallelGeometry<T> {
     }
 
     /// Checks the parameters: everything finite (strokes may be infinite,
-    /// encoder offsets may not), a calibration record of at least one pose
+    /// encoder offsets may not), encoder offsets at most
+    /// [`MAX_OFFSET_LINKS`] times their link's length, a calibration record of at least one pose
     /// and a finite RMS `>= 0`,
     /// guide directions non-zero, links longer than zero (and than about
     /// 1e-146 mm in f64, 3e-16 mm in f32), each stroke
@@ -489,6 +497,12 @@ impl<T: Real> ParallelGeometry<T> {
                 return Err(invalid(STROKE[j], g.stroke.min));
             }
             check_finite(g.encoder_offset, OFFSET[j])?;
+            // The reading `slider + o_j` rounds the slider's position to
+            // the precision of `o_j`: an offset of many link lengths would
+            // leave the readings, and the IK's result, meaningless.
+            if !(g.encoder_offset.abs() <= T::lit(MAX_OFFSET_LINKS) * l) {
+                return Err(invalid(OFFSET[j], g.encoder_offset));
+            }
         }
         for (i, a) in self.nodes.iter().enumerate() {
             check_vector(a, NODE[i])?;
@@ -597,6 +611,19 @@ mod tests {
                 "{e:?}"
             );
         }
+    }
+
+    #[test]
+    fn an_offset_of_more_than_a_thousand_links_is_refused() {
+        let mut g = ParallelGeometry::<f64>::assumed();
+        g.guides[3].encoder_offset = -350.0 * 1000.0;
+        assert!(g.validate().is_ok());
+        g.guides[3].encoder_offset = -350.0 * 1000.0 - 1.0;
+        let e = g.validate().expect_err("too large");
+        assert!(
+            e.to_string().contains("module1.guides[3].encoder_offset"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -145,8 +145,8 @@ pub mod margin;
 mod types;
 
 pub use geometry::{
-    Branch, Calibration, FkOptions, Guide, ParallelGeometry, ParallelThresholds, Provenance,
-    SymmetricLayout,
+    Branch, Calibration, FkOptions, Guide, MAX_OFFSET_LINKS, ParallelGeometry, ParallelThresholds,
+    Provenance, SymmetricLayout,
 };
 pub use ik::ParallelRobot;
 pub use margin::MarginTracker;
