@@ -137,6 +137,9 @@ pub fn simulate(args: &SimulateArgs) -> Result<()> {
         {
             plot = plot.calibrated(p.to_string());
         }
+        if let Some(optimal) = sim.optimal() {
+            plot = plot.with_phase_plane(optimal.phase_plane());
+        }
         if sim.procedure().is_some() {
             plot.marking_motions()
         } else {

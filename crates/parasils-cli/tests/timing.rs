@@ -210,3 +210,26 @@ fn limits_the_trapezoid_exceeds_fail_it_and_slow_the_optimal_law() {
     );
     assert!(text.contains("velocity limit"), "{text}");
 }
+
+#[test]
+fn the_plot_of_an_optimal_run_adds_its_phase_plane() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let svg = |timing: &str| {
+        let out = parasils(
+            &[
+                "simulate", "--timing", timing, "--rate", "100", "--plot", "p.svg",
+            ],
+            dir.path(),
+        );
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        std::fs::read_to_string(dir.path().join("p.svg")).expect("the picture")
+    };
+    let optimal = svg("optimal");
+    assert!(optimal.contains("(d) Phase plane of the time-optimal law"));
+    assert!(optimal.contains("module 1 q6 velocity to s = 0.863"));
+    assert!(!svg("trapezoid").contains("Phase plane"));
+}

@@ -5,7 +5,7 @@
 use numpy::IntoPyArray;
 use numpy::ndarray::{Array1, Array2};
 use parasils_kin::nalgebra::Vector3;
-use parasils_kin::{ActuatorLimits, Controller, Pose, TipTargets, mirror_across_platform, presets};
+use parasils_kin::{Controller, Pose, TipTargets, mirror_across_platform, presets};
 use parasils_sim::timing::{OptimalReorientation, ReorientationPath, TimingError, TimingOptions};
 use parasils_traj::Limits;
 use pyo3::exceptions::PyValueError;
@@ -109,7 +109,8 @@ pub(crate) fn optimal_reorientation<'py>(
     checks: usize,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (start, tips) = pose_and_tips(&pose, tips.as_ref())?;
-    let mut limits = ActuatorLimits::<f64>::assumed();
+    // The robot's own limits (its robot file's), each overridden when given.
+    let mut limits = controller.limits;
     for (arg, name, dst) in [
         (&velocity_max, "velocity_max", &mut limits.velocity),
         (

@@ -85,3 +85,35 @@ def test_angular_limits_bind_when_given():
     # theta's own trapezoid: 4.5 s, within the grid's resolution.
     assert 4.5 * (1 - 1e-12) <= r["duration_s"] <= 4.5 * (1 + 2e-3)
     assert {p["binding"] for p in r["phases"]} == {"theta"}
+
+
+def test_optimal_timing_uses_the_robot_files_limits(tmp_path):
+    # q6, which binds the paper's turn, at half its default velocity (50 mm/s)
+    # and a quarter of its acceleration (100 mm/s^2) in the robot file.
+    text = parasils.Robot().to_toml()
+    guides = text.split("[[module1.guides]]")
+    assert len(guides) == 7
+    q6 = guides[6].replace("velocity_max_mm_s = 50.0", "velocity_max_mm_s = 25.0")
+    q6 = q6.replace("acceleration_max_mm_s2 = 100.0", "acceleration_max_mm_s2 = 25.0")
+    assert q6 != guides[6]
+    path = tmp_path / "slow-q6.toml"
+    path.write_text("[[module1.guides]]".join(guides[:6] + [q6]))
+    slow = parasils.Robot.from_toml(path)
+    default = parasils.Robot().optimal_reorientation(P0, None, DPSI, DTHETA)
+    r = slow.optimal_reorientation(P0, None, DPSI, DTHETA)
+    assert r["duration_s"] > 1.5 * default["duration_s"]
+    # Passing the defaults explicitly gives the default robot's law back.
+    v_max = np.array([50.0] * 6 + [math.radians(30), math.radians(30), 60.0] * 2)
+    a_max = np.array([100.0] * 6 + [math.radians(60), math.radians(60), 60.0] * 2)
+    back = slow.optimal_reorientation(
+        P0, None, DPSI, DTHETA, velocity_max=v_max, acceleration_max=a_max
+    )
+    assert back["duration_s"] == default["duration_s"]
+    # The slow robot's own limits hold at the knots.
+    s, s_dot, s_ddot = r["s"], r["s_dot"], r["s_ddot"]
+    d1 = slow.reorientation_path(P0, None, DPSI, DTHETA, s, 1)
+    d2 = slow.reorientation_path(P0, None, DPSI, DTHETA, s, 2)
+    v_max[5], a_max[5] = 25.0, 25.0
+    vel = np.abs(d1 * s_dot[:, None]) / v_max
+    acc = np.abs(d1 * s_ddot[:, None] + d2 * (s_dot**2)[:, None]) / a_max
+    assert vel.max() <= 1 + 1e-9 and acc.max() <= 1 + 1e-9

@@ -15,6 +15,7 @@ use plotters::style::FontStyle;
 
 use crate::record::Record;
 use crate::sink::Sink;
+use crate::timing::PhasePlane;
 
 /// The most points kept per series (the last sample comes on top).
 pub const MAX_POINTS: usize = 2000;
@@ -124,6 +125,8 @@ pub struct PlotSink {
     /// In a procedure: where each motion starts (s), its index and type
     /// (1 to 4), marked on every panel. `None` outside procedures.
     motions: Option<Vec<(f64, u32, u8)>>,
+    /// The time-optimal law's phase plane, drawn as a fourth panel.
+    phase_plane: Option<PhasePlane>,
 }
 
 impl PlotSink {
@@ -139,7 +142,16 @@ impl PlotSink {
             module1_assumed,
             module1_note: None,
             motions: None,
+            phase_plane: None,
         }
+    }
+
+    /// The same sink, adding a fourth panel: the phase plane of a
+    /// time-optimal law (`s_dot` against `s`, with its velocity and
+    /// acceleration limit curves and its phases).
+    pub fn with_phase_plane(mut self, plane: PhasePlane) -> Self {
+        self.phase_plane = Some(plane);
+        self
     }
 
     /// The same sink, saying that module 1 is calibrated: `label` is its
@@ -186,7 +198,12 @@ impl PlotSink {
         if self.is_empty() {
             return Err(PlotError::NoSamples);
         }
-        render_figure(self, out, format, SIZE, png::Compression::Best)
+        let size = if self.phase_plane.is_some() {
+            (SIZE.0, SIZE.1 + SIZE.1 / 3)
+        } else {
+            SIZE
+        };
+        render_figure(self, out, format, size, png::Compression::Best)
     }
 
     /// The kept points, the last one included.
@@ -207,7 +224,7 @@ impl PlotSink {
                 (FONT, 28).into_font().style(FontStyle::Bold),
             )
             .map_err(e)?;
-        let panels = root.split_evenly((3, 1));
+        let panels = root.split_evenly((3 + usize::from(self.phase_plane.is_some()), 1));
 
         let angles = [
             Series::new("psi (deg)", 0, |p| p.angles[0]),
@@ -258,7 +275,11 @@ impl PlotSink {
             &joints,
             Some(("qs3 (mm)", &insertion)),
         )
-        .map_err(e)
+        .map_err(e)?;
+        if let (Some(plane), Some(area)) = (&self.phase_plane, panels.get(3)) {
+            phase_plane_panel(plane, area).map_err(e)?;
+        }
+        Ok(())
     }
 
     /// One panel: a caption, an optional note, a legend row, then the chart
@@ -365,6 +386,94 @@ impl PlotSink {
         }
         Ok(())
     }
+}
+
+/// The phase plane of a time-optimal law: `s_dot` against `s` under the
+/// velocity and acceleration limit curves and the controllable set's upper
+/// end, each phase marked with what limits it.
+fn phase_plane_panel<DB: DrawingBackend>(
+    plane: &PhasePlane,
+    area: &DrawingArea<DB, Shift>,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let area = area.titled(
+        "(d) Phase plane of the time-optimal law: path speed against path position",
+        (FONT, 22),
+    )?;
+    let top = plane.s_dot.iter().copied().fold(0.0, f64::max).max(1e-9) * 1.8;
+    let curves = [
+        ("velocity limit curve", PALETTE[1], &plane.velocity_limit, 2),
+        (
+            "acceleration limit curve (where in the frame)",
+            PALETTE[3],
+            &plane.acceleration_limit,
+            2,
+        ),
+        (
+            "controllable set (stop still possible)",
+            RGBColor(150, 150, 150),
+            &plane.controllable,
+            1,
+        ),
+        ("the optimal law", PALETTE[0], &plane.s_dot, 3),
+    ];
+    let (strip, area) = area.split_vertically(26);
+    let legend_font = TextStyle::from((FONT, 15).into_font());
+    let mut x = 90;
+    for (label, color, _, _) in &curves {
+        strip.draw(&PathElement::new(
+            [(x, 12), (x + 26, 12)],
+            color.stroke_width(3),
+        ))?;
+        strip.draw(&Text::new(*label, (x + 32, 4), legend_font.clone()))?;
+        let (w, _) = strip.estimate_text_size(label, &legend_font)?;
+        x += 32 + i32::try_from(w).unwrap_or(100) + 28;
+    }
+    let mut chart = ChartBuilder::on(&area)
+        .margin_left(12)
+        .margin_right(30)
+        .margin_bottom(8)
+        .x_label_area_size(42)
+        .y_label_area_size(72)
+        .build_cartesian_2d(0.0..1.0, 0.0..top)?;
+    chart
+        .configure_mesh()
+        .x_desc("s (path position, 0 at the start, 1 at the goal)")
+        .y_desc("s_dot (1/s)")
+        .label_style((FONT, 14))
+        .axis_desc_style((FONT, 16))
+        .draw()?;
+    // Each curve in the pieces that lie inside the frame (a limit curve
+    // runs off to infinity where no row's limit binds).
+    for (_, color, values, width) in &curves {
+        let mut piece: Vec<(f64, f64)> = Vec::new();
+        for (&s, &v) in plane.s.iter().zip(values.iter()) {
+            if v <= top {
+                piece.push((s, v));
+            } else if !piece.is_empty() {
+                chart.draw_series(LineSeries::new(
+                    core::mem::take(&mut piece),
+                    color.stroke_width(*width),
+                ))?;
+            }
+        }
+        chart.draw_series(LineSeries::new(piece, color.stroke_width(*width)))?;
+    }
+    let grey = RGBColor(90, 90, 90);
+    for (k, (from, to, label)) in plane.phases.iter().enumerate() {
+        if *from > 0.0 {
+            chart.draw_series(core::iter::once(PathElement::new(
+                [(*from, 0.0), (*from, top)],
+                grey.stroke_width(1),
+            )))?;
+        }
+        let y = top * (0.95 - 0.07 * (k % 3) as f64);
+        chart.draw_series(core::iter::once(Text::new(
+            format!("{label} to s = {to:.3}"),
+            (from.min(0.7) + 0.005, y),
+            (FONT, 14).into_font().color(&grey),
+        )))?;
+    }
+    Ok(())
 }
 
 /// Distinct colours (Tableau 10).

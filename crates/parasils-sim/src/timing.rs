@@ -254,6 +254,60 @@ impl OptimalReorientation {
     }
 }
 
+/// The optimal law in the phase plane: at every grid knot, the path
+/// speed `s_dot` (1/s) of the schedule and the limit curves it stays under
+/// (the picture `--plot` draws for `--timing optimal`).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct PhasePlane {
+    /// The path parameter at each knot.
+    pub s: Vec<f64>,
+    /// The schedule's `s_dot`.
+    pub s_dot: Vec<f64>,
+    /// The velocity limit curve: the largest `s_dot` every row's velocity
+    /// limit admits (`+inf` where none binds).
+    pub velocity_limit: Vec<f64>,
+    /// The acceleration limit curve: the largest `s_dot` at which some path
+    /// acceleration keeps every row's acceleration within its limit.
+    pub acceleration_limit: Vec<f64>,
+    /// The controllable set's upper end: the largest `s_dot` from which the
+    /// end can still be reached at rest.
+    pub controllable: Vec<f64>,
+    /// The phases: the `s` where each starts and ends, and what limits it.
+    pub phases: Vec<(f64, f64, String)>,
+}
+
+impl OptimalReorientation {
+    /// The phase plane of this law (empty for a turn of zero length).
+    pub fn phase_plane(&self) -> PhasePlane {
+        let knots = &self.knots;
+        let s_at = |t: f64| self.schedule().state(t).position;
+        PhasePlane {
+            s: knots.iter().map(|k| k.s).collect(),
+            s_dot: knots.iter().map(Knot::s_dot).collect(),
+            velocity_limit: knots
+                .iter()
+                .map(|k| k.derivatives.velocity_limit(&self.limits).sqrt())
+                .collect(),
+            acceleration_limit: knots
+                .iter()
+                .map(|k| k.derivatives.acceleration_limit(&self.limits).sqrt())
+                .collect(),
+            controllable: knots.iter().map(|k| k.x_max().sqrt()).collect(),
+            phases: self
+                .phases()
+                .iter()
+                .map(|p| {
+                    (
+                        s_at(p.start_s),
+                        s_at(p.end_s),
+                        format!("{} {}", p.binding, p.kind),
+                    )
+                })
+                .collect(),
+        }
+    }
+}
+
 impl Motion<f64> for OptimalReorientation {
     type Output = PlatformState<f64>;
 
@@ -321,6 +375,47 @@ mod tests {
             ]
         );
         assert!(phases.iter().all(|ph| (ph.usage - 1.0).abs() < 1e-6));
+        Ok(())
+    }
+
+    #[test]
+    fn the_law_stays_under_its_limit_curves() -> Result<(), TimingError> {
+        let p = plan([15.0, 25.0], &TimingOptions::default())?;
+        let plane = p.phase_plane();
+        assert_eq!(plane.s.len(), TimingOptions::default().knots);
+        assert_eq!((plane.s[0], plane.s_dot[0]), (0.0, 0.0));
+        let mut touches = 0;
+        for k in 0..plane.s.len() {
+            let bound = plane.velocity_limit[k].min(plane.acceleration_limit[k]);
+            assert!(plane.s_dot[k] <= bound * (1.0 + 1e-12), "{k}");
+            assert!(
+                plane.s_dot[k] <= plane.controllable[k] * (1.0 + 1e-12),
+                "{k}"
+            );
+            // The velocity curve from the path's own derivatives, row by row.
+            let d = optimal::Path::derivatives(p.path(), plane.s[k]).expect("on the path");
+            let mut v = f64::INFINITY;
+            for (j, lim) in p.limits().iter().enumerate() {
+                if d.first[j] != 0.0 {
+                    v = v.min(lim.velocity / d.first[j].abs());
+                }
+            }
+            assert!((plane.velocity_limit[k] - v).abs() <= 1e-12 * v, "{k}");
+            touches += usize::from(plane.s_dot[k] > plane.velocity_limit[k] * (1.0 - 1e-6));
+        }
+        // q6's velocity phase runs on the velocity curve.
+        assert!(touches > 100, "{touches}");
+        let phases: Vec<&str> = plane.phases.iter().map(|(_, _, l)| l.as_str()).collect();
+        assert_eq!(
+            phases,
+            [
+                "module 1 q6 acceleration",
+                "module 1 q6 velocity",
+                "module 1 q6 acceleration"
+            ]
+        );
+        assert_eq!(plane.phases[0].0, 0.0);
+        assert!((plane.phases[2].1 - 1.0).abs() < 1e-12);
         Ok(())
     }
 

@@ -55,6 +55,52 @@ impl<T: Real, const M: usize> Default for Derivatives<T, M> {
     }
 }
 
+impl<T: Real, const M: usize> Derivatives<T, M> {
+    /// The velocity limit curve here: the largest `x = s_dot^2` with
+    /// `|q_j' s_dot| <= v_j` for every row, `min_j (v_j / q_j')^2`
+    /// (`+inf` when no row moves or every velocity is unlimited).
+    pub fn velocity_limit(&self, limits: &[RowLimits<T>; M]) -> T {
+        let mut x = T::infinity();
+        for (d, lim) in self.first.iter().zip(limits) {
+            if *d != T::zero() {
+                let r = lim.velocity / d.abs();
+                x = x.min(r * r);
+            }
+        }
+        x
+    }
+
+    /// The acceleration limit curve here: the largest `x = s_dot^2` at
+    /// which some path acceleration `u` keeps `|q_j' u + q_j'' x| <= a_j` for
+    /// every row (`+inf` when no such bound exists). Each row bounds `u`
+    /// between two lines in `x`; the curve is where the highest lower line
+    /// meets the lowest upper one, found over every pair of rows.
+    pub fn acceleration_limit(&self, limits: &[RowLimits<T>; M]) -> T {
+        let mut x = T::infinity();
+        // Row j's band, when q_j' != 0: u in [b x - w, b x + w].
+        let bands: [Option<(T, T)>; M] = core::array::from_fn(|j| {
+            let (d, dd, a) = (self.first[j], self.second[j], limits[j].acceleration);
+            (d != T::zero() && a != T::infinity()).then(|| (a / d.abs(), -dd / d))
+        });
+        for ((d, dd), lim) in self.first.iter().zip(&self.second).zip(limits) {
+            if *d == T::zero() && *dd != T::zero() {
+                // No u in the row: |q_j'' x| <= a_j alone.
+                x = x.min(lim.acceleration / dd.abs());
+            }
+        }
+        for (w_lo, b_lo) in bands.iter().flatten() {
+            for (w_hi, b_hi) in bands.iter().flatten() {
+                // b_lo x - w_lo <= b_hi x + w_hi.
+                let slope = *b_lo - *b_hi;
+                if slope > T::zero() {
+                    x = x.min((*w_lo + *w_hi) / slope);
+                }
+            }
+        }
+        x
+    }
+}
+
 /// A geometric path with `M` constrained rows: its derivatives at any `s`
 /// of `[0, 1]`, from the path's own closed form (never differenced).
 pub trait Path<T: Real, const M: usize> {
@@ -300,4 +346,78 @@ pub struct Certificate<T> {
     pub stretch: T,
     /// How many check points were evaluated on the path.
     pub checks: usize,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn limit_curves_by_hand() {
+        // Row 0: u in [-1 - x, 1 - x]; row 1: u in [-1 + x, 1 + x]: they
+        // meet while -1 + x <= 1 - x, so up to x = 1.
+        let d = Derivatives {
+            first: [1.0_f64, 1.0],
+            second: [1.0, -1.0],
+        };
+        let limits = [RowLimits::new(2.0, 1.0), RowLimits::new(3.0, 1.0)];
+        assert_eq!(d.acceleration_limit(&limits), 1.0);
+        assert_eq!(d.velocity_limit(&limits), 4.0);
+        // One row alone always has a u (its band is never empty).
+        let one = Derivatives {
+            first: [2.0_f64],
+            second: [1.0],
+        };
+        assert_eq!(
+            one.acceleration_limit(&[RowLimits::new(1.0, 1.0)]),
+            f64::INFINITY
+        );
+        // A row that does not move but curves: |q''| x <= a.
+        let still = Derivatives {
+            first: [0.0_f64, 1.0],
+            second: [4.0, 0.0],
+        };
+        let limits = [RowLimits::new(1.0, 2.0), RowLimits::new(1.0, 1.0)];
+        assert_eq!(still.acceleration_limit(&limits), 0.5);
+        assert_eq!(still.velocity_limit(&limits), 1.0);
+    }
+
+    #[test]
+    fn the_acceleration_curve_is_where_the_bands_stop_meeting() {
+        // Pseudo-random rows; at the curve's x (slightly below) the highest
+        // lower bound on u is under the lowest upper one, slightly above it
+        // is not.
+        let mut seed = 12345u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for _ in 0..200 {
+            let d = Derivatives::<f64, 5> {
+                first: core::array::from_fn(|_| next()),
+                second: core::array::from_fn(|_| 3.0 * next()),
+            };
+            let limits: [RowLimits<f64>; 5] =
+                core::array::from_fn(|_| RowLimits::new(1.0, 0.1 + next().abs()));
+            let x_a = d.acceleration_limit(&limits);
+            let gap = |x: f64| {
+                let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+                for ((a, b), lim) in d.first.iter().zip(&d.second).zip(&limits) {
+                    let c = lim.acceleration;
+                    let (u1, u2) = ((-c - b * x) / a, (c - b * x) / a);
+                    lo = lo.max(u1.min(u2));
+                    hi = hi.min(u1.max(u2));
+                }
+                hi - lo
+            };
+            if x_a.is_finite() {
+                assert!(gap(x_a * (1.0 - 1e-9)) >= 0.0, "{d:?}");
+                assert!(gap(x_a * (1.0 + 1e-6)) < 0.0, "{d:?}");
+            } else {
+                assert!(gap(1e12) >= 0.0);
+            }
+        }
+    }
 }
