@@ -580,6 +580,10 @@ pub struct ToleranceArgs {
     /// to FILE.png or FILE.svg.
     #[arg(long, value_name = "FILE.png")]
     pub plot: Option<PathBuf>,
+    /// Write the output file even when its estimated size is above the
+    /// 10 GB cap (it must still fit in the free space).
+    #[arg(long)]
+    pub force: bool,
 }
 
 impl ToleranceArgs {

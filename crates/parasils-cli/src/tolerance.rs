@@ -15,6 +15,9 @@ use parasils_tolerance::{Report, Spec, Study, Trace};
 use crate::args::ToleranceArgs;
 use crate::{interrupt, stdout};
 
+/// The most robots one run holds: 4 GB of rows in memory.
+const MAX_SAMPLES: u64 = 100_000_000;
+
 /// `parasils tolerance`.
 pub fn tolerance(args: &ToleranceArgs) -> Result<()> {
     let spec = match &args.spec {
@@ -44,6 +47,24 @@ pub fn tolerance(args: &ToleranceArgs) -> Result<()> {
         .transpose()?;
     if args.samples == 0 {
         bail!("-n must be at least 1");
+    }
+    if args.samples > MAX_SAMPLES {
+        bail!(
+            "-n {} is more than the {MAX_SAMPLES} robots one process holds (about 41 bytes each \
+             in memory): split the study over processes or machines with parasils.tolerance(..., \
+             client=...), whose rows are the same",
+            args.samples
+        );
+    }
+    if let (Some(path), Some(format)) = (&args.output, format) {
+        parasils_tolerance::output::check_size(path, format, args.samples, args.force).map_err(
+            |e| match e {
+                e @ parasils_sim::OutputError::OverCap { .. } => {
+                    anyhow::anyhow!("{e}: give --force to write it anyway")
+                }
+                e => e.into(),
+            },
+        )?;
     }
     if !(args.rate > 0.0 && args.rate.is_finite()) {
         bail!("--rate must be a positive number of Hz, got {}", args.rate);

@@ -192,6 +192,28 @@ fn bad_input_is_one_line_and_no_file() {
     assert!(err.contains("use a .csv or .parquet extension"), "{err}");
     let err = fails(&["tolerance", "-n", "0"]);
     assert!(err.contains("-n must be at least 1"), "{err}");
+    let err = fails(&["tolerance", "-n", "200000000"]);
+    assert!(err.contains("split the study"), "{err}");
+    // Above the output cap: refused before the first robot, unless --force.
+    let over = |force: bool| {
+        let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_parasils"));
+        cmd.args(["tolerance", "-n", "3", "--rate", "5", "-o", s(&out)])
+            .env("PARASILS_OUTPUT_CAP_BYTES", "1000");
+        if force {
+            cmd.arg("--force");
+        }
+        cmd.output().expect("the binary runs")
+    };
+    let refused = over(false);
+    assert!(!refused.status.success());
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        err.contains("more than the 1.0 kB cap: give --force"),
+        "{err}"
+    );
+    assert!(!out.exists());
+    assert!(over(true).status.success());
+    std::fs::remove_file(&out).expect("written with --force");
     let names: Vec<_> = std::fs::read_dir(dir.path())
         .expect("listing")
         .map(|e| e.expect("entry").file_name())

@@ -8,7 +8,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use parasils_sim::OutputError;
-use parasils_sim::output::{persist, temp_beside};
+use parasils_sim::output::{cap_bytes, free_bytes, persist, temp_beside};
 use parquet::data_type::{BoolType, DoubleType, Int64Type};
 use parquet::file::properties::WriterProperties;
 use parquet::file::writer::SerializedFileWriter;
@@ -47,6 +47,65 @@ impl Format {
             _ => None,
         }
     }
+}
+
+/// An upper bound on a row's size, bytes: CSV (the largest index, four
+/// shortest round-trip doubles, the flag, separators), and uncompressed
+/// Parquet (8 bytes per number, a bit for the flag, page overhead).
+const fn row_bytes(format: Format) -> u64 {
+    match format {
+        Format::Csv => 20 + 4 * 25 + 7,
+        Format::Parquet => 48,
+    }
+}
+
+/// The estimated size of a file of `rows` rows, bytes (at or above the real
+/// size).
+pub fn estimate_bytes(format: Format, rows: u64) -> u64 {
+    rows.saturating_mul(row_bytes(format))
+        .saturating_add(64 * 1024)
+}
+
+/// Checks, before a study runs, that its file of `rows` rows fits: within
+/// the free space of the target's file system, and within the output cap
+/// (the simulation's, 10 GB by default) unless `force`. Returns the
+/// estimate.
+///
+/// # Errors
+/// [`OutputError::IsFolder`], [`OutputError::NoSpace`],
+/// [`OutputError::OverCap`].
+pub fn check_size(path: &Path, format: Format, rows: u64, force: bool) -> Result<u64, OutputError> {
+    if path.is_dir() {
+        return Err(OutputError::IsFolder {
+            path: path.to_owned(),
+        });
+    }
+    let estimate = estimate_bytes(format, rows);
+    let samples = usize::try_from(rows).unwrap_or(usize::MAX);
+    let folder = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if let Some(free) = free_bytes(folder)
+        && estimate > free
+    {
+        return Err(OutputError::NoSpace {
+            path: path.to_owned(),
+            samples,
+            estimate,
+            free,
+        });
+    }
+    let cap = cap_bytes();
+    if !force && estimate > cap {
+        return Err(OutputError::OverCap {
+            path: path.to_owned(),
+            samples,
+            estimate,
+            cap,
+        });
+    }
+    Ok(estimate)
 }
 
 /// Writes `results` to `path` in `format`, atomically.
