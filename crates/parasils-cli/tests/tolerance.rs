@@ -220,3 +220,39 @@ fn bad_input_is_one_line_and_no_file() {
         .collect();
     assert_eq!(names, vec![std::ffi::OsString::from("bad.toml")]);
 }
+
+#[test]
+fn an_interrupted_study_exits_130_and_leaves_the_previous_file() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("r.csv");
+    std::fs::write(&out, "previous\n").expect("previous");
+    // A million robots take minutes: the signal arrives mid-run. Should it
+    // come before the handler is installed (a very slow start), the child
+    // dies of it instead; try again, waiting longer.
+    for wait_ms in [400, 1600, 6400] {
+        let child = std::process::Command::new(env!("CARGO_BIN_EXE_parasils"))
+            .args(["tolerance", "-n", "1000000", "--threads", "1", "-o", s(&out)])
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("spawn");
+        std::thread::sleep(std::time::Duration::from_millis(wait_ms));
+        let sent = std::process::Command::new("kill")
+            .args(["-INT", &child.id().to_string()])
+            .status()
+            .expect("kill runs");
+        assert!(sent.success());
+        let done = child.wait_with_output().expect("output");
+        if done.status.code().is_none() {
+            continue;
+        }
+        let err = String::from_utf8_lossy(&done.stderr);
+        assert_eq!(done.status.code(), Some(130), "{err}");
+        assert_eq!(err.trim(), "parasils: interrupted");
+        assert_eq!(std::fs::read_to_string(&out).expect("kept"), "previous\n");
+        let names: Vec<_> = std::fs::read_dir(dir.path()).expect("listing").collect();
+        assert_eq!(names.len(), 1);
+        return;
+    }
+    panic!("the signal never arrived after the handler was installed");
+}
