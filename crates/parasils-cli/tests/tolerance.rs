@@ -236,7 +236,7 @@ fn an_interrupted_study_exits_130_and_leaves_the_previous_file() {
             .stderr(std::process::Stdio::piped())
             .spawn()
             .expect("spawn");
-        std::thread::sleep(std::time::Duration::from_millis(wait_ms));
+        std::thread::sleep(core::time::Duration::from_millis(wait_ms));
         let sent = std::process::Command::new("kill")
             .args(["-INT", &child.id().to_string()])
             .status()
