@@ -15,12 +15,6 @@ pub(crate) struct Line<T> {
     pub(crate) b: T,
 }
 
-impl<T: Real> Line<T> {
-    fn at(self, x: T) -> T {
-        self.a + self.b * x
-    }
-}
-
 /// One interval `[s_i, s_{i+1}]` with a constant `u`: every row's
 /// acceleration constraint at both ends, as bands `|u - d x| <= c` in the
 /// start's `x` (at the end, `x_{i+1} = x + 2 h u`), and the bound on `x`
@@ -104,8 +98,10 @@ impl<T: Real, const M: usize> Interval<T, M> {
         (up, lo)
     }
 
-    /// The lines that make the upper and the lower envelope at `x`.
-    fn active(&self, x: T, k_next: T) -> (Line<T>, Line<T>) {
+    /// The lines that make the upper and the lower envelope at `x`, with
+    /// the envelopes' values there (as [`Interval::envelope`] computes
+    /// them).
+    fn active(&self, x: T, k_next: T) -> (Line<T>, Line<T>, T, T) {
         let inv = T::one() / self.two_h;
         let mut up = Line {
             a: k_next * inv,
@@ -115,22 +111,21 @@ impl<T: Real, const M: usize> Interval<T, M> {
             a: T::zero(),
             b: -inv,
         };
-        let (mut up_v, mut lo_v) = (up.at(x), lo.at(x));
+        let (mut up_v, mut lo_v) = ((k_next - x) * inv, -x * inv);
         for (cs, ds) in self.c.iter().zip(&self.d) {
             for (&c, &d) in cs.iter().zip(ds) {
-                let u = Line { a: c, b: d };
-                let v = u.at(x);
+                let mid = d * x;
+                let v = mid + c;
                 if v < up_v {
-                    (up, up_v) = (u, v);
+                    (up, up_v) = (Line { a: c, b: d }, v);
                 }
-                let l = Line { a: -c, b: d };
-                let v = l.at(x);
+                let v = mid - c;
                 if v > lo_v {
-                    (lo, lo_v) = (l, v);
+                    (lo, lo_v) = (Line { a: -c, b: d }, v);
                 }
             }
         }
-        (up, lo)
+        (up, lo, up_v, lo_v)
     }
 
     /// The largest `x` in `[0, x_start]` at which some `u` satisfies every
@@ -142,11 +137,10 @@ impl<T: Real, const M: usize> Interval<T, M> {
     pub(crate) fn max_feasible(&self, x_start: T, k_next: T) -> T {
         let mut x = x_start;
         for _ in 0..4 * M + 16 {
-            let (up, lo) = self.envelope(x, k_next);
-            if up >= lo {
+            let (up, lo, up_v, lo_v) = self.active(x, k_next);
+            if up_v >= lo_v {
                 return x;
             }
-            let (up, lo) = self.active(x, k_next);
             let slope = up.b - lo.b;
             let gap0 = up.a - lo.a;
             if !(slope < T::zero()) || !(gap0 >= T::zero()) {
