@@ -231,7 +231,15 @@ fn an_interrupted_study_exits_130_and_leaves_the_previous_file() {
     // dies of it instead; try again, waiting longer.
     for wait_ms in [400, 1600, 6400] {
         let child = std::process::Command::new(env!("CARGO_BIN_EXE_parasils"))
-            .args(["tolerance", "-n", "1000000", "--threads", "1", "-o", s(&out)])
+            .args([
+                "tolerance",
+                "-n",
+                "1000000",
+                "--threads",
+                "1",
+                "-o",
+                s(&out),
+            ])
             .stdout(std::process::Stdio::piped())
             .stderr(std::process::Stdio::piped())
             .spawn()
