@@ -57,6 +57,21 @@ pub struct MotionLimits {
     pub acceleration_deg_s2: f64,
 }
 
+impl MotionLimits {
+    /// The linear limits in library units (mm/s, mm/s^2).
+    pub fn linear(&self) -> parasils::traj::Limits<f64> {
+        parasils::traj::Limits::new(self.velocity_mm_s, self.acceleration_mm_s2)
+    }
+
+    /// The angular limits in library units (rad/s, rad/s^2).
+    pub fn angular(&self) -> parasils::traj::Limits<f64> {
+        parasils::traj::Limits::new(
+            self.velocity_deg_s.to_radians(),
+            self.acceleration_deg_s2.to_radians(),
+        )
+    }
+}
+
 impl Default for MotionLimits {
     fn default() -> Self {
         Self {

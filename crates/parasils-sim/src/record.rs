@@ -6,6 +6,7 @@
 //! the sinks read records through it.
 
 use nalgebra::Vector3;
+use parasils::kin::ActuatorLimits;
 use parasils::supervisor::MarginSet;
 
 use crate::scenario::CommandKind;
@@ -108,6 +109,18 @@ impl Record {
             pick(self.module1.q_dot, self.left.q_dot, self.right.q_dot),
             pick(self.module1.q_ddot, self.left.q_ddot, self.right.q_ddot),
         )
+    }
+
+    /// Raises each actuator's peak use of its limits, `usage[0]` the
+    /// velocity's and `usage[1]` the acceleration's (fractions, in the order
+    /// of [`Actuator::ALL`](parasils::kin::Actuator::ALL)), to this record's.
+    pub fn widen_usage(&self, usage: &mut [[f64; 12]; 2], limits: &ActuatorLimits<f64>) {
+        let (q_dot, q_ddot) = self.actuator_rates();
+        let [uv, ua] = usage;
+        for (k, (v, a)) in q_dot.iter().zip(&q_ddot).enumerate() {
+            uv[k] = uv[k].max(v.abs() / limits.velocity[k]);
+            ua[k] = ua[k].max(a.abs() / limits.acceleration[k]);
+        }
     }
 
     /// The pose's Euler angles in degrees as [`Record::angles_deg`] writes

@@ -74,12 +74,7 @@ impl Sink for Summary {
             self.first_warning.get_or_insert(record.t);
             self.warnings = self.warnings.union(record.warnings);
         }
-        let (q_dot, q_ddot) = record.actuator_rates();
-        let [uv, ua] = &mut self.usage;
-        for (k, (v, a)) in q_dot.iter().zip(&q_ddot).enumerate() {
-            uv[k] = uv[k].max(v.abs() / self.limits.velocity[k]);
-            ua[k] = ua[k].max(a.abs() / self.limits.acceleration[k]);
-        }
+        record.widen_usage(&mut self.usage, &self.limits);
         for (i, column) in columns::CSV.iter().enumerate() {
             let v = column.value(record);
             self.min[i] = self.min[i].min(v);

@@ -13,7 +13,7 @@ use parasils::motions::{
     RobotState, Turning,
 };
 use parasils::supervisor::{Margin, Margins};
-use parasils::traj::{Limits, Synchronization};
+use parasils::traj::Synchronization;
 use parasils::{Reorientation, Supervisor};
 
 use super::SimulationError;
@@ -280,12 +280,7 @@ fn plan(
     state: &RobotState<f64>,
     spec: &MotionSpec,
 ) -> Result<Motion<f64>, Continue> {
-    let l = &spec.limits;
-    let linear = Limits::new(l.velocity_mm_s, l.acceleration_mm_s2);
-    let angular = Limits::new(
-        l.velocity_deg_s.to_radians(),
-        l.acceleration_deg_s2.to_radians(),
-    );
+    let (linear, angular) = (spec.limits.linear(), spec.limits.angular());
     Ok(match spec.goal {
         MotionGoal::Position { pose_mm_deg: p } => Motion::Position(Positioning::new(
             state,
@@ -318,12 +313,12 @@ fn plan(
             theta_deg,
             absolute,
         } => {
-            let [psi, theta] = [psi_deg.to_radians(), theta_deg.to_radians()];
-            let goal = if absolute {
-                [psi, theta]
-            } else {
-                [state.pose.psi + psi, state.pose.theta + theta]
-            };
+            let goal = reorient_goal(
+                psi_deg,
+                theta_deg,
+                absolute,
+                [state.pose.psi, state.pose.theta],
+            );
             let turn = Reorientation::new(state.pose, goal, [angular; 2], Synchronization::Phase)?;
             Motion::Reorient(Turning::new(
                 turn,
@@ -332,6 +327,17 @@ fn plan(
             ))
         }
     })
+}
+
+/// A reorientation's goal `[psi, theta]` (rad): the angles given (deg), or
+/// `from` turned by them.
+fn reorient_goal(psi_deg: f64, theta_deg: f64, absolute: bool, from: [f64; 2]) -> [f64; 2] {
+    let [psi, theta] = [psi_deg.to_radians(), theta_deg.to_radians()];
+    if absolute {
+        [psi, theta]
+    } else {
+        [from[0] + psi, from[1] + theta]
+    }
 }
 
 /// Why a motion cannot continue the one before.
@@ -362,11 +368,7 @@ fn continued(
     } else {
         spec.limits
     };
-    let linear = Limits::new(l.velocity_mm_s, l.acceleration_mm_s2);
-    let angular = Limits::new(
-        l.velocity_deg_s.to_radians(),
-        l.acceleration_deg_s2.to_radians(),
-    );
+    let (linear, angular) = (l.linear(), l.angular());
     let tips = || tips_of(controller, &state.pose, &state.joints);
     Ok(match (spec.goal, m) {
         (MotionGoal::Stop, Moving::Pose(s)) => {
@@ -420,12 +422,7 @@ fn continued(
             },
             Moving::Angles(a),
         ) => {
-            let [psi, theta] = [psi_deg.to_radians(), theta_deg.to_radians()];
-            let goal = if absolute {
-                [psi, theta]
-            } else {
-                [a[0].position + psi, a[1].position + theta]
-            };
+            let goal = reorient_goal(psi_deg, theta_deg, absolute, [a[0].position, a[1].position]);
             Motion::Reorient(Turning::from_moving(
                 state.pose,
                 a,
@@ -546,12 +543,7 @@ impl ProcedureCheck {
         supervisor: &Supervisor<f64>,
         limits: &ActuatorLimits<f64>,
     ) {
-        let (q_dot, q_ddot) = record.actuator_rates();
-        let [uv, ua] = &mut self.usage;
-        for (k, (v, a)) in q_dot.iter().zip(&q_ddot).enumerate() {
-            uv[k] = uv[k].max(v.abs() / limits.velocity[k]);
-            ua[k] = ua[k].max(a.abs() / limits.acceleration[k]);
-        }
+        record.widen_usage(&mut self.usage, limits);
         let k = record.motion as usize;
         let Some(m) = self.motions.get_mut(k) else {
             return;
