@@ -441,9 +441,9 @@ pub struct ReachArgs {
     #[arg(long, value_name = "DEG", default_value_t = 0.5)]
     pub step: f64,
     /// Skip the straight-line check (the `line` column is left empty). The
-    /// check evaluates every segment from the start at points a quarter of a
-    /// step apart, so its cost grows with the cube of the grid's side: most
-    /// of the default map's time, and minutes on a 0.1 deg grid.
+    /// check covers every segment from the start at points a quarter of a
+    /// step apart (most cleared by a neighbour's margin): about a third of
+    /// the default map's time.
     #[arg(long)]
     pub no_line: bool,
     /// Threads to use (0: every core).

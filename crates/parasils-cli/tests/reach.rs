@@ -1,23 +1,8 @@
 //! `parasils reach` run as a process: the CSV, the pictures, the summary.
 
-use std::process::{Command, Output};
+mod common;
 
-fn parasils(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_parasils"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
-
-fn ok(args: &[&str]) -> String {
-    let out = parasils(args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).expect("UTF-8")
-}
+use common::{ok, parasils};
 
 #[test]
 fn the_csv_has_a_row_per_cell_and_the_paper_target_is_straight_ahead() {

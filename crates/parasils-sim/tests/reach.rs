@@ -4,7 +4,8 @@
 use std::collections::VecDeque;
 
 use parasils::kin::{
-    AssemblyMode, Error, Instrument, ParallelRobot, Pose, RobotGeometry, TipTargets,
+    AssemblyMode, Controller, Error, Instrument, ParallelRobot, PlatformState, Pose, RobotGeometry,
+    TipTargets,
 };
 use parasils_sim::reach::{Constraint, ReachMap, ReachOptions, TOLERANCE_RAD};
 use parasils_sim::{Scenario, Simulation, SimulationError};
@@ -225,6 +226,134 @@ fn ten_thousand_cells_agree_with_a_brute_force_evaluation() {
     for (i, cell) in map.cells.iter().enumerate() {
         assert_eq!(cell.reachable, reachable[i], "{:?}", map.increments_deg(i));
     }
+}
+
+/// The greatest common divisor of `a` and `b`.
+fn gcd(a: i64, b: i64) -> i64 {
+    if b == 0 { a.abs() } else { gcd(b, a % b) }
+}
+
+/// Every cell's `line`, point by point: for the cell `(p, q)` (in steps),
+/// `g = gcd(p, q)`, `(a, b) = (p, q) / g` and `n = ceil(4 |(a, b)|)`, the
+/// points `(j / n) (a, b)` for `j = 1..=g n` (a quarter step apart at most,
+/// the cell last), each through the controller's per-cycle step at rest from
+/// a fresh controller, walked from the start until one fails.
+fn lines_point_by_point(scenario: &Scenario, map: &ReachMap) -> Vec<bool> {
+    let start = scenario.start();
+    let tips = scenario.tips();
+    let step = map.options.step_deg;
+    let fresh = Controller::from_geometry(&scenario.robot).expect("robot");
+    let line = |i: usize| -> bool {
+        let [dpsi, dtheta] = map.increments_deg(i);
+        let (p, q) = ((dpsi / step).round() as i64, (dtheta / step).round() as i64);
+        let mut controller = fresh;
+        let mut passes = |dpsi: f64, dtheta: f64| {
+            let pose = Pose {
+                psi: start.psi + dpsi,
+                theta: start.theta + dtheta,
+                ..start
+            };
+            controller
+                .step(&PlatformState::at_rest(pose), &tips)
+                .is_ok()
+        };
+        if (p, q) == (0, 0) {
+            return passes(0.0, 0.0);
+        }
+        let g = gcd(p, q);
+        let (a, b) = (p / g, q / g);
+        let n = (4.0 * ((a * a + b * b) as f64).sqrt()).ceil() as i64;
+        (1..=g * n).all(|j| {
+            let t = j as f64 / n as f64;
+            passes(
+                (t * a as f64 * step).to_radians(),
+                (t * b as f64 * step).to_radians(),
+            )
+        })
+    };
+    let cells: Vec<usize> = (0..map.len()).collect();
+    let threads = std::thread::available_parallelism().map_or(1, usize::from);
+    let chunk = cells.len().div_ceil(threads);
+    std::thread::scope(|s| {
+        let handles: Vec<_> = cells
+            .chunks(chunk)
+            .map(|part| s.spawn(move || part.iter().map(|&i| line(i)).collect::<Vec<_>>()))
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().expect("no panic"))
+            .collect()
+    })
+}
+
+/// Asserts that every cell's `line` is the point-by-point one.
+fn assert_lines_point_by_point(scenario: &Scenario, options: &ReachOptions) {
+    let map = ReachMap::compute(scenario, options).expect("map");
+    let expected = lines_point_by_point(scenario, &map);
+    let mut differ = Vec::new();
+    for (i, cell) in map.cells.iter().enumerate() {
+        if cell.line != Some(expected[i]) {
+            differ.push((map.increments_deg(i), cell.line, expected[i]));
+        }
+    }
+    assert!(
+        differ.is_empty(),
+        "{} cells differ: {:?}",
+        differ.len(),
+        &differ[..differ.len().min(20)]
+    );
+    let straight = expected.iter().filter(|&&l| l).count();
+    let feasible = map.cells.iter().filter(|c| c.feasible).count();
+    // Both kinds, and feasible cells off the line among them.
+    assert!(
+        straight > 1 && straight < feasible,
+        "{straight} of {feasible}"
+    );
+}
+
+#[test]
+fn the_default_map_has_the_lines_of_every_point_checked() {
+    assert_lines_point_by_point(&Scenario::paper(), &ReachOptions::default());
+}
+
+#[test]
+fn another_start_and_other_tips_have_the_lines_of_every_point_checked() {
+    // Theta 15 deg higher and another left tip (the right one its mirror
+    // image), on a 0.75 deg grid: the feasible region is not convex from
+    // there, and about a sixth of it is off the straight lines.
+    let paper = Scenario::paper();
+    let mut start = paper.start_mm_deg;
+    start[4] += 15.0;
+    let scenario = Scenario {
+        start_mm_deg: start,
+        tip_left_mm: [60.0, -40.0, -610.0],
+        ..paper
+    };
+    let options = ReachOptions {
+        step_deg: 0.75,
+        ..ReachOptions::default()
+    };
+    assert_lines_point_by_point(&scenario, &options);
+}
+
+#[test]
+fn a_finer_step_near_the_parallel_singularity_has_the_lines_of_every_point_checked() {
+    // A 0.2 deg grid of +-10 deg around a start 35 deg above the paper's in
+    // theta, a few degrees from module 1's parallel singularity.
+    let paper = Scenario::paper();
+    let mut start = paper.start_mm_deg;
+    start[4] += 35.0;
+    let scenario = Scenario {
+        start_mm_deg: start,
+        ..paper
+    };
+    let options = ReachOptions {
+        psi_range_deg: [-10.0, 10.0],
+        theta_range_deg: [-10.0, 10.0],
+        step_deg: 0.2,
+        ..ReachOptions::default()
+    };
+    assert_lines_point_by_point(&scenario, &options);
 }
 
 #[test]

@@ -1,5 +1,6 @@
 //! The grid of `(dpsi, dtheta)` increments, each cell checked, and the
-//! reachable region and the straight lines from the start.
+//! reachable region; the straight lines from the start are
+//! [`line`](super::line)'s.
 
 use std::collections::VecDeque;
 
@@ -8,13 +9,6 @@ use super::check::Checker;
 use super::map::{Axis, Boundary, Cell, MAX_CELLS, ReachError, ReachMap, ReachOptions};
 use super::threads::{parallel_map, threads};
 use crate::scenario::Scenario;
-
-fn gcd(mut a: i64, mut b: i64) -> i64 {
-    while b != 0 {
-        (a, b) = (b, a % b);
-    }
-    a.abs()
-}
 
 impl ReachMap {
     /// The map of `scenario`'s start pose, tips and robot (its reorientation,
@@ -124,68 +118,6 @@ impl ReachMap {
             if r + 1 < rows {
                 visit(i + cols, &mut self.cells);
             }
-        }
-    }
-
-    /// The straight lines from the start: each ray through the start is
-    /// marched once, cell after cell, with `ceil(4 |(a, b)|) - 1` points
-    /// between consecutive cells `k (a, b)` and `(k + 1) (a, b)` (in steps),
-    /// so that no two checked points are more than a quarter of a step
-    /// apart; the first infeasible point ends the ray, every farther cell on
-    /// it is `line = 0`.
-    fn lines(&mut self, base: &Checker, threads: usize) {
-        for cell in &mut self.cells {
-            cell.line = Some(false);
-        }
-        let start = self.start_index();
-        if !self.cells[start].feasible {
-            return;
-        }
-        self.cells[start].line = Some(true);
-        let (psi, theta) = (self.psi, self.theta);
-        let (kp, kt) = (
-            [psi.k_min, psi.k_min + psi.count as i64 - 1],
-            [theta.k_min, theta.k_min + theta.count as i64 - 1],
-        );
-        // The primitive directions (a, b), gcd 1, with (a, b) on the grid.
-        let mut rays = Vec::new();
-        for b in kt[0]..=kt[1] {
-            for a in kp[0]..=kp[1] {
-                if (a, b) != (0, 0) && gcd(a, b) == 1 {
-                    rays.push((a, b));
-                }
-            }
-        }
-        let feasible: Vec<bool> = self.cells.iter().map(|c| c.feasible).collect();
-        let this = &*self;
-        let marched = parallel_map(rays.len(), threads, base, |i, checker| {
-            let (a, b) = rays[i];
-            let n = (4.0 * ((a * a + b * b) as f64).sqrt()).ceil() as i64;
-            let mut out = Vec::new();
-            for k in 1_i64.. {
-                let (Some(c), Some(r)) = (psi.index(k * a), theta.index(k * b)) else {
-                    break;
-                };
-                let index = this.index(c, r);
-                if !feasible[index] {
-                    break;
-                }
-                let clear = (1..n).all(|m| {
-                    let t = (k - 1) as f64 + m as f64 / n as f64;
-                    checker.feasible(
-                        (t * a as f64 * psi.step_deg).to_radians(),
-                        (t * b as f64 * theta.step_deg).to_radians(),
-                    )
-                });
-                if !clear {
-                    break;
-                }
-                out.push(index);
-            }
-            out
-        });
-        for index in marched.into_iter().flatten() {
-            self.cells[index].line = Some(true);
         }
     }
 

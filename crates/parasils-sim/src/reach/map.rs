@@ -22,7 +22,7 @@ pub struct ReachOptions {
     /// The grid step, deg: the cells are at whole multiples of it.
     pub step_deg: f64,
     /// Whether to check the straight line from the start to each cell
-    /// ([`Cell::line`]); the most expensive part of a map.
+    /// ([`Cell::line`]; see the [module docs](super), *Lines*).
     pub line: bool,
     /// Threads to use; 0 for as many as the machine has.
     pub threads: usize,

@@ -24,6 +24,16 @@ pub(super) fn parallel_map<R: Send>(
     base: &Checker,
     work: impl Fn(usize, &mut Checker) -> R + Sync,
 ) -> Vec<R> {
+    parallel_map_items(n, threads, |i| work(i, &mut base.clone()))
+}
+
+/// Runs `work(i)` for `i` in `0..n` on `threads` threads and returns the
+/// results in order.
+pub(super) fn parallel_map_items<R: Send>(
+    n: usize,
+    threads: usize,
+    work: impl Fn(usize) -> R + Sync,
+) -> Vec<R> {
     let next = AtomicUsize::new(0);
     let mut parts: Vec<Vec<(usize, R)>> = std::thread::scope(|s| {
         let handles: Vec<_> = (0..threads.clamp(1, n.max(1)))
@@ -35,8 +45,7 @@ pub(super) fn parallel_map<R: Send>(
                         if i >= n {
                             break out;
                         }
-                        let mut checker = base.clone();
-                        out.push((i, work(i, &mut checker)));
+                        out.push((i, work(i)));
                     }
                 })
             })
