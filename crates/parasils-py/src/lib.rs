@@ -18,6 +18,9 @@
 //! - [`calibrate`]: `parasils.calibrate`, module 1's geometry fitted to
 //!   measured poses by the calibration library (the package's Python
 //!   wrapper turns the report into a dict);
+//! - [`tolerance`]: `parasils.ToleranceStudy`, the tolerance library's
+//!   study on NumPy columns, picklable for Dask and Ray workers (the
+//!   package's `parasils.tolerance` maps its chunks over a Dask cluster);
 //! - [`errors`]: the exception hierarchy (`KinematicsError` and its
 //!   subclasses, `TrajectoryError`, `RobotFileError`);
 //! - [`batch`]: shapes, broadcasting, the loop (split across threads for
@@ -35,6 +38,7 @@ pub mod path;
 pub mod reach;
 pub mod robot;
 pub mod simulate;
+pub mod tolerance;
 
 /// Kinematics and motion of PARA-SILSROB from Python (the compiled part of
 /// the `parasils` package; import `parasils`).
@@ -47,6 +51,7 @@ fn _parasils(m: &Bound<'_, PyModule>) -> PyResult<()> {
     )?;
     m.add("PAPER", simulate::paper_defaults(m.py())?)?;
     m.add_class::<robot::Robot>()?;
+    m.add_class::<tolerance::ToleranceStudy>()?;
     m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(batch::batch_threads, m)?)?;
     m.add_function(wrap_pyfunction!(calibrate::_calibrate, m)?)?;

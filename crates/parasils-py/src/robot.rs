@@ -125,6 +125,35 @@ impl Robot {
         })
     }
 
+    /// Robot.from_toml_str(text) -> Robot
+    ///
+    /// The robot described by a robot file's text (TOML, as to_toml()
+    /// writes it; angles in deg, lengths in mm), validated: what a pickled
+    /// Robot is built from again.
+    ///
+    /// Raises RobotFileError for malformed TOML or a bad key or value, or
+    /// for parameters that do not make a valid robot.
+    #[staticmethod]
+    fn from_toml_str(py: Python<'_>, text: &str) -> PyResult<Self> {
+        let geometry = robot_file::parse(text).map_err(|e| errors::robot_file(py, &e))?;
+        Self::from_geometry(py, geometry)
+    }
+
+    /// A Robot pickles as its robot file's text (to_toml()), which reads
+    /// back to the same geometry, bit for bit.
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        let py = slf.py();
+        let text = slf.get().to_toml()?;
+        let constructor = slf.get_type().getattr("from_toml_str")?;
+        pyo3::types::PyTuple::new(
+            py,
+            [
+                constructor,
+                pyo3::types::PyTuple::new(py, [text])?.into_any(),
+            ],
+        )
+    }
+
     /// The robot's geometry as a robot file (TOML; angles in deg, lengths in mm).
     fn to_toml(&self) -> PyResult<String> {
         robot_file::to_toml_string(&self.geometry).map_err(|e| PyValueError::new_err(e.to_string()))
@@ -225,7 +254,7 @@ impl Robot {
     /// The fastest rest-to-rest timing of reorientation_path's turn within
     /// the actuators' limits (velocity_max, acceleration_max: shape (12,),
     /// mm/s or rad/s, mm/s^2 or rad/s^2, in reorientation_path's order;
-    /// None: the assumed defaults) and, when given, each Euler angle's
+    /// None: this robot's own, from its robot file or the assumed defaults) and, when given, each Euler angle's
     /// omega_max (rad/s) and eps_max (rad/s^2). knots: grid points on s;
     /// checks: check points per grid interval.
     ///

@@ -17,6 +17,10 @@ CLI's units, which its argument names and column names carry).
   ``retarget=`` and ``stop_at_s=``.
 - :func:`calibrate`: module 1's geometry fitted to actuator readings at
   measured poses, returning the fitted :class:`Robot` and a report.
+- :func:`tolerance`: a tolerance study, robots built within a tolerance
+  specification driven by the nominal model's commands, on this machine's
+  threads or mapped over a Dask cluster (``client=``); :class:`ToleranceStudy`
+  runs any range or list of its samples and pickles to workers.
 - :data:`COLUMNS`: the names of those columns, each with its unit.
 - :func:`batch_threads`: the number of threads a large batch runs on
   (``PARASILS_NUM_THREADS``, else the CPUs available).
@@ -52,6 +56,7 @@ from ._parasils import (
     SerialSingularError,
     SingularError,
     SingularJacobianError,
+    ToleranceStudy,
     TrajectoryError,
     __version__,
     batch_threads,
@@ -272,6 +277,145 @@ def calibrate(robot, q, poses, sigma=None):
     return fitted, json.loads(report)
 
 
+#: The columns of a tolerance study's result, in order (``failures`` aside).
+_TOLERANCE_COLUMNS = (
+    "sample",
+    "left_tip_dev_mm",
+    "right_tip_dev_mm",
+    "pose_position_err_mm",
+    "pose_rotation_err_deg",
+    "failed",
+)
+
+
+def tolerance(
+    spec,
+    n,
+    *,
+    seed=0,
+    procedure=None,
+    rate_hz=100.0,
+    chunks=None,
+    client=None,
+    robot=None,
+):
+    """A tolerance study, as ``parasils tolerance`` runs it: ``n`` robots
+    built within the tolerances of ``spec``, each driven along a motion by
+    the commands the controller computes on the nominal robot, and how far
+    their instrument tips and platform really go from the commanded ones.
+
+    - spec: the tolerances: a path to a specification file (TOML, as
+      ``parasils tolerance --print-spec`` prints it), a dict of the same
+      structure, e.g. ``{"module1": {"guides": {"point_mm": {"sigma":
+      0.05}}}, "instruments": {"alpha_deg": {"half_width": 0.02}}}``
+      (``sigma``: normal, one standard deviation; ``half_width``: uniform;
+      in the unit the key names, mm or deg; families left out are not
+      perturbed), or None for the default tolerances.
+    - n: the number of perturbed robots, samples 0 to n - 1.
+    - seed: sample i's robot depends only on the seed and i, so that any
+      split of the samples (chunks, threads, workers, machines) gives the
+      same numbers, bit for bit.
+    - procedure: the motion: a procedure file's path (TOML) or a dict of
+      the same structure (see ``simulate``); default the paper's
+      reorientation.
+    - rate_hz: the samples per second along the motion, Hz; default 100.
+    - robot: the nominal robot, a :class:`Robot` or a robot file's path;
+      default the paper's (not with ``procedure``, which names its own).
+    - client: a ``dask.distributed.Client``: the samples are cut into chunks
+      of ``chunks`` consecutive samples, mapped over the cluster's workers
+      (the study pickled once and sent to each) and gathered in sample
+      order. Each chunk runs on one thread of its worker
+      (``PARASILS_NUM_THREADS=1``) unless ``PARASILS_NUM_THREADS`` is set in
+      the worker's environment: give the workers one Dask thread per core.
+      Without ``client``: this process, on ``batch_threads()`` threads.
+      Dask is not imported by parasils: any cluster the client reaches
+      works (``LocalCluster``, ``dask scheduler`` and ``dask worker`` on
+      several machines, with the same parasils version everywhere).
+    - chunks: samples per chunk with ``client``; default about four chunks
+      per worker thread.
+
+    Returns a dict of NumPy columns, one row per sample in order:
+    ``sample`` (uint64), ``left_tip_dev_mm`` and ``right_tip_dev_mm`` (each
+    tip's largest distance from the commanded one along the motion, mm),
+    ``pose_position_err_mm`` (mm) and ``pose_rotation_err_deg`` (deg, the
+    platform's), float64, and ``failed`` (bool); a failed sample (a
+    perturbed robot the replay cannot follow, e.g. module 1's forward
+    kinematics does not converge) keeps its row with NaN deviations, and
+    ``failures`` lists ``(sample, message)`` for each. The same whether
+    ``client`` is given or not, bit for bit. ``pandas.DataFrame`` takes
+    the columns (leave ``failures`` out).
+
+    The percentiles a designer reads, from NumPy (its default ``linear``
+    method, as ``parasils tolerance`` reports them)::
+
+        r = parasils.tolerance(None, 10_000)
+        ok = ~r["failed"]
+        tip = np.maximum(r["left_tip_dev_mm"], r["right_tip_dev_mm"])[ok]
+        p50, p95, p99, p999 = np.percentile(tip, [50, 95, 99, 99.9])
+
+    and which tolerance to tighten, from the first-order model (analytic
+    derivatives, not the samples):
+    ``ToleranceStudy(spec, ...).sensitivity()``.
+
+    Raises ValueError for a bad specification (an unknown key, a negative
+    width, a tolerance whose extreme takes a leg of module 1 out of reach
+    along the motion) or argument, the simulation's errors when the nominal
+    motion fails, RobotFileError or OSError for the files.
+    """
+    import operator
+
+    n = operator.index(n)
+    if n < 0:
+        raise ValueError(f"n must be >= 0, got {n}")
+    if chunks is not None:
+        chunks = operator.index(chunks)
+        if chunks < 1:
+            raise ValueError(f"chunks must be at least 1 sample, got {chunks}")
+    study = ToleranceStudy(spec, seed=seed, procedure=procedure, rate_hz=rate_hz, robot=robot)
+    if client is None:
+        return study.run(0, n)
+    return _tolerance_on_dask(study, n, chunks, client)
+
+
+def _tolerance_chunk(start, count, study):
+    """Samples ``start .. start + count - 1`` of ``study`` on a worker: on
+    one thread, unless the worker's environment sets PARASILS_NUM_THREADS
+    (the worker's own Dask threads are the parallelism)."""
+    import os
+
+    threads = None if os.environ.get("PARASILS_NUM_THREADS", "").strip() else 1
+    return study.run(start, count, threads=threads)
+
+
+def _tolerance_on_dask(study, n, chunks, client):
+    """``tolerance``'s samples mapped over a Dask client's workers, chunk
+    by chunk, gathered and joined in sample order."""
+    if chunks is None:
+        threads = sum(client.nthreads().values())
+        chunks = max(1, -(-n // (4 * max(1, threads))))
+    starts = list(range(0, n, chunks))
+    if not starts:
+        return study.run(0, 0)
+    counts = [min(chunks, n - s) for s in starts]
+    [remote] = client.scatter([study], broadcast=True, hash=False)
+    futures = client.map(_tolerance_chunk, starts, counts, study=remote, pure=False)
+    try:
+        parts = client.gather(futures)
+    except BaseException:
+        client.cancel(futures)
+        raise
+    return _tolerance_join(parts)
+
+
+def _tolerance_join(parts):
+    """The results of consecutive chunks as one."""
+    import numpy as np
+
+    out = {name: np.concatenate([p[name] for p in parts]) for name in _TOLERANCE_COLUMNS}
+    out["failures"] = [f for p in parts for f in p["failures"]]
+    return out
+
+
 __all__ = [
     "COLUMNS",
     "ActuatorLimitError",
@@ -289,9 +433,11 @@ __all__ = [
     "SerialSingularError",
     "SingularError",
     "SingularJacobianError",
+    "ToleranceStudy",
     "TrajectoryError",
     "__version__",
     "batch_threads",
     "calibrate",
     "simulate",
+    "tolerance",
 ]

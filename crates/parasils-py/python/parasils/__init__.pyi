@@ -5,7 +5,7 @@ carry their units (deg, deg/s, Hz, mm).
 """
 
 import os
-from typing import Any, Dict, Literal, Optional, Sequence, Tuple, Union, overload
+from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -35,6 +35,10 @@ class Robot:
     @staticmethod
     def from_toml(path: _Path) -> "Robot":
         """The robot of a robot file (TOML, angles in deg, lengths in mm)."""
+    @staticmethod
+    def from_toml_str(text: str) -> "Robot":
+        """The robot of a robot file's text (TOML, as to_toml() writes it);
+        a Robot pickles as that text."""
     def to_toml(self) -> str:
         """The geometry as a robot file (TOML)."""
     @property
@@ -261,6 +265,82 @@ def calibrate(
     deviations (readings mm, position mm, angles rad), three numbers or
     (N, 3), or None for equal weights. Returns the fitted Robot and the
     report as a dict; raises ValueError naming the row or the problem."""
+
+_ToleranceResult = Dict[str, Any]
+
+class ToleranceStudy:
+    """A tolerance study: robots drawn within a tolerance specification,
+    each driven along a motion by the nominal model's commands. Pickles
+    (its inputs as text) to Dask or Ray workers, with the same rows, bit
+    for bit."""
+
+    def __init__(
+        self,
+        spec: Union[_Path, Dict[str, Any], None],
+        *,
+        seed: int = 0,
+        procedure: Union[_Path, Dict[str, Any], None] = None,
+        rate_hz: float = 100.0,
+        robot: Union[_Path, Robot, None] = None,
+    ) -> None:
+        """spec: a specification file's path (TOML), a dict of the same
+        structure or None (the default tolerances); the motion: the paper's
+        reorientation or ``procedure``, sampled at ``rate_hz`` (Hz); the
+        nominal robot: ``robot`` or the paper's. ValueError for a bad
+        specification."""
+    def run(self, start: int, count: int, *, threads: Optional[int] = None) -> _ToleranceResult:
+        """Samples start .. start + count - 1 without the GIL: "sample"
+        (uint64), "left_tip_dev_mm", "right_tip_dev_mm",
+        "pose_position_err_mm" (mm), "pose_rotation_err_deg" (deg) (float64,
+        NaN where failed), "failed" (bool) and "failures", a list of
+        (sample, message)."""
+    def run_indices(
+        self, indices: npt.ArrayLike, *, threads: Optional[int] = None
+    ) -> _ToleranceResult:
+        """The samples listed in ``indices`` (1-D integers >= 0, read-only
+        arrays accepted), as run() does a range, in that order."""
+    def sensitivity(self) -> List[Dict[str, Any]]:
+        """Each perturbed family's share of the mean-square tip deviation,
+        to first order (analytic derivatives), largest first: dicts with
+        "family", "share" (0 to 1) and "rms_tip_mm" (mm)."""
+    @property
+    def n_motion_samples(self) -> int:
+        """The number of samples of the motion at rate_hz."""
+    @property
+    def seed(self) -> int:
+        """The seed: sample i's robot depends only on it and on i."""
+    @property
+    def rate_hz(self) -> float:
+        """The motion's sampling rate, Hz."""
+    @property
+    def spec(self) -> str:
+        """The specification as TOML."""
+    @staticmethod
+    def _from_state(
+        version: str,
+        spec: str,
+        seed: int,
+        rate_hz: float,
+        robot: Optional[str],
+        procedure: Optional[Tuple[str, ...]],
+    ) -> "ToleranceStudy": ...
+
+def tolerance(
+    spec: Union[_Path, Dict[str, Any], None],
+    n: int,
+    *,
+    seed: int = 0,
+    procedure: Union[_Path, Dict[str, Any], None] = None,
+    rate_hz: float = 100.0,
+    chunks: Optional[int] = None,
+    client: Any = None,
+    robot: Union[_Path, Robot, None] = None,
+) -> _ToleranceResult:
+    """A tolerance study of ``n`` perturbed robots (samples 0 to n - 1):
+    the columns of ToleranceStudy.run, in sample order. With ``client`` (a
+    ``dask.distributed.Client``), chunks of ``chunks`` samples mapped over
+    its workers, one thread each unless their PARASILS_NUM_THREADS says
+    otherwise; the same rows, bit for bit."""
 
 def batch_threads() -> int:
     """The number of threads a batch of 4096 rows or more runs on:
