@@ -92,8 +92,8 @@ class Robot:
         checks: int = 10,
     ) -> Dict[str, Any]:
         """The fastest rest-to-rest timing of reorientation_path's turn within
-        the actuators' limits ((12,) each, mm or rad per s and s^2; None: the
-        assumed defaults) and, when given, each Euler angle's omega_max
+        the actuators' limits ((12,) each, mm or rad per s and s^2; None: this
+        robot's own, from its robot file or the assumed defaults) and, when given, each Euler angle's omega_max
         (rad/s) and eps_max (rad/s^2): "duration_s", "phases" (dicts with
         "start_s", "end_s", "binding", "limit", "usage"), the schedule at the
         knots "s", "t_s", "s_dot", "s_ddot", and the check's
