@@ -19,10 +19,12 @@ pub(crate) struct Line<T> {
 /// acceleration constraint at both ends, as bands `|u - d x| <= c` in the
 /// start's `x` (at the end, `x_{i+1} = x + 2 h u`), and the bound on `x`
 /// alone from rows whose band does not involve `u`. Set up in place for
-/// each interval in turn.
+/// each interval in turn; at each end, the first `len` entries are the
+/// bands (a row without one, or unlimited, takes none).
 pub(crate) struct Interval<T, const M: usize> {
     c: [[T; M]; 2],
     d: [[T; M]; 2],
+    len: [usize; 2],
     /// The largest `x` at the start: the velocity limit curve and the
     /// `x`-only rows.
     pub(crate) x_hi: T,
@@ -35,6 +37,7 @@ impl<T: Real, const M: usize> Interval<T, M> {
         Self {
             c: [[T::infinity(); M]; 2],
             d: [[T::zero(); M]; 2],
+            len: [0; 2],
             x_hi: T::zero(),
             two_h: T::one(),
         }
@@ -52,28 +55,30 @@ impl<T: Real, const M: usize> Interval<T, M> {
         let mut x_hi = k0.x_max;
         let mut finite = true;
         let (d0, d1) = (&k0.derivatives, &k1.derivatives);
-        let [c0, c1] = &mut self.c;
-        let [e0, e1] = &mut self.d;
+        let mut len = [0; 2];
         let rows = limits
             .iter()
             .zip(d0.first.iter().zip(&d0.second))
-            .zip(d1.first.iter().zip(&d1.second))
-            .zip(c0.iter_mut().zip(e0.iter_mut()))
-            .zip(c1.iter_mut().zip(e1.iter_mut()));
-        for ((((lim, (&a0, &b0)), (&a1, &b1)), start), end) in rows {
+            .zip(d1.first.iter().zip(&d1.second));
+        for ((lim, (&a0, &b0)), (&a1, &b1)) in rows {
             let gamma = lim.acceleration;
-            for ((alpha, beta), (cj, dj)) in [((a0, b0), start), ((a1 + two_h * b1, b1), end)] {
+            for (end, (alpha, beta)) in [(a0, b0), (a1 + two_h * b1, b1)].into_iter().enumerate() {
                 if alpha == T::zero() || gamma == T::infinity() {
                     // No band in u: a bound on x alone (none for an unlimited row).
                     x_hi = x_hi.min(gamma / beta.abs());
-                    (*cj, *dj) = (T::infinity(), T::zero());
                 } else {
                     let inv = T::one() / alpha;
-                    (*cj, *dj) = (gamma * inv.abs(), -beta * inv);
-                    finite &= cj.is_finite() & dj.is_finite();
+                    let (c, d) = (gamma * inv.abs(), -beta * inv);
+                    finite &= c.is_finite() & d.is_finite();
+                    let k = len[end];
+                    if let (Some(cj), Some(dj)) = (self.c[end].get_mut(k), self.d[end].get_mut(k)) {
+                        (*cj, *dj) = (c, d);
+                        len[end] = k + 1;
+                    }
                 }
             }
         }
+        self.len = len;
         if !finite {
             return Err(Error::OutOfRange { index });
         }
@@ -88,8 +93,8 @@ impl<T: Real, const M: usize> Interval<T, M> {
         let inv = T::one() / self.two_h;
         let mut up = (k_next - x) * inv;
         let mut lo = -x * inv;
-        for (cs, ds) in self.c.iter().zip(&self.d) {
-            for (&c, &d) in cs.iter().zip(ds) {
+        for ((cs, ds), &n) in self.c.iter().zip(&self.d).zip(&self.len) {
+            for (&c, &d) in cs.iter().zip(ds).take(n) {
                 let mid = d * x;
                 up = up.min(mid + c);
                 lo = lo.max(mid - c);
@@ -112,8 +117,8 @@ impl<T: Real, const M: usize> Interval<T, M> {
             b: -inv,
         };
         let (mut up_v, mut lo_v) = ((k_next - x) * inv, -x * inv);
-        for (cs, ds) in self.c.iter().zip(&self.d) {
-            for (&c, &d) in cs.iter().zip(ds) {
+        for ((cs, ds), &n) in self.c.iter().zip(&self.d).zip(&self.len) {
+            for (&c, &d) in cs.iter().zip(ds).take(n) {
                 let mid = d * x;
                 let v = mid + c;
                 if v < up_v {
