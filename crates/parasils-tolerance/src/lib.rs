@@ -6,7 +6,7 @@
 //! [`Trace`]: module 1's six actuators and both modules' joints at every
 //! sample), draws perturbed robots from a [`Spec`] (one distribution per
 //! parameter family, named like the robot file's keys), and replays the
-//! commands on each ([`replay`]): module 1's forward kinematics from the
+//! commands on each ([`replay()`]): module 1's forward kinematics from the
 //! previous pose, then each instrument's forward kinematics with its own
 //! perturbed parameters. Per robot, the result is the largest deviation of
 //! each tip from the commanded one and of the platform from its commanded
@@ -42,7 +42,7 @@
 //! | [`spec`] | the tolerance specification (TOML or JSON) |
 //! | [`perturbation`] | one perturbed robot, from a counter-based generator |
 //! | [`trace`] | the nominal commands along a motion |
-//! | [`replay`] | the commands replayed on a perturbed robot: its model error |
+//! | [`replay`](mod@replay) | the commands replayed on a perturbed robot: its model error |
 //! | [`linear`] | the first-order model and the sensitivity ranking |
 //! | [`study`] | a study and its threaded runs |
 //! | [`report`] | percentiles, histogram, ranking |

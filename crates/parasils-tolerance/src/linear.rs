@@ -14,7 +14,7 @@
 //! `S l`, `S = diag(-1, 1, 1)`, for the right.
 //!
 //! This is a second, independent account of the model error: it shares no
-//! code with [`replay`](crate::replay) (module 1's forward kinematics by
+//! code with [`replay`](mod@crate::replay) (module 1's forward kinematics by
 //! Newton, the instruments' forward kinematics), and the two agree to first
 //! order (the crate's tests hold them within 2% for small tolerances).
 
