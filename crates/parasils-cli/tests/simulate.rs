@@ -514,9 +514,17 @@ fn messages_write_huge_numbers_with_an_exponent() {
         "{text}"
     );
     assert!(text.lines().all(|l| l.len() < 200), "{text}");
+    // A turn of 1e305 deg at 10 deg/s. (At 1e308 deg theta's share of it,
+    // 25 deg, would scale its limits to subnormal numbers: refused as out
+    // of range before any sampling.)
+    fails_cleanly(
+        &["simulate", "--psi", "1e305", "-o", "x.csv"],
+        "error: trajectory: sampling 1e304 s at 1000 Hz needs more samples than usize can count\n",
+        |_| {},
+    );
     fails_cleanly(
         &["simulate", "--psi", "1e308", "-o", "x.csv"],
-        "error: trajectory: sampling 1e307 s at 1000 Hz needs more samples than usize can count\n",
+        "error: trajectory: axis 1: the profile over distance 0.436332 does not fit the float type",
         |_| {},
     );
 }
