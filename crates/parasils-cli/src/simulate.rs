@@ -75,6 +75,16 @@ impl Sink for Progress {
     }
 }
 
+/// A size check's error; over the cap, it says how to write anyway.
+pub(crate) fn force_hint(e: output::OutputError) -> anyhow::Error {
+    match e {
+        e @ output::OutputError::OverCap { .. } => {
+            anyhow::anyhow!("{e}: give --force to write it anyway")
+        }
+        e => e.into(),
+    }
+}
+
 /// `parasils simulate`.
 pub fn simulate(args: &SimulateArgs) -> Result<()> {
     interrupt::install().context("cannot handle signals")?;
@@ -109,12 +119,7 @@ pub fn simulate(args: &SimulateArgs) -> Result<()> {
                 bail!("{} is a folder: give a file name", p.display());
             }
             let format = args.format(p)?;
-            output::check_size(p, format, sim.sample_count(), args.force).map_err(|e| match e {
-                e @ output::OutputError::OverCap { .. } => {
-                    anyhow::anyhow!("{e}: give --force to write it anyway")
-                }
-                e => e.into(),
-            })?;
+            output::check_size(p, format, sim.sample_count(), args.force).map_err(force_hint)?;
             file = Some(OutputFile::create(p, format, sim.scenario())?);
         }
     }

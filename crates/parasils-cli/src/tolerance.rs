@@ -13,6 +13,7 @@ use parasils_tolerance::output::Format;
 use parasils_tolerance::{Report, Spec, Study, Trace};
 
 use crate::args::ToleranceArgs;
+use crate::simulate::force_hint;
 use crate::{interrupt, stdout};
 
 /// The most robots one run holds: 4 GB of rows in memory.
@@ -57,14 +58,8 @@ pub fn tolerance(args: &ToleranceArgs) -> Result<()> {
         );
     }
     if let (Some(path), Some(format)) = (&args.output, format) {
-        parasils_tolerance::output::check_size(path, format, args.samples, args.force).map_err(
-            |e| match e {
-                e @ parasils_sim::OutputError::OverCap { .. } => {
-                    anyhow::anyhow!("{e}: give --force to write it anyway")
-                }
-                e => e.into(),
-            },
-        )?;
+        parasils_tolerance::output::check_size(path, format, args.samples, args.force)
+            .map_err(force_hint)?;
     }
     if !(args.rate > 0.0 && args.rate.is_finite()) {
         bail!("--rate must be a positive number of Hz, got {}", args.rate);

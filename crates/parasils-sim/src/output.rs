@@ -261,9 +261,24 @@ pub fn check_size(
 ) -> Result<u64, OutputError> {
     let estimate = estimate_bytes(format, samples);
     match Target::of(path)? {
-        Target::Direct => return Ok(estimate),
-        Target::Replace => {}
+        Target::Direct => Ok(estimate),
+        Target::Replace => check_bytes(path, samples, estimate, force),
     }
+}
+
+/// Checks that a file of `estimate` bytes (`samples` rows) written beside
+/// `path` fits: within the free space of its file system, and within
+/// [`cap_bytes`] unless `force`. Returns the estimate. The mechanism of
+/// [`check_size`], for outputs estimated by their own writers.
+///
+/// # Errors
+/// [`OutputError::NoSpace`] and [`OutputError::OverCap`].
+pub fn check_bytes(
+    path: &Path,
+    samples: usize,
+    estimate: u64,
+    force: bool,
+) -> Result<u64, OutputError> {
     if let Some(free) = free_bytes(folder(path))
         && estimate > free
     {

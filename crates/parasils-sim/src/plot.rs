@@ -297,22 +297,13 @@ impl PlotSink {
         if let Some(note) = note {
             area = area.titled(note, (FONT, 16).into_font().color(&RGBColor(170, 20, 20)))?;
         }
-        let (strip, area) = area.split_vertically(26);
-        let legend_font = TextStyle::from((FONT, 15).into_font());
-        let mut x = 90;
-        for s in series.iter().chain(secondary.map(|(_, s)| s)) {
-            strip.draw(&PathElement::new(
-                [(x, 12), (x + 26, 12)],
-                s.color.stroke_width(3),
-            ))?;
-            strip.draw(&Text::new(
-                s.label.clone(),
-                (x + 32, 4),
-                legend_font.clone(),
-            ))?;
-            let (w, _) = strip.estimate_text_size(&s.label, &legend_font)?;
-            x += 32 + i32::try_from(w).unwrap_or(100) + 28;
-        }
+        let area = legend_row(
+            &area,
+            series
+                .iter()
+                .chain(secondary.map(|(_, s)| s))
+                .map(|s| (s.label.as_str(), s.color)),
+        )?;
 
         let t_end = self.series().last().map_or(1.0, |p| p.t);
         let t_range = 0.0..if t_end > 0.0 { t_end } else { 1.0 };
@@ -388,6 +379,27 @@ impl PlotSink {
     }
 }
 
+/// A row of legend entries (a short line in the colour, the label) along
+/// the top of `area`; returns the area below it.
+fn legend_row<'a, DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entries: impl Iterator<Item = (&'a str, RGBColor)>,
+) -> Result<DrawingArea<DB, Shift>, DrawingAreaErrorKind<DB::ErrorType>> {
+    let (strip, below) = area.split_vertically(26);
+    let legend_font = TextStyle::from((FONT, 15).into_font());
+    let mut x = 90;
+    for (label, color) in entries {
+        strip.draw(&PathElement::new(
+            [(x, 12), (x + 26, 12)],
+            color.stroke_width(3),
+        ))?;
+        strip.draw(&Text::new(label, (x + 32, 4), legend_font.clone()))?;
+        let (w, _) = strip.estimate_text_size(label, &legend_font)?;
+        x += 32 + i32::try_from(w).unwrap_or(100) + 28;
+    }
+    Ok(below)
+}
+
 /// The phase plane of a time-optimal law: `s_dot` against `s` under the
 /// velocity and acceleration limit curves and the controllable set's upper
 /// end, each phase marked with what limits it.
@@ -416,18 +428,10 @@ fn phase_plane_panel<DB: DrawingBackend>(
         ),
         ("the optimal law", PALETTE[0], &plane.s_dot, 3),
     ];
-    let (strip, area) = area.split_vertically(26);
-    let legend_font = TextStyle::from((FONT, 15).into_font());
-    let mut x = 90;
-    for (label, color, _, _) in &curves {
-        strip.draw(&PathElement::new(
-            [(x, 12), (x + 26, 12)],
-            color.stroke_width(3),
-        ))?;
-        strip.draw(&Text::new(*label, (x + 32, 4), legend_font.clone()))?;
-        let (w, _) = strip.estimate_text_size(label, &legend_font)?;
-        x += 32 + i32::try_from(w).unwrap_or(100) + 28;
-    }
+    let area = legend_row(
+        &area,
+        curves.iter().map(|(label, color, _, _)| (*label, *color)),
+    )?;
     let mut chart = ChartBuilder::on(&area)
         .margin_left(12)
         .margin_right(30)

@@ -8,7 +8,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use parasils_sim::OutputError;
-use parasils_sim::output::{cap_bytes, free_bytes, persist, temp_beside};
+use parasils_sim::output::{check_bytes, persist, temp_beside};
 use parquet::data_type::{BoolType, DoubleType, Int64Type};
 use parquet::file::properties::WriterProperties;
 use parquet::file::writer::SerializedFileWriter;
@@ -68,8 +68,8 @@ pub fn estimate_bytes(format: Format, rows: u64) -> u64 {
 
 /// Checks, before a study runs, that its file of `rows` rows fits: within
 /// the free space of the target's file system, and within the output cap
-/// (the simulation's, 10 GB by default) unless `force`. Returns the
-/// estimate.
+/// (the simulation's, 10 GB by default) unless `force`
+/// ([`check_bytes`]). Returns the estimate.
 ///
 /// # Errors
 /// [`OutputError::IsFolder`], [`OutputError::NoSpace`],
@@ -81,31 +81,12 @@ pub fn check_size(path: &Path, format: Format, rows: u64, force: bool) -> Result
         });
     }
     let estimate = estimate_bytes(format, rows);
-    let samples = usize::try_from(rows).unwrap_or(usize::MAX);
-    let folder = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    if let Some(free) = free_bytes(folder)
-        && estimate > free
-    {
-        return Err(OutputError::NoSpace {
-            path: path.to_owned(),
-            samples,
-            estimate,
-            free,
-        });
-    }
-    let cap = cap_bytes();
-    if !force && estimate > cap {
-        return Err(OutputError::OverCap {
-            path: path.to_owned(),
-            samples,
-            estimate,
-            cap,
-        });
-    }
-    Ok(estimate)
+    check_bytes(
+        path,
+        usize::try_from(rows).unwrap_or(usize::MAX),
+        estimate,
+        force,
+    )
 }
 
 /// Writes `results` to `path` in `format`, atomically.
