@@ -37,12 +37,15 @@
 //! ```
 
 use crate::Real;
+use crate::kin::nalgebra::Vector3;
 use crate::kin::{
-    ACTUATOR_COUNT, ActuatorLimits, AssemblyMode, Controller, Instrument, ParallelRobot,
-    PlatformState, Pose, TipMotion, TipTargets,
+    ACTUATOR_COUNT, ActuatorLimits, AssemblyMode, Controller, Instrument, JointMotion, Joints,
+    ModuleCommand, ParallelRobot, PlatformState, Pose, PoseRate, TipMotion, TipTargets,
 };
-use crate::traj::Limits;
+use crate::motions::{MotionSample, MotionType, Port, RobotState};
+use crate::reorientation::turned;
 use crate::traj::optimal::{Derivatives, Path, RowLimits};
+use crate::traj::{Limits, State};
 
 /// The rows of a reorientation path: twelve actuators, then `psi`, `theta`.
 pub const PATH_ROWS: usize = ACTUATOR_COUNT + 2;
@@ -192,4 +195,307 @@ pub fn row_limits<T: Real>(
         *r_theta = RowLimits::new(theta.v_max, theta.a_max);
     }
     rows
+}
+
+/// What a [`MotionPath`] moves.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Geometry<T: Real> {
+    /// Type 1: the pose by `(dx, dy, dz, dpsi, dtheta, dphi)` (mm, rad).
+    Position([T; 6]),
+    /// Type 2: `qs3` of a module, or the endoscope's depth, by `depth` mm.
+    Insert(Port, T),
+    /// Type 3: the tips from `from` by `delta` (mm, fixed frame).
+    Manipulate {
+        from: [Vector3<T>; 2],
+        delta: [Vector3<T>; 2],
+    },
+    /// Type 4: `(psi, theta)` by `increment` (rad), the tips held.
+    Reorient {
+        increment: [T; 2],
+        tips: [Vector3<T>; 2],
+    },
+}
+
+/// Any of the paper's four motion types from rest to rest as a geometric
+/// path `s in [0, 1]`, for time-optimal timing: the same straight line its
+/// [`Motion`](crate::motions::Motion) follows, with the time law left open.
+///
+/// Rows 0 to 11 are the twelve actuators, as in [`ReorientationPath`]; rows
+/// 12 and 13 are the motion's own coordinates, so that the limits a
+/// procedure states for the motion can bind as well:
+///
+/// | type | row 12 | row 13 |
+/// |---|---|---|
+/// | 1 | `max(\|dx\|, \|dy\|, \|dz\|)`, mm | `max(\|dpsi\|, \|dtheta\|, \|dphi\|)`, rad |
+/// | 2 | `qs3` or the endoscope's depth, mm | none (zero) |
+/// | 3 | the left tip's arc length, mm | the right tip's, mm |
+/// | 4 | `psi`, rad | `theta`, rad |
+///
+/// Each is linear in `s`, so a linear and an angular limit bind type 1 as
+/// its trapezoid reads them: each axis on its own, the largest displacement
+/// first.
+///
+/// ```
+/// use parasils::kin::{ActuatorLimits, Controller, Joints, Pose};
+/// use parasils::motions::{Port, RobotState};
+/// use parasils::path::{MotionPath, row_limits};
+/// use parasils::traj::optimal::{self, Knot};
+///
+/// let controller = Controller::<f64>::paper();
+/// let start = RobotState {
+///     pose: Pose::paper_start(),
+///     joints: [Joints::from_deg_mm(3.0, -10.0, 120.0), Joints::from_deg_mm(-3.0, 10.0, 120.0)],
+///     endoscope_depth: 0.0,
+/// };
+/// // The left instrument 30 mm deeper: only its qs3 moves, so only qs3's
+/// // limits (60 mm/s, 60 mm/s^2 assumed) bind: sqrt(4 d / a) = sqrt(2) s.
+/// let path = MotionPath::insertion(&controller, &start, Port::Left, 30.0);
+/// let limits = row_limits(&ActuatorLimits::assumed(), None);
+/// let mut knots = vec![Knot::default(); 201];
+/// let (schedule, _) = optimal::plan(&path, &limits, &mut knots, 10)?;
+/// assert!((schedule.duration() - 2f64.sqrt()).abs() < 1e-9, "{}", schedule.duration());
+/// let end = path.sample(1.0, 0.0, 0.0);
+/// assert_eq!(end.left, parasils::kin::ModuleCommand::Joints(parasils::kin::JointMotion::held(
+///     Joints::from_deg_mm(3.0, -10.0, 150.0),
+/// )));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MotionPath<T: Real> {
+    module1: ParallelRobot<T>,
+    left: Instrument<T>,
+    right: Instrument<T>,
+    modes: [AssemblyMode; 2],
+    start: RobotState<T>,
+    geometry: Geometry<T>,
+}
+
+impl<T: Real> MotionPath<T> {
+    fn on(controller: &Controller<T>, start: &RobotState<T>, geometry: Geometry<T>) -> Self {
+        Self {
+            module1: controller.module1,
+            left: controller.left,
+            right: controller.right,
+            modes: controller.modes,
+            start: *start,
+            geometry,
+        }
+    }
+
+    /// Type 1: the platform from `start.pose` to `goal` on the straight
+    /// line in pose space, the instrument joints and the endoscope held.
+    pub fn positioning(controller: &Controller<T>, start: &RobotState<T>, goal: Pose<T>) -> Self {
+        let [a, b] = [start.pose.to_array(), goal.to_array()];
+        let delta = core::array::from_fn(|k| b[k] - a[k]);
+        Self::on(controller, start, Geometry::Position(delta))
+    }
+
+    /// Type 2: `port`'s `qs3` (or the endoscope's depth) by `depth` mm,
+    /// everything else held.
+    pub fn insertion(
+        controller: &Controller<T>,
+        start: &RobotState<T>,
+        port: Port,
+        depth: T,
+    ) -> Self {
+        Self::on(controller, start, Geometry::Insert(port, depth))
+    }
+
+    /// Type 3: the tips from `from` (`[left, right]`, mm, fixed frame:
+    /// where the start joints put them) to `to` (`None`: held) on straight
+    /// lines, the platform still; both arrive together.
+    pub fn manipulation(
+        controller: &Controller<T>,
+        start: &RobotState<T>,
+        from: [Vector3<T>; 2],
+        to: [Option<Vector3<T>>; 2],
+    ) -> Self {
+        let delta = [0, 1].map(|i| to[i].map_or_else(Vector3::zeros, |p| p - from[i]));
+        Self::on(controller, start, Geometry::Manipulate { from, delta })
+    }
+
+    /// Type 4: `(psi, theta)` by `increment` (rad) from `start.pose`, the
+    /// tips held at `tips` (`[left, right]`, mm, fixed frame).
+    pub fn turning(
+        controller: &Controller<T>,
+        start: &RobotState<T>,
+        increment: [T; 2],
+        tips: [Vector3<T>; 2],
+    ) -> Self {
+        Self::on(controller, start, Geometry::Reorient { increment, tips })
+    }
+
+    /// The motion's type.
+    pub fn motion_type(&self) -> MotionType {
+        match self.geometry {
+            Geometry::Position(_) => MotionType::Position,
+            Geometry::Insert(..) => MotionType::Insert,
+            Geometry::Manipulate { .. } => MotionType::Manipulate,
+            Geometry::Reorient { .. } => MotionType::Reorient,
+        }
+    }
+
+    /// The state it starts from.
+    pub fn start(&self) -> &RobotState<T> {
+        &self.start
+    }
+
+    /// Whether nothing moves along it (a displacement of zero): it takes no
+    /// time.
+    pub fn is_still(&self) -> bool {
+        let zero = T::zero();
+        match &self.geometry {
+            Geometry::Position(d) => d.iter().all(|&x| x == zero),
+            Geometry::Insert(_, d) => *d == zero,
+            Geometry::Manipulate { delta, .. } => {
+                delta.iter().all(|d| d.iter().all(|&x| x == zero))
+            }
+            Geometry::Reorient { increment, .. } => increment.iter().all(|&x| x == zero),
+        }
+    }
+
+    /// The motion's own coordinates' derivatives in `s` (rows 12 and 13,
+    /// see [`MotionPath`]).
+    pub fn own_rates(&self) -> [T; 2] {
+        let zero = T::zero();
+        let largest = |d: &[T]| {
+            d.iter().fold(zero, |m, &x| {
+                let x = if x < zero { -x } else { x };
+                if x > m { x } else { m }
+            })
+        };
+        match &self.geometry {
+            Geometry::Position(d) => [largest(&d[..3]), largest(&d[3..])],
+            Geometry::Insert(_, d) => [*d, zero],
+            Geometry::Manipulate { delta, .. } => delta.map(|d| d.norm()),
+            Geometry::Reorient { increment, .. } => *increment,
+        }
+    }
+
+    /// The robot at `s` moving with path speed `s_dot` (1/s) and path
+    /// acceleration `s_ddot` (1/s^2): what
+    /// [`Controller::step_commanded`] takes, as
+    /// [`Motion::sample`](crate::motions::Motion::sample) gives it.
+    pub fn sample(&self, s: T, s_dot: T, s_ddot: T) -> MotionSample<T> {
+        let start = &self.start;
+        let [l, r] = start.joints;
+        let mut out = MotionSample {
+            platform: PlatformState::at_rest(start.pose),
+            left: ModuleCommand::Joints(JointMotion::held(l)),
+            right: ModuleCommand::Joints(JointMotion::held(r)),
+            endoscope: State::rest(start.endoscope_depth),
+        };
+        let along = |from: T, by: T| State {
+            position: from + s * by,
+            velocity: s_dot * by,
+            acceleration: s_ddot * by,
+        };
+        match &self.geometry {
+            Geometry::Position(d) => {
+                let p = start.pose.to_array();
+                let c: [State<T>; 6] = core::array::from_fn(|k| along(p[k], d[k]));
+                out.platform = PlatformState {
+                    pose: Pose::from_array(c.map(|a| a.position)),
+                    velocity: PoseRate::new(
+                        c[0].velocity,
+                        c[1].velocity,
+                        c[2].velocity,
+                        c[3].velocity,
+                        c[4].velocity,
+                        c[5].velocity,
+                    ),
+                    acceleration: PoseRate::new(
+                        c[0].acceleration,
+                        c[1].acceleration,
+                        c[2].acceleration,
+                        c[3].acceleration,
+                        c[4].acceleration,
+                        c[5].acceleration,
+                    ),
+                };
+            }
+            Geometry::Insert(port, depth) => {
+                let driven = |q: Joints<T>| {
+                    let a = along(q.qs3, *depth);
+                    let zero = T::zero();
+                    ModuleCommand::Joints(JointMotion {
+                        q: Joints::new(q.qs1, q.qs2, a.position),
+                        q_dot: Joints::new(zero, zero, a.velocity),
+                        q_ddot: Joints::new(zero, zero, a.acceleration),
+                    })
+                };
+                match port {
+                    Port::Left => out.left = driven(l),
+                    Port::Right => out.right = driven(r),
+                    Port::Endoscope => out.endoscope = along(start.endoscope_depth, *depth),
+                }
+            }
+            Geometry::Manipulate { from, delta } => {
+                let tip = |i: usize| {
+                    ModuleCommand::Tip(TipMotion {
+                        position: from[i] + delta[i] * s,
+                        velocity: delta[i] * s_dot,
+                        acceleration: delta[i] * s_ddot,
+                    })
+                };
+                let zero = T::zero();
+                if delta[0].iter().any(|&x| x != zero) {
+                    out.left = tip(0);
+                }
+                if delta[1].iter().any(|&x| x != zero) {
+                    out.right = tip(1);
+                }
+            }
+            Geometry::Reorient { increment, tips } => {
+                let p = &start.pose;
+                out.platform = turned(
+                    p,
+                    [along(p.psi, increment[0]), along(p.theta, increment[1])],
+                );
+                out.left = ModuleCommand::still(tips[0]);
+                out.right = ModuleCommand::still(tips[1]);
+            }
+        }
+        out
+    }
+}
+
+impl<T: Real> Path<T, PATH_ROWS> for MotionPath<T> {
+    type Error = crate::kin::Error;
+
+    /// The actuators' `q'(s)` and `q''(s)` from the closed-form rates of the
+    /// robot at `s` moving with `s_dot = 1`, `s_ddot = 0` (see the module's
+    /// documentation), then the motion's own rows.
+    fn derivatives(&self, s: T) -> Result<Derivatives<T, PATH_ROWS>, crate::kin::Error> {
+        let at = self.sample(s, T::one(), T::zero());
+        let frame = at.platform.frame()?;
+        let mut first = [T::zero(); PATH_ROWS];
+        let mut second = [T::zero(); PATH_ROWS];
+        if matches!(
+            self.geometry,
+            Geometry::Position(_) | Geometry::Reorient { .. }
+        ) {
+            let q1 = self.module1.ik(&at.platform.pose)?;
+            let (v1, a1) = self.module1.rates(&frame, &q1)?;
+            first[..6].copy_from_slice(&v1.0);
+            second[..6].copy_from_slice(&a1.0);
+        }
+        let modules = [
+            (&self.left, &at.left, self.modes[0]),
+            (&self.right, &at.right, self.modes[1]),
+        ];
+        for (k, (module, command, mode)) in modules.into_iter().enumerate() {
+            let solution = match command {
+                ModuleCommand::Tip(tip) => module.solve(&frame, tip, mode)?,
+                ModuleCommand::Joints(joints) => module.solve_joints(joints)?,
+            };
+            let rows = 6 + 3 * k..9 + 3 * k;
+            first[rows.clone()].copy_from_slice(&solution.q_dot.to_array());
+            second[rows].copy_from_slice(&solution.q_ddot.to_array());
+        }
+        let [own_a, own_b] = self.own_rates();
+        let [.., a, b] = &mut first;
+        (*a, *b) = (own_a, own_b);
+        Ok(Derivatives { first, second })
+    }
 }

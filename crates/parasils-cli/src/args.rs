@@ -171,7 +171,9 @@ pub struct SimulateArgs {
     /// How the turn is timed: the paper's trapezoid in psi and theta, or
     /// the fastest law along the same straight line whose twelve actuators
     /// stay within their velocity and acceleration limits (the robot
-    /// file's; --omega-max and --eps-max bind as well when given).
+    /// file's; --omega-max and --eps-max bind as well when given). With
+    /// --procedure, every motion is timed so, from rest to rest; the limits
+    /// the procedure states for a motion bind as well.
     #[arg(long, value_enum, default_value_t = TimingArg::Trapezoid)]
     pub timing: TimingArg,
     /// Samples per second, Hz.
@@ -222,7 +224,7 @@ pub struct SimulateArgs {
     #[arg(
         long,
         value_name = "FILE.toml",
-        conflicts_with_all = ["psi", "theta", "absolute", "omega_max", "eps_max", "sync", "timing", "retarget", "stop_at", "pose", "tip_left", "tip_right", "robot"]
+        conflicts_with_all = ["psi", "theta", "absolute", "omega_max", "eps_max", "sync", "retarget", "stop_at", "pose", "tip_left", "tip_right", "robot"]
     )]
     pub procedure: Option<PathBuf>,
     /// Plan and check the procedure, print the verdict and a table per
@@ -238,6 +240,7 @@ impl SimulateArgs {
         if let Some(path) = &self.procedure {
             return Ok(Scenario {
                 rate_hz: self.rate,
+                timing: self.timing(),
                 ..procedure::load(path)?
             });
         }
@@ -257,14 +260,19 @@ impl SimulateArgs {
             retargets: self.retarget.clone(),
             stop_at_s: self.stop_at,
             supervisor: self.robot.supervisor()?,
-            timing: match self.timing {
-                TimingArg::Trapezoid => Timing::Trapezoid,
-                TimingArg::Optimal => Timing::Optimal {
-                    angular: self.omega_max.is_some() || self.eps_max.is_some(),
-                },
-            },
+            timing: self.timing(),
             ..paper
         })
+    }
+
+    /// `--timing`, the angular limits binding when given.
+    fn timing(&self) -> Timing {
+        match self.timing {
+            TimingArg::Trapezoid => Timing::Trapezoid,
+            TimingArg::Optimal => Timing::Optimal {
+                angular: self.omega_max.is_some() || self.eps_max.is_some(),
+            },
+        }
     }
 
     /// The output format for `path`: `--format` if given, else from the

@@ -1,8 +1,12 @@
 //! `parasils simulate --procedure`: the shipped demo, the pre-flight check,
 //! and procedures that fail before writing anything.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 use std::process::{Command, Output};
+
+use common::demo;
 
 fn parasils(args: &[&str], dir: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_parasils"))
@@ -10,19 +14,6 @@ fn parasils(args: &[&str], dir: &Path) -> Output {
         .current_dir(dir)
         .output()
         .expect("the binary runs")
-}
-
-fn demo() -> String {
-    let path: PathBuf = [
-        env!("CARGO_MANIFEST_DIR"),
-        "..",
-        "..",
-        "procedures",
-        "sils-demo.toml",
-    ]
-    .iter()
-    .collect();
-    path.to_string_lossy().into_owned()
 }
 
 fn text(bytes: Vec<u8>) -> String {

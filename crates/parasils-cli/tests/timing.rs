@@ -1,8 +1,12 @@
 //! `parasils simulate --timing optimal`: the fastest turn within the
 //! actuators' limits, checked on the CSV it writes.
 
+mod common;
+
 use std::path::Path;
 use std::process::{Command, Output};
+
+use common::demo;
 
 fn parasils(args: &[&str], dir: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_parasils"))
@@ -70,6 +74,23 @@ fn actuators() -> Vec<(String, String, f64, f64)> {
     out
 }
 
+/// Every actuator's rate and acceleration columns of `table` within their
+/// limits (1e-9 relative) at every sample; the largest fraction used.
+fn peak_use(table: &[(String, Vec<f64>)]) -> f64 {
+    let mut peak: f64 = 0.0;
+    for (rate, acc, v_max, a_max) in actuators() {
+        for (k, (v, a)) in col(table, &rate).iter().zip(col(table, &acc)).enumerate() {
+            assert!(
+                v.abs() <= v_max * (1.0 + 1e-9),
+                "{rate} = {v} at sample {k}"
+            );
+            assert!(a.abs() <= a_max * (1.0 + 1e-9), "{acc} = {a} at sample {k}");
+            peak = peak.max(v.abs() / v_max).max(a.abs() / a_max);
+        }
+    }
+    peak
+}
+
 #[test]
 fn the_optimal_turn_keeps_every_actuator_within_its_limits_and_is_shorter() {
     let dir = tempfile::tempdir().expect("tempdir");
@@ -94,18 +115,8 @@ fn the_optimal_turn_keeps_every_actuator_within_its_limits_and_is_shorter() {
     let n = t.len();
     let duration = t[n - 1];
     assert!(duration < 4.5 * 0.6, "{duration}");
-    let mut peak: f64 = 0.0;
-    for (rate, acc, v_max, a_max) in actuators() {
-        for (k, (v, a)) in col(&opt, &rate).iter().zip(col(&opt, &acc)).enumerate() {
-            assert!(
-                v.abs() <= v_max * (1.0 + 1e-9),
-                "{rate} = {v} at sample {k}"
-            );
-            assert!(a.abs() <= a_max * (1.0 + 1e-9), "{acc} = {a} at sample {k}");
-            peak = peak.max(v.abs() / v_max).max(a.abs() / a_max);
-        }
-    }
     // Some limit binds: the law is as fast as the actuators allow.
+    let peak = peak_use(&opt);
     assert!(peak > 0.999, "{peak}");
     // The rates are those of the positions: a central difference over
     // +-1 ms differs from the rate by at most a_max h / 2 where the
@@ -232,4 +243,106 @@ fn the_plot_of_an_optimal_run_adds_its_phase_plane() {
     assert!(optimal.contains("(d) Phase plane of the time-optimal law"));
     assert!(optimal.contains("module 1 q6 velocity to s = 0.863"));
     assert!(!svg("trapezoid").contains("Phase plane"));
+}
+
+#[test]
+fn a_procedure_timed_optimally_keeps_every_limit_and_names_what_binds() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let demo = demo();
+    let out = parasils(
+        &[
+            "simulate",
+            "--procedure",
+            &demo,
+            "--timing",
+            "optimal",
+            "-o",
+            "opt.csv",
+        ],
+        dir.path(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let opt = read(&dir.path().join("opt.csv"));
+    let t = col(&opt, "t_s");
+    // Shorter than the trapezoids' 20.232 s: the platform (1.3 s instead
+    // of 3 s) and the turn (2.22 s instead of 4.5 s) at the actuators'
+    // limits; the endoscope and the tip motions at the limits the
+    // procedure gives (the endoscope's defaults bind it: no actuator
+    // moves it).
+    let duration = t[t.len() - 1];
+    assert!((16.0..17.0).contains(&duration), "{duration}");
+    let peak = peak_use(&opt);
+    assert!(peak > 0.999, "{peak}");
+    // Every motion of the procedure is in the file, in order.
+    let motions = col(&opt, "motion");
+    assert_eq!((motions[0], motions[motions.len() - 1]), (0.0, 5.0));
+    assert!(
+        motions
+            .windows(2)
+            .all(|w| w[1] - w[0] == 0.0 || w[1] - w[0] == 1.0)
+    );
+    // --check names what limits each phase of each motion.
+    let out = parasils(
+        &[
+            "simulate",
+            "--procedure",
+            &demo,
+            "--timing",
+            "optimal",
+            "--check",
+        ],
+        dir.path(),
+    );
+    let text = String::from_utf8(out.stdout).expect("utf8");
+    assert!(out.status.success(), "{text}");
+    for line in [
+        "  motion 0 (position \"platform down to the port\"): 0.0000 s to 0.4998 s: module 1 q1 acceleration limit",
+        "  motion 1 (insert \"endoscope in\"): 2.2985 s to 4.3015 s: depth velocity limit",
+        "  motion 2 (manipulate \"left tip to the tissue\"): 5.7997 s to 7.0324 s: left tip velocity limit",
+        "  motion 3 (reorient \"camera to the target\"): 8.0317 s to 9.2568 s: module 1 q6 velocity limit",
+    ] {
+        assert!(text.lines().any(|l| l == line), "{line:?} not in\n{text}");
+    }
+}
+
+#[test]
+fn a_procedure_motion_cut_short_is_refused_under_optimal_timing() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    std::fs::write(
+        dir.path().join("cut.toml"),
+        "[[motion]]\ntype = \"insert\"\ninstrument = \"left\"\ndepth_mm = 30\nuntil_s = 0.5\n\n[[motion]]\ntype = \"stop\"\n",
+    )
+    .expect("write");
+    let out = parasils(
+        &[
+            "simulate",
+            "--procedure",
+            "cut.toml",
+            "--timing",
+            "optimal",
+            "-o",
+            "cut.csv",
+        ],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8(out.stderr).expect("utf8");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(stderr.contains("motion 0 (insert)"), "{stderr}");
+    assert!(stderr.contains("from rest to rest"), "{stderr}");
+    assert!(!dir.path().join("cut.csv").exists());
+    // The trapezoid takes it: cut short, then stopped.
+    let out = parasils(
+        &["simulate", "--procedure", "cut.toml", "-o", "cut.csv"],
+        dir.path(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }

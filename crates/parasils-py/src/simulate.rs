@@ -314,6 +314,7 @@ pub(crate) fn simulate<'py>(
         }
         let scenario = Scenario {
             rate_hz: rate_hz.unwrap_or(Scenario::paper().rate_hz),
+            timing,
             ..procedure_scenario(py, &procedure)?
         };
         return finish(py, scenario, out, format, force);

@@ -26,3 +26,20 @@ def test_optimal_equals_the_cli_and_is_shorter(run_cli, tmp_path):
 def test_bad_timing_is_a_value_error():
     with pytest.raises(ValueError, match="timing must be"):
         parasils.simulate(timing="fast")
+
+
+def test_a_procedure_timed_optimally_equals_the_cli(run_cli, tmp_path):
+    from test_procedure import DEMO, bits
+
+    path = tmp_path / "demo-opt.csv"
+    run_cli("simulate", "--procedure", DEMO, "--timing", "optimal", "--rate", "200", "-o", path)
+    expected = read_csv(path)
+    table = parasils.simulate(procedure=DEMO, rate_hz=200.0, timing="optimal")
+    assert list(table) == list(expected)
+    for name in table:
+        assert np.array_equal(bits(table[name]), bits(expected[name])), name
+    trapezoid = parasils.simulate(procedure=DEMO, rate_hz=200.0)
+    assert table["t_s"][-1] < trapezoid["t_s"][-1] - 1.0
+    # Module 1's sliders reach their assumed 50 mm/s, and no more.
+    rates = np.abs(np.stack([table[f"q{j}_rate_mm_s"] for j in range(1, 7)]))
+    assert 50.0 * (1 - 1e-6) < rates.max() <= 50.0 * (1 + 1e-9)

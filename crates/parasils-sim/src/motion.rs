@@ -150,6 +150,13 @@ pub struct MotionSpec {
     pub goal: MotionGoal,
     /// Within which limits.
     pub limits: MotionLimits,
+    /// Which of `limits` were given rather than defaulted, `[linear,
+    /// angular]` (a value of the pair given counts for both). Under
+    /// `--timing optimal` only these bind besides the actuators' limits, as
+    /// `--omega-max` does for the paper's turn; an endoscope insertion,
+    /// which moves no actuator, is always bound by its linear limits.
+    #[serde(skip)]
+    pub stated: [bool; 2],
     /// A name for messages and outputs (`"camera to the gallbladder"`).
     pub name: Option<String>,
     /// When the next motion takes over, s from this one's start: before the
@@ -165,6 +172,7 @@ impl MotionSpec {
         Self {
             goal,
             limits: MotionLimits::default(),
+            stated: [false; 2],
             name: None,
             until_s: None,
         }

@@ -513,9 +513,14 @@ fn motion(errors: &Errors<'_>, k: usize, m: MotionFile) -> Result<MotionSpec, Pr
             ));
         }
     };
+    let stated = [
+        m.velocity_mm_s.is_some() || m.acceleration_mm_s2.is_some(),
+        m.velocity_deg_s.is_some() || m.acceleration_deg_s2.is_some(),
+    ];
     Ok(MotionSpec {
         goal,
         limits,
+        stated,
         name: m.name,
         until_s,
     })

@@ -14,11 +14,12 @@ use parasils::kin::{ACTUATOR_COUNT, Actuator, ActuatorLimits};
 
 use crate::engine::procedure::ProcedureCheck;
 use crate::engine::{Scheduled, Simulation};
+use crate::motion::MotionName;
 use crate::numbers::Fixed;
 use crate::record::Record;
 use crate::scenario::CommandKind;
 use crate::sink::Sink;
-use crate::timing::{OptimalReorientation, PhaseSummary};
+use crate::timing::{OptimalMotion, PhaseSummary};
 
 /// Running extremes of every CSV column ([`columns::CSV`]), and the
 /// commands as they took effect.
@@ -52,7 +53,7 @@ pub struct Summary {
     limits: ActuatorLimits<f64>,
     usage: [[f64; ACTUATOR_COUNT]; 2],
     /// The time-optimal law's phases, for a run timed with it.
-    phases: Vec<PhaseSummary>,
+    phases: Vec<NamedPhase>,
 }
 
 impl Default for Summary {
@@ -119,10 +120,7 @@ impl Summary {
         }
         s.procedure = sim.procedure_check().cloned();
         s.limits = sim.controller().limits;
-        s.phases = sim
-            .optimal()
-            .map(OptimalReorientation::phases)
-            .unwrap_or_default();
+        s.phases = optimal_phases(sim);
         s
     }
 
@@ -265,10 +263,7 @@ impl fmt::Display for Summary {
         )?;
         write!(f, "\n{}", Usage(&self.usage))?;
         if !self.phases.is_empty() {
-            write!(f, "\ntime-optimal timing, what limits each phase:")?;
-            for p in &self.phases {
-                write!(f, "\n  {p}")?;
-            }
+            write!(f, "\n{}", Phases(&self.phases))?;
         }
         if !self.schedule.is_empty() {
             self.write_commands(f)?;
@@ -401,7 +396,55 @@ impl fmt::Display for CheckReport<'_> {
             )?;
         }
         writeln!(f, "{}", MotionTable(self.check))?;
-        write!(f, "{}", Usage(&self.check.usage))
+        write!(f, "{}", Usage(&self.check.usage))?;
+        let phases = optimal_phases(self.sim);
+        if !phases.is_empty() {
+            write!(f, "\n{}", Phases(&phases))?;
+        }
+        Ok(())
+    }
+}
+
+/// A phase of a time-optimal law, with the motion it belongs to in a
+/// procedure.
+type NamedPhase = (Option<MotionName>, PhaseSummary);
+
+/// The phases of `sim`'s time-optimal law (none for a trapezoid run): for
+/// a procedure, every motion's, on the procedure's time line.
+fn optimal_phases(sim: &Simulation) -> Vec<NamedPhase> {
+    if let Some(law) = sim.optimal() {
+        return law.phases().into_iter().map(|p| (None, p)).collect();
+    }
+    let Some(plan) = sim.procedure() else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    for m in &plan.motions {
+        for p in m.optimal.iter().flat_map(OptimalMotion::phases) {
+            let phase = PhaseSummary {
+                start_s: p.start_s + m.start_s,
+                end_s: p.end_s + m.start_s,
+                ..p
+            };
+            out.push((Some(m.name.clone()), phase));
+        }
+    }
+    out
+}
+
+/// What limits each phase of a time-optimal law.
+struct Phases<'a>(&'a [NamedPhase]);
+
+impl fmt::Display for Phases<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "time-optimal timing, what limits each phase:")?;
+        for (motion, p) in self.0 {
+            match motion {
+                Some(m) => write!(f, "\n  {m}: {p}")?,
+                None => write!(f, "\n  {p}")?,
+            }
+        }
+        Ok(())
     }
 }
 

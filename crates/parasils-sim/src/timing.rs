@@ -1,8 +1,10 @@
-//! Time-optimal timing of motion type 4 under the actuators' limits (see
-//! `docs/model.md`, *Time-optimal timing*): the straight turn of
-//! [`ReorientationPath`], solved by [`parasils::traj::optimal`] on a grid
-//! of [`TimingOptions::knots`] points, checked [`TimingOptions::checks`]
-//! times denser, and sampled like any planned motion.
+//! Time-optimal timing under the actuators' limits (see `docs/model.md`,
+//! *Time-optimal timing*): the straight turn of [`ReorientationPath`]
+//! ([`OptimalReorientation`], the paper's scenario), or any motion type's
+//! [`MotionPath`] ([`OptimalMotion`], a procedure's motions), solved by
+//! [`parasils::traj::optimal`] on a grid of [`TimingOptions::knots`]
+//! points, checked [`TimingOptions::checks`] times denser, and sampled like
+//! any planned motion.
 //!
 //! ```
 //! use parasils::kin::{ActuatorLimits, Controller, Pose, TipTargets};
@@ -34,8 +36,9 @@ use parasils::kin::{
     ACTUATOR_COUNT, Actuator, ActuatorLimits, Controller, LimitError, PlatformState, Pose,
     RateKind, TipTargets,
 };
+use parasils::motions::{MotionSample, MotionType};
 use parasils::path::row_limits;
-pub use parasils::path::{PATH_ROWS, PathPoint, ReorientationPath};
+pub use parasils::path::{MotionPath, PATH_ROWS, PathPoint, ReorientationPath};
 use parasils::traj::optimal::{self, Certificate, Knot, RowLimits, Schedule};
 use parasils::traj::{LimitKind, Limits, Motion, State};
 
@@ -68,8 +71,8 @@ pub enum TimingError {
     /// An actuator limit that is zero, negative or NaN.
     #[error(transparent)]
     Limits(#[from] LimitError),
-    /// The path leaves the robot's workspace at `s` (0 to 1 along the turn).
-    #[error("the turn at s = {s}: {error}")]
+    /// The path leaves the robot's workspace at `s` (0 to 1 along it).
+    #[error("the path at s = {s}: {error}")]
     Kinematics {
         /// Where along the turn.
         s: f64,
@@ -90,23 +93,42 @@ impl From<optimal::Error<parasils::kin::Error>> for TimingError {
     }
 }
 
-/// What limits a phase: an actuator, or one of the Euler angles.
+/// What limits a phase: an actuator, or one of the motion's own
+/// coordinates (rows 12 and 13 of [`MotionPath`]) under the limits stated
+/// for it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Binding {
     /// An actuator's limit.
     Actuator(Actuator),
-    /// `psi`'s own limit (`--omega-max`, `--eps-max`).
+    /// `psi`'s own limit (type 4; `--omega-max`, `--eps-max`).
     Psi,
-    /// `theta`'s own limit.
+    /// `theta`'s own limit (type 4).
     Theta,
+    /// The platform's `x, y, z` (type 1: the motion's linear limits).
+    Translation,
+    /// The platform's `psi, theta, phi` (type 1: its angular limits).
+    Rotation,
+    /// The inserted `qs3` or depth (type 2: the motion's linear limits).
+    Depth,
+    /// The left tip's arc length (type 3).
+    LeftTip,
+    /// The right tip's arc length (type 3).
+    RightTip,
 }
 
 impl Binding {
-    fn of_row(row: usize) -> Self {
-        match Actuator::from_index(row) {
-            Some(a) => Binding::Actuator(a),
-            None if row == ACTUATOR_COUNT => Binding::Psi,
-            None => Binding::Theta,
+    /// What row `row` of a path of `motion_type` is (see [`MotionPath`]).
+    fn of_row(row: usize, motion_type: MotionType) -> Self {
+        let own = row - ACTUATOR_COUNT.min(row);
+        match (Actuator::from_index(row), motion_type, own) {
+            (Some(a), ..) => Binding::Actuator(a),
+            (None, MotionType::Position, 0) => Binding::Translation,
+            (None, MotionType::Position, _) => Binding::Rotation,
+            (None, MotionType::Insert, _) => Binding::Depth,
+            (None, MotionType::Manipulate, 0) => Binding::LeftTip,
+            (None, MotionType::Manipulate, _) => Binding::RightTip,
+            (None, MotionType::Reorient, 0) => Binding::Psi,
+            (None, MotionType::Reorient, _) => Binding::Theta,
         }
     }
 }
@@ -117,6 +139,11 @@ impl fmt::Display for Binding {
             Binding::Actuator(a) => a.fmt(f),
             Binding::Psi => f.write_str("psi"),
             Binding::Theta => f.write_str("theta"),
+            Binding::Translation => f.write_str("x, y, z"),
+            Binding::Rotation => f.write_str("psi, theta, phi"),
+            Binding::Depth => f.write_str("depth"),
+            Binding::LeftTip => f.write_str("left tip"),
+            Binding::RightTip => f.write_str("right tip"),
         }
     }
 }
@@ -147,15 +174,107 @@ impl fmt::Display for PhaseSummary {
     }
 }
 
-/// Motion type 4 timed to be as fast as the actuators' limits allow: a
-/// [`Motion`] of [`PlatformState`]s, sampled like
-/// [`parasils::Reorientation`].
+/// A path timed to be as fast as its limits allow: the path, the solver's
+/// limits (one per row), and the solved knots. [`OptimalReorientation`]
+/// (motion type 4, the paper's run) and [`OptimalMotion`] (any motion type,
+/// a procedure's motions) are its two kinds.
 #[derive(Debug, Clone)]
-pub struct OptimalReorientation {
-    path: ReorientationPath<f64>,
+pub struct OptimalLaw<P> {
+    path: P,
     limits: [RowLimits<f64>; PATH_ROWS],
     knots: Vec<Knot<f64, PATH_ROWS>>,
     certificate: Option<Certificate<f64>>,
+}
+
+/// Motion type 4 timed to be as fast as the actuators' limits allow: a
+/// [`Motion`] of [`PlatformState`]s, sampled like
+/// [`parasils::Reorientation`].
+pub type OptimalReorientation = OptimalLaw<ReorientationPath<f64>>;
+
+/// Any motion type timed to be as fast as the actuators' limits (and the
+/// limits given for its own coordinates) allow: a [`Motion`] of
+/// [`MotionSample`]s, what a procedure's motion becomes under
+/// `--timing optimal`.
+///
+/// ```
+/// use parasils::kin::{ActuatorLimits, Controller, Joints, Pose};
+/// use parasils::motions::{Port, RobotState};
+/// use parasils::path::MotionPath;
+/// use parasils_sim::timing::{OptimalMotion, TimingOptions};
+///
+/// let controller = Controller::<f64>::paper();
+/// let start = RobotState {
+///     pose: Pose::paper_start(),
+///     joints: [Joints::from_deg_mm(3.0, -10.0, 120.0), Joints::from_deg_mm(-3.0, 10.0, 120.0)],
+///     endoscope_depth: 0.0,
+/// };
+/// // The left qs3 by 30 mm: qs3's own 60 mm/s^2 binds, sqrt(4 d / a) = sqrt(2) s.
+/// let path = MotionPath::insertion(&controller, &start, Port::Left, 30.0);
+/// let plan = OptimalMotion::plan(path, &ActuatorLimits::assumed(), [None, None], &TimingOptions::default())?;
+/// assert!((plan.duration() - 2f64.sqrt()).abs() < 1e-5);
+/// assert_eq!(plan.phases()[0].binding.to_string(), "left qs3");
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub type OptimalMotion = OptimalLaw<MotionPath<f64>>;
+
+impl<P: optimal::Path<f64, PATH_ROWS, Error = parasils::kin::Error>> OptimalLaw<P> {
+    /// Solves `path` within `limits` (`still`: nothing moves along it, and
+    /// it takes no time).
+    fn solve(
+        path: P,
+        limits: [RowLimits<f64>; PATH_ROWS],
+        still: bool,
+        options: &TimingOptions,
+    ) -> Result<Self, TimingError> {
+        let mut law = Self {
+            path,
+            limits,
+            knots: Vec::new(),
+            certificate: None,
+        };
+        if still {
+            return Ok(law);
+        }
+        law.knots = vec![Knot::default(); options.knots];
+        let (_, certificate) = optimal::plan(&law.path, &limits, &mut law.knots, options.checks)?;
+        law.certificate = Some(certificate);
+        Ok(law)
+    }
+
+    /// The path.
+    pub fn path(&self) -> &P {
+        &self.path
+    }
+
+    /// The solver's limits, one per row (twelve actuators, then the
+    /// motion's own two coordinates).
+    pub fn limits(&self) -> &[RowLimits<f64>; PATH_ROWS] {
+        &self.limits
+    }
+
+    /// The solved schedule `s(t)`.
+    pub fn schedule(&self) -> Schedule<'_, f64, PATH_ROWS> {
+        Schedule::view(&self.knots)
+    }
+
+    /// What the check between grid points found and did (`None` for a path
+    /// along which nothing moves).
+    pub fn certificate(&self) -> Option<&Certificate<f64>> {
+        self.certificate.as_ref()
+    }
+
+    /// The duration, s.
+    pub fn duration(&self) -> f64 {
+        self.schedule().duration()
+    }
+
+    /// `(s, s_dot, s_ddot)` at `t`.
+    pub fn path_state(&self, t: f64) -> State<f64> {
+        if self.knots.is_empty() {
+            return State::rest(0.0);
+        }
+        self.schedule().state(t)
+    }
 }
 
 impl OptimalReorientation {
@@ -180,53 +299,7 @@ impl OptimalReorientation {
         let increment = [goal[0] - start.psi, goal[1] - start.theta];
         let path = ReorientationPath::new(controller, start, increment, tips);
         let limits = row_limits(actuators, options.angular);
-        let mut plan = Self {
-            path,
-            limits,
-            knots: Vec::new(),
-            certificate: None,
-        };
-        if increment == [0.0, 0.0] {
-            return Ok(plan);
-        }
-        plan.knots = vec![Knot::default(); options.knots];
-        let (_, certificate) = optimal::plan(&plan.path, &limits, &mut plan.knots, options.checks)?;
-        plan.certificate = Some(certificate);
-        Ok(plan)
-    }
-
-    /// The path.
-    pub fn path(&self) -> &ReorientationPath<f64> {
-        &self.path
-    }
-
-    /// The solver's limits, one per row (twelve actuators, `psi`, `theta`).
-    pub fn limits(&self) -> &[RowLimits<f64>; PATH_ROWS] {
-        &self.limits
-    }
-
-    /// The solved schedule `s(t)`.
-    pub fn schedule(&self) -> Schedule<'_, f64, PATH_ROWS> {
-        Schedule::view(&self.knots)
-    }
-
-    /// What the check between grid points found and did (`None` for a turn
-    /// of zero length).
-    pub fn certificate(&self) -> Option<&Certificate<f64>> {
-        self.certificate.as_ref()
-    }
-
-    /// The duration, s.
-    pub fn duration(&self) -> f64 {
-        self.schedule().duration()
-    }
-
-    /// `(s, s_dot, s_ddot)` at `t`.
-    pub fn path_state(&self, t: f64) -> State<f64> {
-        if self.knots.is_empty() {
-            return State::rest(0.0);
-        }
-        self.schedule().state(t)
+        Self::solve(path, limits, increment == [0.0, 0.0], options)
     }
 
     /// The platform's state at `t` (s): at rest at the start for `t <= 0`,
@@ -238,20 +311,80 @@ impl OptimalReorientation {
 
     /// The phases, in time order, each with what limits it.
     pub fn phases(&self) -> Vec<PhaseSummary> {
-        self.schedule()
-            .phases(&self.limits)
-            .map(|p| PhaseSummary {
-                start_s: p.start_t,
-                end_s: p.end_t,
-                binding: Binding::of_row(p.row),
-                kind: match p.limit {
-                    LimitKind::Velocity => RateKind::Velocity,
-                    _ => RateKind::Acceleration,
-                },
-                usage: p.usage,
-            })
-            .collect()
+        phases(&self.schedule(), &self.limits, MotionType::Reorient)
     }
+}
+
+impl OptimalMotion {
+    /// The fastest rest-to-rest law along `path` within `actuators` and,
+    /// for the motion's own coordinates (rows 12 and 13, see
+    /// [`MotionPath`]), `own` where given. A path along which nothing
+    /// moves takes no time.
+    ///
+    /// # Errors
+    /// [`TimingError::Limits`] for an invalid limit,
+    /// [`TimingError::Kinematics`] where the path leaves the workspace,
+    /// [`TimingError::Solver`] for invalid options or own limits.
+    pub fn plan(
+        path: MotionPath<f64>,
+        actuators: &ActuatorLimits<f64>,
+        own: [Option<Limits<f64>>; 2],
+        options: &TimingOptions,
+    ) -> Result<Self, TimingError> {
+        actuators.validate()?;
+        let mut limits = row_limits(actuators, None);
+        for (row, own) in limits[ACTUATOR_COUNT..].iter_mut().zip(own) {
+            if let Some(l) = own {
+                *row = RowLimits::new(l.v_max, l.a_max);
+            }
+        }
+        Self::solve(path, limits, path.is_still(), options)
+    }
+
+    /// The robot at `t` (s): at rest at the start for `t <= 0`, at rest at
+    /// the end for `t >= duration`.
+    pub fn sample_at(&self, t: f64) -> MotionSample<f64> {
+        let st = self.path_state(t);
+        self.path.sample(st.position, st.velocity, st.acceleration)
+    }
+
+    /// The phases, in time order, each with what limits it.
+    pub fn phases(&self) -> Vec<PhaseSummary> {
+        phases(&self.schedule(), &self.limits, self.path.motion_type())
+    }
+}
+
+impl Motion<f64> for OptimalMotion {
+    type Output = MotionSample<f64>;
+
+    fn duration(&self) -> f64 {
+        OptimalLaw::duration(self)
+    }
+
+    fn sample(&self, t: f64) -> MotionSample<f64> {
+        self.sample_at(t)
+    }
+}
+
+/// The phases of `schedule` under `limits` on a path of `motion_type`.
+fn phases(
+    schedule: &Schedule<'_, f64, PATH_ROWS>,
+    limits: &[RowLimits<f64>; PATH_ROWS],
+    motion_type: MotionType,
+) -> Vec<PhaseSummary> {
+    schedule
+        .phases(limits)
+        .map(|p| PhaseSummary {
+            start_s: p.start_t,
+            end_s: p.end_t,
+            binding: Binding::of_row(p.row, motion_type),
+            kind: match p.limit {
+                LimitKind::Velocity => RateKind::Velocity,
+                _ => RateKind::Acceleration,
+            },
+            usage: p.usage,
+        })
+        .collect()
 }
 
 /// The optimal law in the phase plane: at every grid knot, the path
@@ -312,7 +445,7 @@ impl Motion<f64> for OptimalReorientation {
     type Output = PlatformState<f64>;
 
     fn duration(&self) -> f64 {
-        OptimalReorientation::duration(self)
+        OptimalLaw::duration(self)
     }
 
     fn sample(&self, t: f64) -> PlatformState<f64> {
@@ -437,7 +570,7 @@ mod tests {
     fn errors_say_what_and_where() {
         let e = plan([0.0, 170.0], &TimingOptions::default()).expect_err("out of reach");
         assert!(matches!(e, TimingError::Kinematics { .. }), "{e}");
-        assert!(e.to_string().starts_with("the turn at s = "), "{e}");
+        assert!(e.to_string().starts_with("the path at s = "), "{e}");
         let options = TimingOptions {
             knots: 1,
             ..TimingOptions::default()

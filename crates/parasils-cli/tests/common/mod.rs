@@ -34,6 +34,20 @@ pub fn fails(args: &[&str]) -> String {
     err
 }
 
+/// The shipped demo procedure's path.
+pub fn demo() -> String {
+    let path: std::path::PathBuf = [
+        env!("CARGO_MANIFEST_DIR"),
+        "..",
+        "..",
+        "procedures",
+        "sils-demo.toml",
+    ]
+    .iter()
+    .collect();
+    path.to_string_lossy().into_owned()
+}
+
 /// A path as an argument.
 pub fn s(p: &Path) -> &str {
     p.to_str().expect("UTF-8 path")

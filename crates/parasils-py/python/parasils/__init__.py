@@ -140,14 +140,17 @@ def simulate(
       eps_max_deg_s2) or "optimal" (--timing optimal): the fastest turn along
       the same straight line whose twelve actuators stay within the robot's
       velocity and acceleration limits; omega_max_deg_s and eps_max_deg_s2
-      bind as well only when given other values than the paper's.
+      bind as well only when given other values than the paper's. With
+      procedure, every motion is timed so, from rest to rest; the limits the
+      procedure states for a motion bind as well (an endoscope insertion,
+      which moves no actuator, keeps its own limits, stated or default).
     - procedure: run a procedure instead (--procedure): a procedure file's
       path (TOML) or a dict of the same structure, e.g.
       ``{"motion": [{"type": "insert", "instrument": "endoscope",
       "depth_mm": 40}]}``. It gives the start (pose, tips, endoscope depth),
       the robot and the motions (motion types 1 to 4: "position", "insert",
-      "manipulate", "reorient"), so only rate_hz, out, format and force may
-      be given with it (TypeError otherwise). The whole procedure is planned
+      "manipulate", "reorient"), so only rate_hz, timing, out, format and
+      force may be given with it (TypeError otherwise). The whole procedure is planned
       and checked before anything is returned or written. Its table has
       twelve more columns after the others: ``motion`` and ``motion_type``
       (int64: the motion's index from 0, the paper's type 1 to 4),
@@ -213,7 +216,12 @@ def simulate(
                     "start, robot and motions"
                 )
         return _parasils.simulate(
-            procedure=procedure, rate_hz=rate_hz, out=out, format=format, force=force
+            procedure=procedure,
+            rate_hz=rate_hz,
+            out=out,
+            format=format,
+            force=force,
+            timing=timing,
         )
     angular_given = (
         omega_max_deg_s != _PAPER["omega_max_deg_s"] or eps_max_deg_s2 != _PAPER["eps_max_deg_s2"]

@@ -439,11 +439,6 @@ impl Simulation {
             if scenario.has_commands() {
                 return Err(SimulationError::Commands(CommandError::InProcedure));
             }
-            if scenario.timing != Timing::Trapezoid {
-                return Err(SimulationError::Unsupported(
-                    "the time-optimal timing applies to the single reorientation, not yet to a procedure's motions",
-                ));
-            }
             let plan = ProcedurePlan::new(&scenario, &controller)?;
             let duration = plan.duration();
             let sampler =

@@ -21,6 +21,8 @@ use crate::motion::{MotionGoal, MotionLimits, MotionName, MotionSpec};
 use crate::numbers::Num;
 use crate::record::Record;
 use crate::scenario::Scenario;
+use crate::scenario::Timing;
+use crate::timing::{MotionPath, OptimalMotion, TimingError, TimingOptions};
 
 /// One motion placed on the procedure's time line.
 #[derive(Debug, Clone)]
@@ -34,12 +36,26 @@ pub struct PlannedMotion {
     pub length_s: f64,
     /// How messages and outputs name it.
     pub name: MotionName,
+    /// The time-optimal law that times it instead of `motion`'s profile,
+    /// under `--timing optimal` (`motion` then gives its type and path).
+    pub optimal: Option<OptimalMotion>,
 }
 
 impl PlannedMotion {
     /// Its duration, s.
     pub fn duration(&self) -> f64 {
-        self.motion.duration()
+        match &self.optimal {
+            Some(o) => o.duration(),
+            None => self.motion.duration(),
+        }
+    }
+
+    /// The motion at `t` (s from its start).
+    pub fn sample(&self, t: f64) -> MotionSample<f64> {
+        match &self.optimal {
+            Some(o) => o.sample_at(t),
+            None => self.motion.sample(t),
+        }
     }
 }
 
@@ -157,9 +173,24 @@ impl ProcedurePlan {
                 })?,
             };
             name.motion_type = motion.motion_type();
-            let duration = motion.duration();
+            let optimal = match scenario.timing {
+                Timing::Optimal { .. } => optimal_plan(controller, &state, spec)
+                    .map_err(|e| fail(&name, 0.0, SimulationError::Timing(e)))?,
+                Timing::Trapezoid => None,
+            };
+            let duration = optimal.as_ref().map_or(motion.duration(), |o| o.duration());
             let length = spec.until_s.unwrap_or(duration);
             let cut = length < duration;
+            if cut && optimal.is_some() {
+                return Err(order(
+                    &name,
+                    format!(
+                        "until_s = {} s cuts the motion short (it lasts {} s): the time-optimal timing plans motions from rest to rest",
+                        Num(length),
+                        Num(duration)
+                    ),
+                ));
+            }
             if cut && index + 1 == count {
                 return Err(order(
                     &name,
@@ -170,7 +201,10 @@ impl ProcedurePlan {
                     ),
                 ));
             }
-            let end = motion.sample(length);
+            let end = match &optimal {
+                Some(o) => o.sample_at(length),
+                None => motion.sample(length),
+            };
             let out = match solver.step_commanded(&end.platform, &end.left, &end.right) {
                 Ok(out) => out,
                 Err(error) => {
@@ -188,6 +222,7 @@ impl ProcedurePlan {
                         start_s: t,
                         length_s: length,
                         name,
+                        optimal,
                     });
                     return Ok(Self {
                         motions,
@@ -208,6 +243,7 @@ impl ProcedurePlan {
                 start_s: t,
                 length_s: length,
                 name,
+                optimal,
             });
             t += length;
         }
@@ -236,7 +272,7 @@ impl ProcedurePlan {
     pub fn sample_at(&self, t: f64) -> (usize, MotionSample<f64>) {
         let k = self.index_at(t);
         match self.motions.get(k) {
-            Some(m) => (k, m.motion.sample(t - m.start_s)),
+            Some(m) => (k, m.sample(t - m.start_s)),
             // No motion: never planned (a procedure has at least one).
             None => (0, held_at(&self.start)),
         }
@@ -327,6 +363,75 @@ fn plan(
             ))
         }
     })
+}
+
+/// The motion `spec` from `state`, at rest, timed to be as fast as the
+/// robot's actuator limits allow (see [`OptimalMotion`]): its own limits
+/// bind as well where the procedure states them, and always for the
+/// endoscope's depth, which no actuator moves. A stop keeps its profile
+/// (`None`): it only ever stops a motion that ended at rest, in no time,
+/// since the optimal timing cuts no motion short.
+fn optimal_plan(
+    controller: &Controller<f64>,
+    state: &RobotState<f64>,
+    spec: &MotionSpec,
+) -> Result<Option<OptimalMotion>, TimingError> {
+    let (linear, angular) = (spec.limits.linear(), spec.limits.angular());
+    let [linear_stated, angular_stated] = spec.stated;
+    let stated_linear = linear_stated.then_some(linear);
+    let stated_angular = angular_stated.then_some(angular);
+    let tips = || tips_of(controller, &state.pose, &state.joints);
+    let (path, own) = match spec.goal {
+        MotionGoal::Position { pose_mm_deg: p } => (
+            MotionPath::positioning(
+                controller,
+                state,
+                Pose::from_mm_deg(p[0], p[1], p[2], p[3], p[4], p[5]),
+            ),
+            [stated_linear, stated_angular],
+        ),
+        MotionGoal::Insert { port, depth_mm } => (
+            MotionPath::insertion(controller, state, port, depth_mm),
+            [
+                (linear_stated || port == Port::Endoscope).then_some(linear),
+                None,
+            ],
+        ),
+        MotionGoal::Manipulate {
+            tip_left_mm,
+            tip_right_mm,
+        } => (
+            MotionPath::manipulation(
+                controller,
+                state,
+                tips(),
+                [
+                    tip_left_mm.map(Vector3::from),
+                    tip_right_mm.map(Vector3::from),
+                ],
+            ),
+            [stated_linear; 2],
+        ),
+        MotionGoal::Reorient {
+            psi_deg,
+            theta_deg,
+            absolute,
+        } => {
+            let from = [state.pose.psi, state.pose.theta];
+            let goal = reorient_goal(psi_deg, theta_deg, absolute, from);
+            (
+                MotionPath::turning(
+                    controller,
+                    state,
+                    [goal[0] - from[0], goal[1] - from[1]],
+                    tips(),
+                ),
+                [stated_angular; 2],
+            )
+        }
+        MotionGoal::Stop => return Ok(None),
+    };
+    OptimalMotion::plan(path, &controller.limits, own, &TimingOptions::default()).map(Some)
 }
 
 /// A reorientation's goal `[psi, theta]` (rad): the angles given (deg), or

@@ -38,13 +38,14 @@
 //! that excess twice. Where an interval's worst use `r` (as a time stretch,
 //! `max(|v| / v_max, sqrt(|a| / a_max))`) is above `1 + 1e-6`, the speed at
 //! its two knots is capped at `x / r^2` and the problem solved again, up to
-//! [`CERTIFY_PASSES`] times; what is left above 1 is removed by one uniform
-//! time stretch of the whole schedule.
+//! [`CERTIFY_PASSES`] times; what is left above `1 - 1e-12` is removed by
+//! one uniform time stretch of the whole schedule, which leaves that
+//! headroom (at least 64 ulps) for the rounding of whoever samples the law.
 //!
 //! What is guaranteed, and by what:
-//! - at the knots and at every check point, every limit holds to rounding
-//!   (a few ulps relative): by construction (knots) and by the final stretch
-//!   (check points);
+//! - at the knots and at every check point, every limit holds with `1e-12`
+//!   of headroom: by the final stretch (so that a limit used to the full,
+//!   recomputed by a caller as `q' s_ddot + q'' s_dot^2`, stays within it);
 //! - between check points, every limit holds up to the error of the
 //!   parabola's estimate, `O(delta^3 |g'''|)` for a use `g(s)` and a check
 //!   spacing `delta`: an estimate, not a proof; the tests sample 10 times

@@ -16,6 +16,12 @@ pub const CERTIFY_PASSES: usize = 4;
 /// final uniform stretch rather than by solving again.
 const LOCAL_THRESHOLD: f64 = 1e-6;
 
+/// The headroom the final stretch leaves below every limit, relative (and
+/// at least 64 ulps): a law that uses a limit to the full is computed
+/// again by whoever samples it (`s_ddot` times `q'`, the kinematics' own
+/// rates), and that rounding must not take it over the limit.
+const ROUNDING_HEADROOM: f64 = 1e-12;
+
 /// Checks a solved schedule between its knots and makes it safe there.
 ///
 /// On every interval, at `checks` evenly spaced points (both ends
@@ -31,7 +37,9 @@ const LOCAL_THRESHOLD: f64 = 1e-6;
 /// schedule solved again ([`solve`]), up to [`CERTIFY_PASSES`] times; what
 /// remains above 1 is removed by one uniform time stretch of the whole
 /// schedule (velocities scale by `1 / stretch`, accelerations by
-/// `1 / stretch^2`).
+/// `1 / stretch^2`), with a headroom of `1e-12` (or 64 ulps, the larger)
+/// against the rounding of whoever samples the law: a limit used to the
+/// full stays within it when recomputed.
 ///
 /// # Errors
 /// [`Error::TooFewChecks`], [`Error::Path`], [`Error::OutOfRange`].
@@ -57,7 +65,8 @@ pub fn certify<T: Real, P: Path<T, M>, const M: usize>(
         passes += 1;
         solve(limits, knots).map_err(Error::widen)?;
     };
-    let stretch = worst.max(T::one());
+    let headroom = T::lit(ROUNDING_HEADROOM).max(T::epsilon() * T::lit(64.0));
+    let stretch = (worst * (T::one() + headroom)).max(T::one());
     if !stretch.is_finite() {
         return Err(Error::OutOfRange { index: 0 });
     }
