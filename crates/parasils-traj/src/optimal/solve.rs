@@ -62,9 +62,13 @@ impl<T: Real, const M: usize> Interval<T, M> {
             .zip(d1.first.iter().zip(&d1.second));
         for ((lim, (&a0, &b0)), (&a1, &b1)) in rows {
             let gamma = lim.acceleration;
+            if gamma == T::infinity() {
+                // An unlimited row bounds nothing.
+                continue;
+            }
             for (end, (alpha, beta)) in [(a0, b0), (a1 + two_h * b1, b1)].into_iter().enumerate() {
-                if alpha == T::zero() || gamma == T::infinity() {
-                    // No band in u: a bound on x alone (none for an unlimited row).
+                if alpha == T::zero() {
+                    // No band in u: a bound on x alone.
                     x_hi = x_hi.min(gamma / beta.abs());
                 } else {
                     let inv = T::one() / alpha;
@@ -87,25 +91,21 @@ impl<T: Real, const M: usize> Interval<T, M> {
         Ok(())
     }
 
-    /// The upper and the lower envelope of `u` at `x` (the next knot's `x`
-    /// kept within `[0, k_next]`).
-    pub(crate) fn envelope(&self, x: T, k_next: T) -> (T, T) {
-        let inv = T::one() / self.two_h;
-        let mut up = (k_next - x) * inv;
-        let mut lo = -x * inv;
+    /// The upper envelope of `u` at `x` (the next knot's `x` kept within
+    /// `[0, k_next]`), as the forward pass needs it.
+    fn upper(&self, x: T, k_next: T) -> T {
+        let mut up = (k_next - x) / self.two_h;
         for ((cs, ds), &n) in self.c.iter().zip(&self.d).zip(&self.len) {
             for (&c, &d) in cs.iter().zip(ds).take(n) {
-                let mid = d * x;
-                up = up.min(mid + c);
-                lo = lo.max(mid - c);
+                up = up.min(d * x + c);
             }
         }
-        (up, lo)
+        up
     }
 
-    /// The lines that make the upper and the lower envelope at `x`, with
-    /// the envelopes' values there (as [`Interval::envelope`] computes
-    /// them).
+    /// The lines that make the upper and the lower envelope of `u` at `x`
+    /// (the next knot's `x` kept within `[0, k_next]`), with the envelopes'
+    /// values there.
     fn active(&self, x: T, k_next: T) -> (Line<T>, Line<T>, T, T) {
         let inv = T::one() / self.two_h;
         let mut up = Line {
@@ -255,13 +255,19 @@ pub fn solve<'a, T: Real, const M: usize>(
 ) -> Result<Schedule<'a, T, M>, Error> {
     validate(limits, knots)?;
     // The velocity limit curve.
+    // min_j (v_j / |q_j'|)^2 as 1 / (max_j |q_j'| / v_j)^2: one division
+    // per knot (an unlimited row's 1 / v_j is 0).
     let huge = T::max_value().sqrt();
+    let mut inv_v = [T::zero(); M];
+    for (w, l) in inv_v.iter_mut().zip(limits) {
+        *w = T::one() / l.velocity;
+    }
     for k in knots.iter_mut() {
-        let mut x = huge.min(k.x_cap);
-        for (l, &q1) in limits.iter().zip(&k.derivatives.first) {
-            let r = l.velocity / q1.abs();
-            x = x.min(r * r);
+        let mut w = T::zero();
+        for (&q1, &iv) in k.derivatives.first.iter().zip(&inv_v) {
+            w = w.max(q1.abs() * iv);
         }
+        let x = huge.min(k.x_cap).min(T::one() / (w * w));
         (k.x_max, k.x, k.u, k.t) = (x, T::zero(), T::zero(), T::zero());
     }
     // Backward: the controllable sets [0, x_max], from rest at the end.
@@ -288,12 +294,18 @@ pub fn solve<'a, T: Real, const M: usize>(
         let (Some(k0), Some(k1)) = (head.last_mut(), tail.first_mut()) else {
             continue;
         };
-        iv.set(k0, k1, limits, i)?;
         let x0 = k0.x.min(k0.x_max);
-        let (up, _) = iv.envelope(x0, k1.x_max);
-        let x1 = (x0 + iv.two_h * up).max(T::zero()).min(k1.x_max);
+        let two_h = (k1.s - k0.s) * T::lit(2.0);
+        let up = match forward_u(k0, k1, limits, two_h, x0, k1.x_max) {
+            Some(u) => u,
+            None => {
+                iv.set(k0, k1, limits, i)?;
+                iv.upper(x0, k1.x_max)
+            }
+        };
+        let x1 = (x0 + two_h * up).max(T::zero()).min(k1.x_max);
         k0.x = x0;
-        k0.u = (x1 - x0) / iv.two_h;
+        k0.u = (x1 - x0) / two_h;
         k1.x = x1;
     }
     if let Some(last) = knots.last_mut() {
@@ -301,6 +313,54 @@ pub fn solve<'a, T: Real, const M: usize>(
     }
     set_times(knots)?;
     Ok(Schedule::view(knots))
+}
+
+/// The forward pass's largest `u` on the interval `k0 -> k1` (`two_h =
+/// 2 (s_1 - s_0)`) from `x0`: the least of `(k_next - x0) / two_h` and of
+/// every band's upper line at `x0`, `(gamma - sign(alpha) beta x0) /
+/// |alpha|` (the bands of [`Interval::set`], which the backward pass has
+/// already set up and checked on this interval), compared by
+/// cross-multiplying so that only the least is divided. `None` where a
+/// product does not fit the float type: the caller then sets the bands up.
+fn forward_u<T: Real, const M: usize>(
+    k0: &Knot<T, M>,
+    k1: &Knot<T, M>,
+    limits: &[RowLimits<T>; M],
+    two_h: T,
+    x0: T,
+    k_next: T,
+) -> Option<T> {
+    let (mut num, mut den) = (k_next - x0, two_h);
+    let mut finite = true;
+    let (d0, d1) = (&k0.derivatives, &k1.derivatives);
+    let rows = limits
+        .iter()
+        .zip(d0.first.iter().zip(&d0.second))
+        .zip(d1.first.iter().zip(&d1.second));
+    for ((lim, (&a0, &b0)), (&a1, &b1)) in rows {
+        let gamma = lim.acceleration;
+        if gamma == T::infinity() {
+            continue;
+        }
+        for (alpha, beta) in [(a0, b0), (a1 + two_h * b1, b1)] {
+            if alpha == T::zero() {
+                continue;
+            }
+            let m = alpha.abs();
+            let n = if alpha > T::zero() {
+                gamma - beta * x0
+            } else {
+                gamma + beta * x0
+            };
+            let (left, right) = (n * den, num * m);
+            finite &= left.is_finite() & right.is_finite();
+            if left < right {
+                (num, den) = (n, m);
+            }
+        }
+    }
+    let up = num / den;
+    (finite && up.is_finite()).then_some(up)
 }
 
 /// The time at each knot: `dt = 2 h / (s_dot_i + s_dot_{i+1})` on each interval.
