@@ -5,10 +5,28 @@
 //! records are computed. No call may panic; an error has a message; an
 //! accepted run's records are finite.
 
-use clap::Parser;
+use core::cell::RefCell;
+
+use clap::{CommandFactory, FromArgMatches};
 use parasils_sim::Simulation;
 
 use crate::args::{Cli, Command};
+
+thread_local! {
+    /// The command's definition, built once and reused by every input
+    /// (`Cli::try_parse_from` builds, checks and drops it each time, which
+    /// cost more than the parse itself): the same definition, the same
+    /// parse.
+    static DEFINITION: RefCell<clap::Command> = RefCell::new(Cli::command());
+}
+
+/// `Cli::try_parse_from(argv)`, on the definition built once.
+fn parse(argv: &[String]) -> Result<Cli, clap::Error> {
+    DEFINITION.with_borrow_mut(|definition| {
+        let mut matches = definition.try_get_matches_from_mut(argv)?;
+        Cli::from_arg_matches_mut(&mut matches).map_err(|e| e.format(definition))
+    })
+}
 
 /// The arguments in an input: one per line. With the first byte odd, the
 /// list is the whole command line after `parasils` (any command, parsed
@@ -36,7 +54,7 @@ pub fn cli_simulate(data: &[u8]) {
         argv.push(String::from("simulate"));
     }
     argv.extend(list);
-    let cli = match Cli::try_parse_from(&argv) {
+    let cli = match parse(&argv) {
         Ok(cli) => cli,
         Err(e) => {
             // Help and version texts come this way too.
@@ -47,15 +65,20 @@ pub fn cli_simulate(data: &[u8]) {
     let Command::Simulate(mut args) = cli.command else {
         return;
     };
-    // A robot file is the robot file target's; no file is read here.
+    // No file named by the input is read here: a robot file is the robot
+    // file target's, a procedure file (`--procedure`, which names the
+    // robot, the start and the motions) the procedure file target's. Without
+    // them the run is the paper's scenario with the other arguments given
+    // (clap already refused any that conflict with `--procedure`).
     args.robot.robot = None;
+    args.procedure = None;
     if let Some(path) = &args.output {
         // The format from the extension or --format: a value or an error.
         let _ = args.format(path);
     }
     let scenario = args
         .scenario()
-        .unwrap_or_else(|e| panic!("no robot file, yet the scenario failed: {e}"));
+        .unwrap_or_else(|e| panic!("no file to read, yet the scenario failed: {e}"));
     let sim = match Simulation::new(scenario) {
         Ok(sim) => sim,
         Err(e) => {

@@ -343,7 +343,26 @@ fn module1_in<T: FuzzFloat>(inp: &mut Input) {
                 .iter()
                 .map(|g| g.encoder_offset.wide().abs() / g.link_length.wide())
                 .fold(0.0, f64::max);
-            let scale = 1.0 + norm(&pose.position()) / robot.length_scale().wide() + offsets;
+            // And each leg's own sizes against its link: the IK puts slider
+            // `j` where `|P + R a_i - B_j - u_j (q_j - o_j)| = l_j`, a
+            // difference of numbers of the size of `|P|`, the node's `|a_i|`
+            // and the guide's `|B_j|`, each rounded to its own precision; a
+            // node or guide far from the rest (a fuzzed one) rounds away
+            // more than its link's length times eps (an f32 node at 1e19 mm
+            // holds a 350 mm link only to 1e12 mm), which `|P| / L` (`L` the
+            // nodes' spread, 1e19 mm there) does not count.
+            let p = norm(&pose.position());
+            let legs = robot
+                .geometry()
+                .guides
+                .iter()
+                .enumerate()
+                .map(|(j, g)| {
+                    let a = norm(&robot.geometry().nodes[j / 2]);
+                    (p + a + norm(&g.point)) / g.link_length.wide()
+                })
+                .fold(0.0, f64::max);
+            let scale = 1.0 + p / robot.length_scale().wide() + offsets + legs;
             assert!(
                 at.wide() <= 64.0 * eps * scale,
                 "the IK's actuators {q:?} leave a residual {} at their own pose {pose:?} ({}), geometry {:?}",
@@ -399,10 +418,23 @@ fn fk_checked<T: FuzzFloat>(
             // and the rounding of the residual's own terms.
             let slack =
                 16.0 * T::EPS * (1.0 + norm(&sol.pose.position()) / robot.length_scale().wide());
+            // In the FK's own measure: `residual` is `rho = max_j ||e_j| -
+            // l_j| / l_j`, the tolerance bounds `||e_j|^2 - l_j^2| / (2
+            // l_j^2)` (`FkOptions::tolerance`), that is `rho (2 - rho) / 2`
+            // for `|e_j| = (1 - rho) l_j` and `rho (2 + rho) / 2` for `(1 +
+            // rho) l_j`. The same to first order, apart for a large (fuzzed)
+            // tolerance: 0.49 allows a link at a quarter of its length, a
+            // `rho` of 0.75. The smaller is compared (the larger when `rho >
+            // 1`, as `|e_j|` is not negative).
+            let rho = r.wide();
+            let measure = if rho <= 1.0 {
+                rho * (2.0 - rho) / 2.0
+            } else {
+                rho * (2.0 + rho) / 2.0
+            };
             assert!(
-                r.wide() <= tolerance.wide() + slack,
-                "FK's pose leaves a residual {} above the tolerance {} ({})",
-                r.wide(),
+                measure <= tolerance.wide() + slack,
+                "FK's pose leaves a residual {rho} ({measure} in the FK's measure) above the tolerance {} ({})",
                 tolerance.wide(),
                 T::NAME
             );

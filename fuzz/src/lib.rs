@@ -33,6 +33,7 @@ mod calibrate;
 #[path = "../../crates/parasils-cli/src/stdout.rs"]
 mod stdout;
 
+pub mod calibration;
 pub mod cli;
 pub mod input;
 pub mod kin;
@@ -46,7 +47,7 @@ pub mod writers;
 pub type Target = (&'static str, fn(&[u8]));
 
 /// Every target, in the campaign's order.
-pub const TARGETS: [Target; 9] = [
+pub const TARGETS: [Target; 11] = [
     ("robot_file", robot_file::robot_file),
     ("cli_simulate", cli::cli_simulate),
     ("instrument", kin::instrument),
@@ -56,4 +57,6 @@ pub const TARGETS: [Target; 9] = [
     ("csv", writers::csv),
     ("mcap", writers::mcap),
     ("procedure_file", procedure::procedure_file),
+    ("calibration_data", calibration::calibration_data),
+    ("tolerance_spec", calibration::tolerance_spec),
 ];

@@ -9,7 +9,7 @@ use nalgebra::Vector3;
 use parasils::supervisor::MarginSet;
 use parasils_sim::columns::{self, Column};
 use parasils_sim::csv::CsvSink;
-use parasils_sim::mcap::{McapOptions, McapSink};
+use parasils_sim::mcap::{McapError, McapOptions, McapSink};
 use parasils_sim::record::{InstrumentRecord, Module1Record, Record};
 use parasils_sim::scenario::{CommandKind, Scenario};
 use parasils_sim::sink::Sink;
@@ -92,7 +92,60 @@ fn same(text: &str, expected: f64) -> bool {
         .is_ok_and(|v| v.to_bits() == expected.to_bits() || (v.is_nan() && expected.is_nan()))
 }
 
-/// The CSV target's check: write, read back with the `csv` crate.
+thread_local! {
+    /// The `csv` crate's parser, built once: building one (its DFA) costs
+    /// more than writing and reading a file of four records, so a reader per
+    /// input would spend the campaign's time there; `reset` makes it as new.
+    static READER: core::cell::RefCell<csv_core::Reader> =
+        core::cell::RefCell::new(csv_core::Reader::new());
+}
+
+/// The rows of a CSV text, each a list of fields, as the `csv` crate's
+/// parser reads them (the parser `csv::Reader` drives, with its defaults).
+fn read_rows(bytes: &[u8]) -> Vec<Vec<String>> {
+    READER.with_borrow_mut(|reader| {
+        reader.reset();
+        let mut rows = Vec::new();
+        let mut input = bytes;
+        // No field nor row is longer than the text: one call reads a record.
+        let mut out = vec![0u8; bytes.len() + 1];
+        let mut ends = vec![0usize; bytes.len() + 1];
+        let (mut n_out, mut n_ends) = (0, 0);
+        loop {
+            let (result, n_in, o, e) =
+                reader.read_record(input, &mut out[n_out..], &mut ends[n_ends..]);
+            input = &input[n_in..];
+            n_out += o;
+            n_ends += e;
+            match result {
+                // The next call, with no input left, ends the text.
+                csv_core::ReadRecordResult::InputEmpty => {}
+                csv_core::ReadRecordResult::OutputFull
+                | csv_core::ReadRecordResult::OutputEndsFull => {
+                    panic!("a CSV record longer than its text")
+                }
+                csv_core::ReadRecordResult::Record => {
+                    let mut start = 0;
+                    let row = ends[..n_ends]
+                        .iter()
+                        .map(|&end| {
+                            let field = core::str::from_utf8(&out[start..end])
+                                .expect("a UTF-8 field")
+                                .to_owned();
+                            start = end;
+                            field
+                        })
+                        .collect();
+                    rows.push(row);
+                    (n_out, n_ends) = (0, 0);
+                }
+                csv_core::ReadRecordResult::End => return rows,
+            }
+        }
+    })
+}
+
+/// The CSV target's check: write, read back with the `csv` crate's parser.
 pub fn csv(data: &[u8]) {
     let mut inp = Input::new(data);
     let with_command = inp.flag();
@@ -104,27 +157,27 @@ pub fn csv(data: &[u8]) {
         sink.push(r).expect("a CSV row of any numbers");
     }
     let bytes = sink.finish().expect("memory does not fail");
-    let mut reader = csv::ReaderBuilder::new().from_reader(bytes.as_slice());
-    let header = reader.headers().expect("a header").clone();
+    let rows = read_rows(&bytes);
+    let (header, rows) = rows.split_first().expect("a header");
     assert!(
-        header.iter().eq(cols.iter().map(|c| c.name)),
+        header
+            .iter()
+            .map(String::as_str)
+            .eq(cols.iter().map(|c| c.name)),
         "the header {header:?}"
     );
-    let mut rows = 0;
-    for (row, r) in reader.records().zip(&records) {
-        let row = row.expect("a well-formed row");
-        assert_eq!(row.len(), cols.len(), "row {rows}'s length");
+    assert_eq!(rows.len(), records.len(), "the row count");
+    for (k, (row, r)) in rows.iter().zip(&records).enumerate() {
+        assert_eq!(row.len(), cols.len(), "row {k}'s length");
         for (text, c) in row.iter().zip(cols) {
             let v = c.value(r);
             if c.integer {
-                assert_eq!(text, r.command.to_string(), "{}", c.name);
+                assert_eq!(*text, r.command.to_string(), "{}", c.name);
             } else {
                 assert!(same(text, v), "{}: `{text}` for {v:e}", c.name);
             }
         }
-        rows += 1;
     }
-    assert_eq!(rows, records.len(), "the row count");
 }
 
 /// The MCAP target's check: write with options from the input; a file
@@ -159,6 +212,16 @@ pub fn mcap(data: &[u8]) {
     }
     let bytes = match sink.finish() {
         Ok(w) => w.into_inner(),
+        // The last record's visuals are computed when the file is
+        // finished: a number they cannot hold is the typed error `finish`
+        // documents, naming the topic.
+        Err(e @ McapError::NonFinite { topic, .. })
+            if topic == parasils_sim::mcap::TF_TOPIC
+                || topic == parasils_sim::mcap::SCENE_TOPIC =>
+        {
+            assert!(!e.to_string().is_empty());
+            return;
+        }
         Err(e) => panic!("finishing an MCAP of accepted records failed: {e}"),
     };
     let mut seen = [0usize; 6];

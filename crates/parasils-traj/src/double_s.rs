@@ -128,6 +128,10 @@ impl<T: Real> SShape<T> {
             // v^2 / a - (T - w_c) v + d = 0, smaller root.
             let b = duration - w_c;
             let r = two * (d / a).sqrt();
+            if !r.is_finite() {
+                // `d / a_max` overflows: out of range, as for the trapezoid.
+                return None;
+            }
             let root = (b - r).max(T::zero()).sqrt() * (b + r).max(T::zero()).sqrt();
             let v = (d / (half * (b + root))).min(v_max);
             (w_c, w_c + v / a, a)
@@ -137,11 +141,17 @@ impl<T: Real> SShape<T> {
             // On (0, T / 4], 2 w - T <= -T / 2, so f < 0 past sqrt(2 c / T):
             // the root is below that bound, which keeps the bisection within
             // its halvings however long T is next to the minimum time.
-            let bound = (two * c / duration).sqrt();
+            // The bound is `sqrt(2 c / T)`, in an order that does not
+            // overflow where `2 c` would (a distance of 1e154 against a jerk
+            // of 1e-154 in f64: the bound came out infinite and the bisection
+            // ran out of halvings from T / 4, 1e6 times above the root).
+            let bound = (two * (d / duration) / j).sqrt();
             let (mut lo, mut hi) = (T::zero(), (duration * T::lit(0.25)).min(bound));
+            let mut converged = false;
             for _ in 0..256 {
                 let mid = half * (lo + hi);
                 if mid <= lo || mid >= hi {
+                    converged = true;
                     break;
                 }
                 if f(mid) > T::zero() {
@@ -149,6 +159,11 @@ impl<T: Real> SShape<T> {
                 } else {
                     hi = mid;
                 }
+            }
+            if !converged {
+                // Out of halvings far from the root: the numbers of this
+                // stretch do not fit the float type.
+                return None;
             }
             let w = hi.min(w_c);
             (w, w + w, j * w)
@@ -160,8 +175,8 @@ impl<T: Real> SShape<T> {
         Some(shape)
     }
 
-    /// This shape scaled by `k` in space (same phase times); `None` when a
-    /// scaled jerk, acceleration or velocity is not a normal number (a
+    /// This shape scaled by `k` in space (same phase times); `None` when `k`
+    /// or a scaled jerk, acceleration or velocity is not a normal number (a
     /// subnormal one holds too few significant bits for the axis to end on
     /// its goal).
     pub(crate) fn scaled(&self, k: T) -> Option<Self> {
@@ -171,18 +186,25 @@ impl<T: Real> SShape<T> {
             v_p: self.v_p * k,
             ..*self
         };
-        [shape.j, shape.a_p, shape.v_p]
+        [k, shape.j, shape.a_p, shape.v_p]
             .iter()
             .all(|x| x.is_normal())
             .then_some(shape)
     }
 
+    /// The shape with these phase times and peaks; `None` when one does not
+    /// fit the float type: not finite, or (the jerk time, the jerk and the
+    /// peaks) not a normal number. A subnormal one holds too few significant
+    /// bits for the profile to keep its limits and end on its goal (a jerk
+    /// time of 8e-42 s in `f32` made `a_p = j t_j` 8e-5 above `a_max`), as
+    /// for a scaled shape ([`SShape::scaled`]).
     fn checked(t_j: T, t_a: T, t_v: T, j: T, a_p: T, v_p: T) -> Option<Self> {
         let duration = t_a + t_a + t_v;
         let all = [t_j, t_a, t_v, j, a_p, v_p, duration];
         let finite = all.iter().all(|x| x.is_finite());
+        let normal = [t_j, j, a_p, v_p].iter().all(|x| x.is_normal());
         let positive = t_j > T::zero() && j > T::zero() && a_p > T::zero() && v_p > T::zero();
-        (finite && positive).then_some(Self {
+        (finite && normal && positive).then_some(Self {
             t_j,
             t_a,
             t_v,
@@ -567,5 +589,28 @@ mod tests {
             assert!(p.peak_acceleration() <= 5.0 && p.peak_velocity() <= 10.0);
         }
         Ok(())
+    }
+
+    #[test]
+    fn a_stretch_whose_time_scale_overflows_is_out_of_range() -> Result<(), Error> {
+        // f32, a_max reached: the minimum time (2e20 s) fits, but the
+        // stretched shape needs d / a_max = 1e40, past f32's largest
+        // number: refused, as for the trapezoid.
+        let l = JerkLimits::new(1e10_f32, 1e-10, 1.0);
+        let own = DoubleS::new(0.0_f32, 1e30, l)?;
+        let r = DoubleS::with_duration(0.0_f32, 1e30, l, own.duration() * 2.0);
+        assert!(matches!(r, Err(Error::OutOfRange { axis: 0, .. })), "{r:?}");
+        Ok(())
+    }
+
+    #[test]
+    fn a_subnormal_jerk_time_is_out_of_range() {
+        // The fuzzer's case (f32): a_max = 9.1834e-41 (subnormal) with
+        // j_max = 11: the jerk time a_max / j_max = 8.3e-42 s rounds to a
+        // few significant bits, and the profile reported (and reached) a
+        // peak acceleration j t_j 8e-5 above a_max. Refused instead.
+        let l = JerkLimits::new(1e-19_f32, 9.1834e-41, 11.042_969);
+        let r = DoubleS::new(1e19_f32, 1.0, l);
+        assert!(matches!(r, Err(Error::OutOfRange { axis: 0, .. })), "{r:?}");
     }
 }

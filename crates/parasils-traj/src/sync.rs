@@ -333,14 +333,23 @@ mod tests {
             Synchronization::Phase,
         );
         assert!(matches!(r, Err(Error::OutOfRange { axis: 1, .. })), "{r:?}");
-        // Time synchronisation keeps the axis's own shape: no scaling.
+        // No synchronisation keeps the axis's own shape: no scaling.
+        let r = Multi::new(
+            [0.0_f64, 0.0],
+            [100.0, 1e-310],
+            [Limits::new(1.0, 1.0); 2],
+            Synchronization::None,
+        );
+        assert!(r.is_ok(), "{r:?}");
+        // Time synchronisation lowers its cruise velocity to about 1e-311,
+        // subnormal too: refused alike.
         let r = Multi::new(
             [0.0_f64, 0.0],
             [100.0, 1e-310],
             [Limits::new(1.0, 1.0); 2],
             Synchronization::Time,
         );
-        assert!(r.is_ok(), "{r:?}");
+        assert!(matches!(r, Err(Error::OutOfRange { axis: 1, .. })), "{r:?}");
     }
 
     #[test]
@@ -369,5 +378,92 @@ mod tests {
         let t1 = Trapezoid::new(0.0_f64, 1.0, Limits::new(100.0, 0.5))?.duration();
         assert!(m.duration() > t0.max(t1));
         Ok(())
+    }
+
+    #[test]
+    fn time_synchronising_an_axis_whose_time_scale_overflows_is_out_of_range() {
+        // The fuzzer's case (f32): axis 1's a_max is subnormal; stretched to
+        // axis 0's 4.9e22 s, its d / a_max overflows. It used to come back
+        // with an acceleration time of 1.2e35 s in a plan of 4.9e22 s, at
+        // 1854 times its distance from the start; now it is out of range
+        // (its subnormal a_max alone refuses it).
+        let r = Multi::new(
+            [0.0_f32, 3.1568e-41],
+            [8.137_419_4e23, 1.000_000_1],
+            [
+                Limits::new(16.498_047, 0.019_836_426),
+                Limits::new(0.000_186_920_84, 1.560_925e-39),
+            ],
+            Synchronization::Time,
+        );
+        assert!(matches!(r, Err(Error::OutOfRange { axis: 1, .. })), "{r:?}");
+    }
+
+    #[test]
+    fn time_synchronised_double_s_with_a_tiny_jerk_reaches_its_goal() -> Result<(), Error> {
+        // The fuzzer's case (f64): axis 1 lasts 1.46e158 s; axis 0, 1e154
+        // long with j_max = 1e-154, is stretched to it. `2 d / j_max`
+        // overflowed in the bound of the bisection for the jerk time, which
+        // then ran out of halvings far above the root: a cruise velocity
+        // 1e4 times too high, the axis 4e156 past its goal of 1e154.
+        let m = Multi::double_s(
+            [-3.458_736_359_466_021_7e19_f64, 3.903_190_409_522_057e-33],
+            [1e154, 14601.0],
+            [
+                JerkLimits::new(0.894_104_003_906_25, 0.000_610_351_562_5, 1e-154),
+                JerkLimits::new(1e-154, 1e-154, 1e-154),
+            ],
+            Synchronization::Time,
+        )?;
+        let [a0, _] = m.axes();
+        for k in 0..=32 {
+            let t = m.duration() * f64::from(k) / 32.0;
+            let p = a0.sample(t).position;
+            assert!(
+                (-3.5e19..=1e154 * (1.0 + 1e-12)).contains(&p),
+                "{p:e} at {t:e}"
+            );
+        }
+        Ok(())
+    }
+
+    #[test]
+    fn a_subnormal_share_is_out_of_range_even_with_normal_scaled_limits() {
+        // The fuzzer's case (f64): axis 0 moves 2.2e-16, axis 1 2.5e307 at
+        // limits of 1e154, so axis 0's share is 9e-324, a subnormal number
+        // 10 % off; its scaled limits (1e-169) are normal numbers, and it
+        // ended 2.7 % past its goal. The share itself must be normal.
+        let r = Multi::double_s(
+            [2.220_446_049_250_313e-16_f64, -2.461_661_297_927_25e307],
+            [1e-154, 1e-154],
+            [
+                JerkLimits::new(3.6875, 1e154, 1e154),
+                JerkLimits::new(1e154, 1e154, 1e154),
+            ],
+            Synchronization::Phase,
+        );
+        assert!(matches!(r, Err(Error::OutOfRange { axis: 0, .. })), "{r:?}");
+        let r = Multi::new(
+            [2.220_446_049_250_313e-16_f64, -2.461_661_297_927_25e307],
+            [1e-154, 1e-154],
+            [Limits::new(3.6875, 1e154), Limits::new(1e154, 1e154)],
+            Synchronization::Phase,
+        );
+        assert!(matches!(r, Err(Error::OutOfRange { axis: 0, .. })), "{r:?}");
+    }
+
+    #[test]
+    fn time_synchronising_an_axis_at_subnormal_limits_is_out_of_range() {
+        // The fuzzer's case (f32): both axes at v_max = a_max = 1.4e-45,
+        // the smallest subnormal number. Axis 1, stretched to axis 0's
+        // 8.4e6 s, needed a cruise velocity of 7.8e-46, which rounds to
+        // 1.4e-45: it ended past its goal by 9 % of its distance.
+        let r = Multi::new(
+            [1.175_494_4e-38_f32, 6.553_657e-39],
+            [0.0, 1e-45],
+            [Limits::new(1e-45, 1e-45); 2],
+            Synchronization::Time,
+        );
+        assert!(matches!(r, Err(Error::OutOfRange { .. })), "{r:?}");
     }
 }

@@ -100,6 +100,12 @@ impl<T: Real> Shape<T> {
     pub(crate) fn with_duration(d: T, limits: Limits<T>, duration: T) -> Option<Self> {
         let two = T::lit(2.0);
         let r = two * (d / limits.a_max).sqrt(); // minimum time without a velocity limit
+        if !r.is_finite() {
+            // `d / a_max` overflows (a long distance against a small `a_max`): the cruise
+            // velocity below would come from a NaN, a plan that does not
+            // last `duration` nor stay on its segment. Out of range.
+            return None;
+        }
         let root = (duration - r).max(T::zero()).sqrt() * (duration + r).sqrt();
         let v = (d / (T::lit(0.5) * (duration + root))).min(limits.v_max);
         let t_a = v / limits.a_max;
@@ -107,22 +113,30 @@ impl<T: Real> Shape<T> {
         Self::checked(v, limits.a_max, t_a, t_c, duration)
     }
 
-    /// This shape scaled by `k` in space (same phase times); `None` when a
-    /// scaled velocity or acceleration is not a normal number (a subnormal
-    /// one holds too few significant bits for the axis to end on its goal).
+    /// This shape scaled by `k` in space (same phase times); `None` when `k`
+    /// or a scaled velocity or acceleration is not a normal number (a
+    /// subnormal one holds too few significant bits for the axis to end on
+    /// its goal: a share `k` of 9e-324 in `f64` is 2 ulps, 10 % off).
     pub(crate) fn scaled(&self, k: T) -> Option<Self> {
         let shape = Self {
             v: self.v * k,
             a: self.a * k,
             ..*self
         };
-        (shape.v.is_normal() && shape.a.is_normal()).then_some(shape)
+        (k.is_normal() && shape.v.is_normal() && shape.a.is_normal()).then_some(shape)
     }
 
+    /// The shape with these peaks and phase times; `None` when one does not
+    /// fit the float type: not finite, or a peak not a normal number. A
+    /// subnormal peak holds too few significant bits for the axis to end on
+    /// its goal (a cruise velocity lowered to 7.8e-46 in `f32` rounds to
+    /// 1.4e-45, nearly twice as fast), as for a scaled shape
+    /// ([`Shape::scaled`]).
     fn checked(v: T, a: T, t_a: T, t_c: T, duration: T) -> Option<Self> {
         let finite = [v, a, t_a, t_c, duration].iter().all(|x| x.is_finite());
+        let normal = v.is_normal() && a.is_normal();
         let positive = v > T::zero() && a > T::zero() && t_a > T::zero();
-        (finite && positive).then_some(Self {
+        (finite && normal && positive).then_some(Self {
             v,
             a,
             t_a,
@@ -517,5 +531,31 @@ mod tests {
         assert!(
             matches!(r, Err(Error::InvalidDuration { minimum, .. }) if (minimum - 4.5).abs() < 1e-12)
         );
+    }
+
+    #[test]
+    fn a_stretch_whose_time_scale_overflows_is_out_of_range() -> Result<(), Error> {
+        // f32: the minimum time (2e20 s) fits, but stretching it needs
+        // d / a_max = 1e40, past f32's largest number. The plan is refused
+        // rather than built from a NaN (the fuzzer's case, with a subnormal
+        // a_max, lasted 4.9e22 s with an acceleration time of 1.2e35 s).
+        let l = Limits::new(1e10_f32, 1e-10);
+        let own = Trapezoid::new(0.0_f32, 1e30, l)?;
+        let r = Trapezoid::with_duration(0.0_f32, 1e30, l, own.duration() * 2.0);
+        assert!(matches!(r, Err(Error::OutOfRange { axis: 0, .. })), "{r:?}");
+        Ok(())
+    }
+
+    #[test]
+    fn a_stretch_that_lowers_the_velocity_to_a_subnormal_number_is_out_of_range() {
+        // The fuzzer's case (f32): 2.5e-38 stretched to 16705 s needs a
+        // cruise velocity of 1.5e-42, a subnormal number of 10 significant
+        // bits; the plan ended 1.4e-42 past its goal (6e-5 of the distance).
+        let l = Limits::new(6.600_68e-40_f32, 570.625);
+        let r = Trapezoid::with_duration(0.0_f32, 2.516_292_6e-38, l, 16705.0);
+        assert!(matches!(r, Err(Error::OutOfRange { axis: 0, .. })), "{r:?}");
+        // Its own (given) velocity limit is subnormal too: refused alike.
+        let r = Trapezoid::new(0.0_f32, 2.516_292_6e-38, l);
+        assert!(matches!(r, Err(Error::OutOfRange { axis: 0, .. })), "{r:?}");
     }
 }

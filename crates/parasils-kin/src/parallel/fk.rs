@@ -7,6 +7,7 @@ use nalgebra::Vector3;
 use super::geometry::FkOptions;
 use super::ik::ParallelRobot;
 use super::types::{Actuators, FkSolution, actuator_number};
+use crate::check::check_results;
 use crate::error::{Error, ParallelSingularity};
 use crate::frame::Pose;
 use crate::linalg::{Svd6, Vec6, norm_squared, transpose};
@@ -128,6 +129,9 @@ impl<T: Real> ParallelRobot<T> {
                 });
             }
         }
+        // A pose that overflowed on the way (a guess at the float type's
+        // largest angle, say) can leave a residual that ignores it: refused.
+        check_results(&pose.to_array(), "module 1: FK pose (overflow)")?;
         Ok(FkSolution {
             pose,
             iterations,
@@ -330,6 +334,42 @@ impl<T: Real> Stage<T> {
                 residual: f64::INFINITY,
             },
             Stage::Singular(e) => e,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::Vector3;
+
+    use super::*;
+    use crate::parallel::ParallelGeometry;
+
+    /// The fuzzer's case (f32): a guess at theta = f32::MAX (finite) and a
+    /// fuzzed guide and node; the FK used to return `Ok` with theta = inf
+    /// (and a residual of 0). Now a non-finite pose is an error.
+    #[test]
+    fn an_fk_pose_that_overflows_is_refused() {
+        let mut g = ParallelGeometry::<f32>::assumed();
+        let guide = &mut g.guides[3];
+        guide.point = Vector3::new(1e-19, 1e-19, 1e-19);
+        guide.direction = Vector3::new(1e-19, 1e-19, 1.0);
+        guide.link_length = 1e19;
+        guide.encoder_offset = 9.352_152e-39;
+        g.nodes[0] = Vector3::new(-0.040_283_203, 1e-19, 1e-19);
+        g.thresholds.serial = 1e-19;
+        g.thresholds.parallel = 1e-19;
+        g.fk = FkOptions {
+            tolerance: 2.351_057e-38,
+            max_iterations: 95,
+        };
+        let robot = ParallelRobot::new(g).expect("a valid geometry");
+        let q = Actuators([3.984_375, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        let guess = Pose::from_array([-0.040_283_203, 1e-19, 1e-19, 1e-19, f32::MAX, 7.16e-43]);
+        let r = robot.fk(&q, &guess);
+        match r {
+            Ok(s) => assert!(s.pose.to_array().iter().all(|v| v.is_finite()), "{s:?}"),
+            Err(e) => assert!(matches!(e, Error::NonFinite { .. }), "{e:?}"),
         }
     }
 }

@@ -430,7 +430,8 @@ impl<T: Real> ParallelGeometry<T> {
     /// [`MAX_OFFSET_LINKS`] times their link's length, a calibration record of at least one pose
     /// and a finite RMS `>= 0`,
     /// guide directions non-zero, links longer than zero (and than about
-    /// 1e-146 mm in f64, 3e-16 mm in f32), each stroke
+    /// 1e-146 mm in f64, 3e-16 mm in f32) and with a finite square (shorter
+    /// than about 1.3e154 mm in f64, 1.8e19 mm in f32), each stroke
     /// `min <= max`, nodes not all at `P`, thresholds positive (the serial one
     /// below 1), a positive FK tolerance and at least one iteration.
     ///
@@ -488,9 +489,11 @@ impl<T: Real> ParallelGeometry<T> {
             // Longer than zero, and long enough that the IK's squares of
             // lengths stay normal numbers with room for rounding (past about
             // 1e-146 mm in f64, 3e-16 mm in f32); shorter ones lose the
-            // IK's precision.
+            // IK's precision. Short enough that its square is finite (below
+            // about 1.3e154 mm in f64, 1.8e19 mm in f32): the FK's
+            // constraint `|e|^2 - l^2` of a longer one is NaN at every pose.
             let l = g.link_length;
-            if !(l > T::zero() && l * l * T::EPSILON >= T::MIN_POSITIVE) {
+            if !(l > T::zero() && l * l * T::EPSILON >= T::MIN_POSITIVE && (l * l).finite()) {
                 return Err(invalid(LINK[j], g.link_length));
             }
             if !(g.stroke.min <= g.stroke.max) {
@@ -611,6 +614,32 @@ mod tests {
                 "{e:?}"
             );
         }
+    }
+
+    #[test]
+    fn a_link_whose_square_overflows_is_refused() {
+        // The fuzzer's case (f32): a link of 8.6e33 mm. Its square is
+        // infinite, the FK's constraint `|e|^2 - l^2` NaN at every pose, and
+        // the FK's residual ignored it: an `Ok` pose that does not hold the
+        // link. Refused by validation now; 1e19 mm (square 1e38) is not.
+        let mut g = ParallelGeometry::<f32>::assumed();
+        g.guides[3].link_length = 8.640_369e33;
+        assert!(
+            matches!(
+                g.validate(),
+                Err(Error::InvalidParameter {
+                    what: "module1.guides[3].link_length",
+                    ..
+                })
+            ),
+            "{:?}",
+            g.validate()
+        );
+        g.guides[3].link_length = 1e19;
+        g.validate().expect("a square of 1e38 is finite in f32");
+        let mut g = ParallelGeometry::<f64>::assumed();
+        g.guides[0].link_length = 1e155;
+        assert!(g.validate().is_err());
     }
 
     #[test]

@@ -396,7 +396,12 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
     /// schemas, channels, chunk and message indexes), and returns the writer.
     ///
     /// # Errors
-    /// [`McapError::Mcap`] when writing fails.
+    /// [`McapError::Mcap`] when writing fails; [`McapError::NonFinite`] when
+    /// the last record's `/tf` or `/scene`, computed here (between scene
+    /// periods a record's visuals are not computed when it is pushed), holds
+    /// a number JSON cannot: a record whose every column is finite can still
+    /// make one (a pose whose rotation or scene points overflow), and the
+    /// error names the topic and the time. A simulation's records never do.
     pub fn finish(mut self) -> Result<W, McapError> {
         if let Some((record, ns, false)) = self.last {
             self.write_visuals(&record, ns)?;

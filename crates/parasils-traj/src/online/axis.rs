@@ -454,9 +454,29 @@ impl<T: Real> OnlineTrapezoid<T> {
         let vc = if t1 > T::zero() { vc } else { v0 };
         let p1 = p0 + t1 * (v0 + T::lit(0.5) * a1 * t1);
         let reach = p1 + vc * (t12 - t1);
-        let finite = [a1, t1, p1, vc, t12, a3, duration, reach, v0 * t1, vc * t3]
-            .iter()
-            .all(|x| x.is_finite());
+        // Where a first phase that brakes through rest turns back: the
+        // farthest position of the whole plan, which `p1` (back near the
+        // start) does not show. It overflowed from f64::MAX at 1e154/s.
+        let turn = if v0 * a1 < T::zero() {
+            p0 + T::lit(0.5) * v0 * (-v0 / a1).min(t1)
+        } else {
+            p0
+        };
+        let finite = [
+            a1,
+            t1,
+            p1,
+            vc,
+            t12,
+            a3,
+            duration,
+            reach,
+            turn,
+            v0 * t1,
+            vc * t3,
+        ]
+        .iter()
+        .all(|x| x.is_finite());
         if !finite {
             return Err(out_of_range(axis, (target - p0).abs()));
         }
@@ -622,5 +642,30 @@ impl<T: Real> Motion<T> for OnlineTrapezoid<T> {
     }
     fn sample(&self, t: T) -> State<T> {
         OnlineTrapezoid::sample(self, t)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_turn_past_the_largest_float_is_out_of_range() {
+        // The fuzzer's case (f64): from f64::MAX at 1e154/s away from the
+        // target, braking at 15163 turns back 3e303 further: past the
+        // largest float. The plan used to sample an infinite position.
+        let start = State {
+            position: f64::MAX,
+            velocity: 1e154,
+            acceleration: 1e154,
+        };
+        let r = OnlineTrapezoid::new(start, 315.0, Limits::new(1e154, 15163.0));
+        assert!(matches!(r, Err(Error::OutOfRange { axis: 0, .. })), "{r:?}");
+        // Towards the target it fits.
+        let start = State {
+            velocity: -1e154,
+            ..start
+        };
+        assert!(OnlineTrapezoid::new(start, 315.0, Limits::new(1e154, 15163.0)).is_ok());
     }
 }
