@@ -1,7 +1,8 @@
 //! The robot file parser with arbitrary text. No call may panic; an error
 //! says what is wrong in a message that is not empty; a geometry accepted
 //! is valid (the controller can be built from it) and comes back unchanged
-//! through the file's own writer.
+//! through the file's own writer, with the `[supervisor]` thresholds the
+//! file gave (to the bit).
 
 use parasils::kin::{Controller, RobotGeometry};
 use parasils_sim::robot_file;
@@ -16,22 +17,30 @@ pub fn robot_file(data: &[u8]) {
 
 /// The checks on one text.
 pub fn check_text(text: &str) {
-    let geometry = match robot_file::parse(text) {
-        Ok(g) => g,
+    let robot = match robot_file::parse_robot(text) {
+        Ok(r) => r,
         Err(e) => {
             assert!(!e.to_string().is_empty(), "an empty message for {e:?}");
             return;
         }
     };
-    accepted(&geometry);
-    let written = robot_file::to_toml_string(&geometry)
-        .unwrap_or_else(|e| panic!("an accepted geometry cannot be written: {e}"));
-    let back = robot_file::parse(&written).unwrap_or_else(|e| {
-        panic!("the file written for an accepted geometry is refused: {e}\n{written}")
+    accepted(&robot.geometry);
+    let written = robot_file::robot_to_toml_string(&robot)
+        .unwrap_or_else(|e| panic!("an accepted robot cannot be written: {e}"));
+    let back = robot_file::parse_robot(&written).unwrap_or_else(|e| {
+        panic!("the file written for an accepted robot is refused: {e}\n{written}")
     });
     assert_eq!(
-        back, geometry,
+        back.geometry, robot.geometry,
         "the geometry changed through its own file:\n{written}"
+    );
+    let bits = |r: &parasils_sim::Robot| -> Vec<(&str, u64)> {
+        r.supervisor.given().map(|(k, v)| (k, v.to_bits())).collect()
+    };
+    assert_eq!(
+        bits(&back),
+        bits(&robot),
+        "the supervisor thresholds changed through their own file:\n{written}"
     );
 }
 

@@ -3,15 +3,15 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::Result;
+use anyhow::{Result, anyhow};
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use parasils::paper;
 use parasils_calib::FitOptions;
 use parasils_calib::plan::PlanOptions;
+use parasils_sim::input::{ProcedureSource, RobotSource, TimingKind};
 use parasils_sim::reach::ReachOptions;
-use parasils_sim::scenario::{Retarget, Timing};
-use parasils_sim::{Format, Scenario};
-use parasils_sim::{procedure, robot_file};
+use parasils_sim::robot_file;
+use parasils_sim::scenario::Retarget;
+use parasils_sim::{Format, Input, InputError, Scenario};
 
 /// Kinematics and motion of PARA-SILSROB, the parallel robot for
 /// single-incision laparoscopic surgery.
@@ -63,19 +63,16 @@ pub struct RobotArg {
 }
 
 impl RobotArg {
+    /// The robot file given, for an [`Input`].
+    pub fn source(&self) -> Option<RobotSource> {
+        self.robot.clone().map(RobotSource::File)
+    }
+
     /// The robot file's geometry, or the paper's.
     pub fn geometry(&self) -> Result<parasils::kin::RobotGeometry<f64>> {
         Ok(match &self.robot {
             Some(path) => robot_file::load(path)?,
             None => parasils::kin::RobotGeometry::paper(),
-        })
-    }
-
-    /// The robot file's `[supervisor]` thresholds (none without a file).
-    pub fn supervisor(&self) -> Result<parasils_sim::supervisor::SupervisorTable> {
-        Ok(match &self.robot {
-            Some(path) => parasils_sim::supervisor::load(path)?,
-            None => parasils_sim::supervisor::SupervisorTable::default(),
         })
     }
 }
@@ -148,12 +145,14 @@ impl From<FormatArg> for Format {
 /// Arguments of `parasils simulate`.
 #[derive(Debug, Args)]
 pub struct SimulateArgs {
-    /// psi: increment from the start pose (final value with --absolute), deg.
-    #[arg(long, default_value_t = paper::PSI_DEG, allow_hyphen_values = true)]
-    pub psi: f64,
-    /// theta: increment from the start pose (final value with --absolute), deg.
-    #[arg(long, default_value_t = paper::THETA_DEG, allow_hyphen_values = true)]
-    pub theta: f64,
+    /// psi: increment from the start pose (final value with --absolute), deg
+    /// [default: 15, the paper's].
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub psi: Option<f64>,
+    /// theta: increment from the start pose (final value with --absolute),
+    /// deg [default: 25, the paper's].
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub theta: Option<f64>,
     /// Take --psi and --theta as final angles instead of increments.
     #[arg(long)]
     pub absolute: bool,
@@ -165,20 +164,20 @@ pub struct SimulateArgs {
     /// paper's]. With --timing optimal it binds only when given.
     #[arg(long, value_name = "DEG_PER_S2", allow_hyphen_values = true)]
     pub eps_max: Option<f64>,
-    /// Synchronisation of psi and theta.
-    #[arg(long, value_enum, default_value_t = SyncArg::Phase)]
-    pub sync: SyncArg,
+    /// Synchronisation of psi and theta [default: phase].
+    #[arg(long, value_enum)]
+    pub sync: Option<SyncArg>,
     /// How the turn is timed: the paper's trapezoid in psi and theta, or
     /// the fastest law along the same straight line whose twelve actuators
     /// stay within their velocity and acceleration limits (the robot
     /// file's; --omega-max and --eps-max bind as well when given). With
     /// --procedure, every motion is timed so, from rest to rest; the limits
-    /// the procedure states for a motion bind as well.
-    #[arg(long, value_enum, default_value_t = TimingArg::Trapezoid)]
-    pub timing: TimingArg,
-    /// Samples per second, Hz.
-    #[arg(long, value_name = "HZ", default_value_t = paper::RATE_HZ, allow_hyphen_values = true)]
-    pub rate: f64,
+    /// the procedure states for a motion bind as well [default: trapezoid].
+    #[arg(long, value_enum)]
+    pub timing: Option<TimingArg>,
+    /// Samples per second, Hz [default: 1000, the paper's].
+    #[arg(long, value_name = "HZ", allow_hyphen_values = true)]
+    pub rate: Option<f64>,
     /// A new goal commanded at T s while the platform moves: PSI,THETA read
     /// like --psi and --theta (increments from the start pose, final angles
     /// with --absolute), deg. It takes effect at the first sample at or after
@@ -220,12 +219,8 @@ pub struct SimulateArgs {
     /// ended; its start pose, tips and robot come from the file. The whole
     /// procedure is planned and checked before any output; the output gets
     /// the columns motion, motion_type, endoscope_depth_mm and the three
-    /// tips.
-    #[arg(
-        long,
-        value_name = "FILE.toml",
-        conflicts_with_all = ["psi", "theta", "absolute", "omega_max", "eps_max", "sync", "retarget", "stop_at", "pose", "tip_left", "tip_right", "robot"]
-    )]
+    /// tips. Only --rate and --timing may be given with it.
+    #[arg(long, value_name = "FILE.toml")]
     pub procedure: Option<PathBuf>,
     /// Plan and check the procedure, print the verdict and a table per
     /// motion (duration, peak rates, smallest margins, warnings), write
@@ -235,44 +230,34 @@ pub struct SimulateArgs {
 }
 
 impl SimulateArgs {
-    /// The scenario these arguments describe (loading the robot file if any).
-    pub fn scenario(&self) -> Result<Scenario> {
-        if let Some(path) = &self.procedure {
-            return Ok(Scenario {
-                rate_hz: self.rate,
-                timing: self.timing(),
-                ..procedure::load(path)?
-            });
-        }
-        let paper = Scenario::paper();
-        Ok(Scenario {
-            start_mm_deg: self.place.pose.unwrap_or(paper.start_mm_deg),
+    /// What these arguments ask for, each flag given or not: the syntax
+    /// translated, no rule applied ([`Input::resolve`] applies them).
+    pub fn input(&self) -> Input {
+        Input {
+            procedure: self.procedure.clone().map(ProcedureSource::File),
             psi_deg: self.psi,
             theta_deg: self.theta,
-            absolute: self.absolute,
-            omega_max_deg_s: self.omega_max.unwrap_or(paper.omega_max_deg_s),
-            eps_max_deg_s2: self.eps_max.unwrap_or(paper.eps_max_deg_s2),
-            sync: self.sync.into(),
+            absolute: self.absolute.then_some(true),
+            omega_max_deg_s: self.omega_max,
+            eps_max_deg_s2: self.eps_max,
+            sync: self.sync.map(Into::into),
+            timing: self.timing.map(|t| match t {
+                TimingArg::Trapezoid => TimingKind::Trapezoid,
+                TimingArg::Optimal => TimingKind::Optimal,
+            }),
             rate_hz: self.rate,
-            tip_left_mm: self.place.tip_left.unwrap_or(paper.tip_left_mm),
+            pose_mm_deg: self.place.pose,
+            tip_left_mm: self.place.tip_left,
             tip_right_mm: self.place.tip_right,
-            robot: self.robot.geometry()?,
-            retargets: self.retarget.clone(),
+            robot: self.robot.source(),
+            retarget: (!self.retarget.is_empty()).then(|| self.retarget.clone()),
             stop_at_s: self.stop_at,
-            supervisor: self.robot.supervisor()?,
-            timing: self.timing(),
-            ..paper
-        })
+        }
     }
 
-    /// `--timing`, the angular limits binding when given.
-    fn timing(&self) -> Timing {
-        match self.timing {
-            TimingArg::Trapezoid => Timing::Trapezoid,
-            TimingArg::Optimal => Timing::Optimal {
-                angular: self.omega_max.is_some() || self.eps_max.is_some(),
-            },
-        }
+    /// The scenario these arguments describe: [`Self::input`] resolved.
+    pub fn scenario(&self) -> Result<Scenario> {
+        resolve(self.input())
     }
 
     /// The output format for `path`: `--format` if given, else from the
@@ -321,6 +306,18 @@ pub struct FkArgs {
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
+}
+
+/// `input` resolved, its errors in the command line's words (flags, not
+/// field names).
+fn resolve(input: Input) -> Result<Scenario> {
+    input.resolve().map_err(|e| match e {
+        InputError::WithProcedure(field) => anyhow!(
+            "{} cannot be given with --procedure: a procedure has its own start, robot and motions",
+            field.flag()
+        ),
+        e => e.into(),
+    })
 }
 
 /// Parses `N` comma-separated finite floats.
@@ -472,13 +469,12 @@ pub struct ReachArgs {
 impl ReachArgs {
     /// The scenario: the paper's, with the pose, tips and robot given.
     pub fn scenario(&self) -> Result<Scenario> {
-        let paper = Scenario::paper();
-        Ok(Scenario {
-            start_mm_deg: self.place.pose.unwrap_or(paper.start_mm_deg),
-            tip_left_mm: self.place.tip_left.unwrap_or(paper.tip_left_mm),
+        resolve(Input {
+            pose_mm_deg: self.place.pose,
+            tip_left_mm: self.place.tip_left,
             tip_right_mm: self.place.tip_right,
-            robot: self.robot.geometry()?,
-            ..paper
+            robot: self.robot.source(),
+            ..Input::default()
         })
     }
 
@@ -568,7 +564,7 @@ pub struct ToleranceArgs {
     pub seed: u64,
     /// The motion: a procedure file (its robot and start come from the
     /// file). Default: the paper's reorientation.
-    #[arg(long, value_name = "FILE.toml", conflicts_with = "robot")]
+    #[arg(long, value_name = "FILE.toml")]
     pub procedure: Option<PathBuf>,
     /// The rate the motion is sampled at, Hz.
     #[arg(long, value_name = "HZ", default_value_t = 100.0)]
@@ -595,18 +591,13 @@ pub struct ToleranceArgs {
 }
 
 impl ToleranceArgs {
-    /// The motion's scenario.
+    /// The motion's scenario: the paper's reorientation, or the procedure.
     pub fn scenario(&self) -> Result<Scenario> {
-        if let Some(path) = &self.procedure {
-            return Ok(Scenario {
-                rate_hz: self.rate,
-                ..procedure::load(path)?
-            });
-        }
-        Ok(Scenario {
-            rate_hz: self.rate,
-            robot: self.robot.geometry()?,
-            ..Scenario::paper()
+        resolve(Input {
+            procedure: self.procedure.clone().map(ProcedureSource::File),
+            rate_hz: Some(self.rate),
+            robot: self.robot.source(),
+            ..Input::default()
         })
     }
 }

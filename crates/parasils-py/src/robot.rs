@@ -40,7 +40,8 @@ use crate::errors;
 #[pyclass(frozen, module = "parasils")]
 #[derive(Debug)]
 pub struct Robot {
-    geometry: RobotGeometry<f64>,
+    /// The robot file's whole content: geometry and supervisor thresholds.
+    model: parasils_sim::Robot,
     controller: Controller<f64>,
     source: Option<PathBuf>,
 }
@@ -48,17 +49,32 @@ pub struct Robot {
 impl Robot {
     /// The geometry, as given (not normalised).
     pub(crate) fn geometry(&self) -> &RobotGeometry<f64> {
-        &self.geometry
+        &self.model.geometry
+    }
+
+    /// The geometry and the supervisor thresholds, as the robot file gave
+    /// them: what `simulate(robot=...)` and the other runs use.
+    pub(crate) fn model(&self) -> &parasils_sim::Robot {
+        &self.model
     }
 
     /// The robot of a geometry (validated here), read from no file.
     pub(crate) fn from_geometry(py: Python<'_>, geometry: RobotGeometry<f64>) -> PyResult<Self> {
-        let controller = Controller::from_geometry(&geometry)
+        Self::from_model(py, parasils_sim::Robot::from(geometry), None)
+    }
+
+    /// The robot of a robot file's content (its geometry validated here).
+    fn from_model(
+        py: Python<'_>,
+        model: parasils_sim::Robot,
+        source: Option<PathBuf>,
+    ) -> PyResult<Self> {
+        let controller = Controller::from_geometry(&model.geometry)
             .map_err(|e| errors::kinematics(py, &e, None, None, ""))?;
         Ok(Self {
-            geometry,
+            model,
             controller,
-            source: None,
+            source,
         })
     }
 
@@ -96,9 +112,8 @@ impl Robot {
     /// The paper's robot (module 1's geometry assumed).
     #[new]
     fn new() -> Self {
-        let geometry = RobotGeometry::paper();
         Self {
-            geometry,
+            model: parasils_sim::Robot::paper(),
             controller: Controller::paper(),
             source: None,
         }
@@ -115,14 +130,8 @@ impl Robot {
     /// KinematicsError naming the parameter is its __cause__).
     #[staticmethod]
     fn from_toml(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
-        let geometry = robot_file::load(&path).map_err(|e| errors::robot_file(py, &e))?;
-        let controller = Controller::from_geometry(&geometry)
-            .map_err(|e| errors::kinematics(py, &e, None, None, ""))?;
-        Ok(Self {
-            geometry,
-            controller,
-            source: Some(path),
-        })
+        let model = robot_file::load_robot(&path).map_err(|e| errors::robot_file(py, &e))?;
+        Self::from_model(py, model, Some(path))
     }
 
     /// Robot.from_toml_str(text) -> Robot
@@ -135,12 +144,13 @@ impl Robot {
     /// for parameters that do not make a valid robot.
     #[staticmethod]
     fn from_toml_str(py: Python<'_>, text: &str) -> PyResult<Self> {
-        let geometry = robot_file::parse(text).map_err(|e| errors::robot_file(py, &e))?;
-        Self::from_geometry(py, geometry)
+        let model = robot_file::parse_robot(text).map_err(|e| errors::robot_file(py, &e))?;
+        Self::from_model(py, model, None)
     }
 
     /// A Robot pickles as its robot file's text (to_toml()), which reads
-    /// back to the same geometry, bit for bit.
+    /// back to the same geometry, bit for bit, and the same supervisor
+    /// thresholds.
     fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
         let py = slf.py();
         let text = slf.get().to_toml()?;
@@ -154,9 +164,26 @@ impl Robot {
         )
     }
 
-    /// The robot's geometry as a robot file (TOML; angles in deg, lengths in mm).
+    /// The robot as a robot file (TOML; angles in deg, lengths in mm): its
+    /// geometry, and its [supervisor] table when the robot file it was read
+    /// from had one.
     fn to_toml(&self) -> PyResult<String> {
-        robot_file::to_toml_string(&self.geometry).map_err(|e| PyValueError::new_err(e.to_string()))
+        robot_file::robot_to_toml_string(&self.model)
+            .map_err(|e| PyValueError::new_err(e.to_string()))
+    }
+
+    /// The margin supervisor's thresholds the robot file set in its
+    /// [supervisor] table, keyed as the file names them (cos_qs2_warn,
+    /// qs3_stop_mm, joint_limit_warn_deg, ...; in the file's units); the
+    /// ones not given are absent (they keep their defaults). simulate(),
+    /// tolerance studies and every run on this Robot use them.
+    #[getter]
+    fn supervisor<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        let dict = pyo3::types::PyDict::new(py);
+        for (key, value) in self.model.supervisor.given() {
+            dict.set_item(key, value)?;
+        }
+        Ok(dict)
     }
 
     /// True when module 1's geometry is assumed (the default: the real robot's
@@ -164,7 +191,7 @@ impl Robot {
     /// `assumed = false`.
     #[getter]
     fn module1_assumed(&self) -> bool {
-        self.geometry.module1.assumed
+        self.model.geometry.module1.assumed
     }
 
     /// Where module 1's geometry comes from, as every output labels it:
@@ -172,7 +199,7 @@ impl Robot {
     /// over N poses)" for a calibrated robot file, or "measured".
     #[getter]
     fn module1_provenance(&self) -> String {
-        self.geometry.module1.provenance().to_string()
+        self.model.geometry.module1.provenance().to_string()
     }
 
     /// The reach map: which camera orientations the platform can take from

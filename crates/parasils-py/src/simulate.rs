@@ -1,25 +1,25 @@
 //! `parasils.simulate`: the simulation library's run, returning the CSV's
 //! table as NumPy columns (and writing CSV or MCAP with `out=`).
 //!
-//! The arguments build a [`Scenario`] directly (user units, like the CLI's
-//! flags); the library's [`Simulation::run`] is the loop, the same as the
+//! The arguments build the simulation library's [`Input`] (user units, like
+//! the CLI's flags, each given or not), resolved as the CLI resolves its
+//! flags; the library's [`Simulation::run`] is the loop, the same as the
 //! CLI's, into a [`Tee`] of the output file (if any) and the table. A run
 //! with commands (`retarget=`, `stop_at_s=`) has the CLI's `command` column
 //! too, as integers.
 
 use core::convert::Infallible;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use numpy::IntoPyArray;
-use parasils_kin::RobotGeometry;
+use parasils_sim::input::{self, ProcedureSource, RobotSource};
 use parasils_sim::numbers::AtTime;
 use parasils_sim::procedure;
-use parasils_sim::scenario::{Retarget, Timing};
+use parasils_sim::scenario::Retarget;
 use parasils_sim::{
-    Format, OutputError, OutputFile, Record, RunError, Scenario, Simulation, SimulationError, Tee,
-    columns, robot_file,
+    Format, Input, InputError, OutputError, OutputFile, Record, RunError, Scenario, Simulation,
+    SimulationError, Tee, columns,
 };
-use parasils_traj::Synchronization;
 use pyo3::exceptions::{PyMemoryError, PyOSError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
@@ -109,10 +109,7 @@ fn simulation_error(py: Python<'_>, error: &SimulationError) -> PyErr {
 }
 
 /// `retarget=`: a sequence of `(t_s, psi_deg, theta_deg)` triples.
-fn retargets(value: Option<Bound<'_, PyAny>>) -> PyResult<Vec<Retarget>> {
-    let Some(value) = value else {
-        return Ok(Vec::new());
-    };
+fn retargets(value: Bound<'_, PyAny>) -> PyResult<Vec<Retarget>> {
     let shape = "retarget must be a sequence of (t_s, psi_deg, theta_deg) triples, \
                  e.g. [(1.2, 25.0, 15.0)]";
     if value.is_instance_of::<PyString>() {
@@ -215,17 +212,19 @@ pub(crate) fn paper_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
 }
 
 /// The compiled part of `parasils.simulate` (see its docstring in
-/// `python/parasils/__init__.py`): every argument keyword-only, `None` for
-/// the paper's value.
+/// `python/parasils/__init__.py`): every argument keyword-only, `None` when
+/// not given. The arguments are translated into the simulation library's
+/// [`Input`], whose resolution (the same the CLI calls) applies the
+/// defaults, the exclusions and the timing rule.
 #[pyfunction]
 #[pyo3(signature = (
     *,
     psi_deg = None,
     theta_deg = None,
-    absolute = false,
+    absolute = None,
     omega_max_deg_s = None,
     eps_max_deg_s2 = None,
-    sync = "phase",
+    sync = None,
     rate_hz = None,
     pose_mm_deg = None,
     tip_left_mm = None,
@@ -237,17 +236,17 @@ pub(crate) fn paper_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     stop_at_s = None,
     force = false,
     procedure = None,
-    timing = "trapezoid",
+    timing = None,
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn simulate<'py>(
     py: Python<'py>,
     psi_deg: Option<f64>,
     theta_deg: Option<f64>,
-    absolute: bool,
+    absolute: Option<bool>,
     omega_max_deg_s: Option<f64>,
     eps_max_deg_s2: Option<f64>,
-    sync: &str,
+    sync: Option<&str>,
     rate_hz: Option<f64>,
     pose_mm_deg: Option<ArrayArg<'py>>,
     tip_left_mm: Option<ArrayArg<'py>>,
@@ -259,29 +258,8 @@ pub(crate) fn simulate<'py>(
     stop_at_s: Option<f64>,
     force: bool,
     procedure: Option<Bound<'py, PyAny>>,
-    timing: &str,
+    timing: Option<&str>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let timing = match timing {
-        "trapezoid" => Timing::Trapezoid,
-        "optimal" => Timing::Optimal {
-            angular: omega_max_deg_s.is_some() || eps_max_deg_s2.is_some(),
-        },
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "timing must be 'trapezoid' or 'optimal', got {timing:?}"
-            )));
-        }
-    };
-    let sync = match sync {
-        "phase" => Synchronization::Phase,
-        "time" => Synchronization::Time,
-        "none" => Synchronization::None,
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "sync must be 'phase', 'time' or 'none', got {sync:?}"
-            )));
-        }
-    };
     let format = match format {
         None => None,
         Some("csv") => Some(Format::Csv),
@@ -292,102 +270,86 @@ pub(crate) fn simulate<'py>(
             )));
         }
     };
-    if let Some(procedure) = procedure {
-        let given = [
-            ("psi_deg", psi_deg.is_some()),
-            ("theta_deg", theta_deg.is_some()),
-            ("absolute", absolute),
-            ("omega_max_deg_s", omega_max_deg_s.is_some()),
-            ("eps_max_deg_s2", eps_max_deg_s2.is_some()),
-            ("sync", sync != Synchronization::Phase),
-            ("pose_mm_deg", pose_mm_deg.is_some()),
-            ("tip_left_mm", tip_left_mm.is_some()),
-            ("tip_right_mm", tip_right_mm.is_some()),
-            ("robot", robot.is_some()),
-            ("retarget", retarget.is_some()),
-            ("stop_at_s", stop_at_s.is_some()),
-        ];
-        if let Some((name, _)) = given.iter().find(|(_, g)| *g) {
-            return Err(PyTypeError::new_err(format!(
-                "{name} cannot be given with procedure=: a procedure has its own start, robot and motions"
-            )));
-        }
-        let scenario = Scenario {
-            rate_hz: rate_hz.unwrap_or(Scenario::paper().rate_hz),
-            timing,
-            ..procedure_scenario(py, &procedure)?
-        };
-        return finish(py, scenario, out, format, force);
-    }
-    enum RobotArg {
-        Paper,
-        Geometry(Box<RobotGeometry<f64>>),
-        File(PathBuf),
-    }
-    let robot = match &robot {
-        None => RobotArg::Paper,
-        Some(r) => match r.cast::<Robot>() {
-            Ok(r) => RobotArg::Geometry(Box::new(*r.get().geometry())),
-            Err(_) => RobotArg::File(r.extract::<PathBuf>().map_err(|_| {
-                PyTypeError::new_err(
-                    "robot must be a path to a robot file (str or os.PathLike) or a parasils.Robot",
-                )
-            })?),
-        },
-    };
-    let retargets = retargets(retarget)?;
-    let paper = Scenario::paper();
-    let start_mm_deg = fixed::<6>(pose_mm_deg, "pose_mm_deg")?;
-    let tip_left_mm = fixed::<3>(tip_left_mm, "tip_left_mm")?;
-    let tip_right_mm = fixed::<3>(tip_right_mm, "tip_right_mm")?;
-    let (robot, supervisor) = match robot {
-        RobotArg::Paper => (paper.robot, paper.supervisor),
-        RobotArg::Geometry(g) => (*g, paper.supervisor),
-        RobotArg::File(path) => (
-            robot_file::load(&path).map_err(|e| errors::robot_file(py, &e))?,
-            parasils_sim::supervisor::load(&path).map_err(|e| errors::robot_file(py, &e))?,
-        ),
-    };
-    let scenario = Scenario {
-        start_mm_deg: start_mm_deg.unwrap_or(paper.start_mm_deg),
-        psi_deg: psi_deg.unwrap_or(paper.psi_deg),
-        theta_deg: theta_deg.unwrap_or(paper.theta_deg),
+    let input = Input {
+        procedure: procedure.map(|p| procedure_source(&p)).transpose()?,
+        psi_deg,
+        theta_deg,
         absolute,
-        omega_max_deg_s: omega_max_deg_s.unwrap_or(paper.omega_max_deg_s),
-        eps_max_deg_s2: eps_max_deg_s2.unwrap_or(paper.eps_max_deg_s2),
-        sync,
-        rate_hz: rate_hz.unwrap_or(paper.rate_hz),
-        tip_left_mm: tip_left_mm.unwrap_or(paper.tip_left_mm),
-        tip_right_mm,
-        robot,
-        retargets,
+        omega_max_deg_s,
+        eps_max_deg_s2,
+        sync: sync
+            .map(input::sync_named)
+            .transpose()
+            .map_err(value_error)?,
+        timing: timing
+            .map(input::timing_named)
+            .transpose()
+            .map_err(value_error)?,
+        rate_hz,
+        pose_mm_deg: fixed::<6>(pose_mm_deg, "pose_mm_deg")?,
+        tip_left_mm: fixed::<3>(tip_left_mm, "tip_left_mm")?,
+        tip_right_mm: fixed::<3>(tip_right_mm, "tip_right_mm")?,
+        robot: robot.map(|r| robot_source(&r)).transpose()?,
+        retarget: retarget.map(retargets).transpose()?,
         stop_at_s,
-        supervisor,
-        timing,
-        ..paper
     };
+    let scenario = input.resolve().map_err(|e| input_error(py, e))?;
     finish(py, scenario, out, format, force)
+}
+
+fn value_error(e: InputError) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
+/// An [`InputError`] as Python raises it: `TypeError` for an argument given
+/// with `procedure=`, `ValueError` for an unknown name, the files' own
+/// exceptions for the procedure and the robot file.
+pub(crate) fn input_error(py: Python<'_>, error: InputError) -> PyErr {
+    match error {
+        InputError::WithProcedure(field) => PyTypeError::new_err(format!(
+            "{field} cannot be given with procedure=: a procedure has its own start, robot and motions"
+        )),
+        InputError::Procedure(procedure::ProcedureError::Robot(e)) | InputError::Robot(e) => {
+            errors::robot_file(py, &e)
+        }
+        InputError::Procedure(e @ procedure::ProcedureError::Io { .. }) => {
+            PyOSError::new_err(e.to_string())
+        }
+        e => PyValueError::new_err(e.to_string()),
+    }
+}
+
+/// `robot=`: a `parasils.Robot` (its geometry and supervisor thresholds) or
+/// a path to a robot file.
+pub(crate) fn robot_source(value: &Bound<'_, PyAny>) -> PyResult<RobotSource> {
+    if let Ok(r) = value.cast::<Robot>() {
+        return Ok(RobotSource::Loaded(Box::new(r.get().model().clone())));
+    }
+    value
+        .extract::<PathBuf>()
+        .map(RobotSource::File)
+        .map_err(|_| {
+            PyTypeError::new_err(
+                "robot must be a path to a robot file (str or os.PathLike) or a parasils.Robot",
+            )
+        })
 }
 
 /// `procedure=`: a path to a procedure file (TOML), or a dict of the same
 /// structure (its robot path relative to the working directory).
-fn procedure_scenario(py: Python<'_>, value: &Bound<'_, PyAny>) -> PyResult<Scenario> {
-    let error = |e: procedure::ProcedureError| match e {
-        procedure::ProcedureError::Robot(e) => errors::robot_file(py, &e),
-        procedure::ProcedureError::Io { .. } => PyOSError::new_err(e.to_string()),
-        e => PyValueError::new_err(e.to_string()),
-    };
+pub(crate) fn procedure_source(value: &Bound<'_, PyAny>) -> PyResult<ProcedureSource> {
     if value.is_instance_of::<PyDict>() {
-        let json = py.import("json")?.call_method1("dumps", (value,))?;
-        let text: String = json.extract()?;
-        return procedure::parse_json(&text, Path::new(".")).map_err(error);
+        let json = value.py().import("json")?.call_method1("dumps", (value,))?;
+        return Ok(ProcedureSource::Json(json.extract()?));
     }
-    let path: PathBuf = value.extract().map_err(|_| {
-        PyTypeError::new_err(
-            "procedure must be a path to a procedure file (str or os.PathLike) or a dict",
-        )
-    })?;
-    procedure::load(&path).map_err(error)
+    value
+        .extract::<PathBuf>()
+        .map(ProcedureSource::File)
+        .map_err(|_| {
+            PyTypeError::new_err(
+                "procedure must be a path to a procedure file (str or os.PathLike) or a dict",
+            )
+        })
 }
 
 /// Runs `scenario` (into `out` if given) and returns its columns.

@@ -103,9 +103,9 @@ impl Inputs {
             ..base
         };
         if let Some(text) = &self.robot {
-            scenario.robot = robot_file::parse(text).map_err(|e| errors::robot_file(py, &e))?;
-            scenario.supervisor = parasils_sim::supervisor::parse(text, "robot file")
-                .map_err(|e| errors::robot_file(py, &e))?;
+            let robot = robot_file::parse_robot(text).map_err(|e| errors::robot_file(py, &e))?;
+            scenario.robot = robot.geometry;
+            scenario.supervisor = robot.supervisor;
         }
         Ok(scenario)
     }
@@ -165,7 +165,7 @@ fn read_robot(py: Python<'_>, value: Option<&Bound<'_, PyAny>>) -> PyResult<Opti
         return Ok(None);
     };
     if let Ok(robot) = value.cast::<Robot>() {
-        return robot_file::to_toml_string(robot.get().geometry())
+        return robot_file::robot_to_toml_string(robot.get().model())
             .map(Some)
             .map_err(|e| PyValueError::new_err(e.to_string()));
     }
@@ -176,8 +176,7 @@ fn read_robot(py: Python<'_>, value: Option<&Bound<'_, PyAny>>) -> PyResult<Opti
     })?;
     let text = std::fs::read_to_string(&path).map_err(|e| errors::os_error(&e, &path))?;
     // Its errors name the file here; the text alone is what a pickle carries.
-    robot_file::load(&path).map_err(|e| errors::robot_file(py, &e))?;
-    parasils_sim::supervisor::load(&path).map_err(|e| errors::robot_file(py, &e))?;
+    robot_file::load_robot(&path).map_err(|e| errors::robot_file(py, &e))?;
     Ok(Some(text))
 }
 

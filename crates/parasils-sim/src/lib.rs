@@ -49,6 +49,7 @@
 //! # Modules
 //! | module | concept |
 //! |---|---|
+//! | [`input`] | [`Input`]: what a user asks for, each field given or not; the one resolution of defaults, exclusions and the timing rule that every front end calls |
 //! | [`scenario`] | the inputs in user units (mm, deg, deg/s, deg/s^2, Hz), the defaults stated once, the commands |
 //! | [`motion`] | a procedure's motions in user units: goals of the paper's four types, limits, names |
 //! | [`procedure`] | procedure files (TOML) into a scenario with motions |
@@ -59,6 +60,7 @@
 //! | [`sink`] | [`Sink`] and [`Tee`] |
 //! | [`csv`], [`mcap`], [`summary`], `plot` | the sinks |
 //! | [`output`] | [`OutputFile`]: CSV or MCAP written atomically |
+//! | [`robot`] | [`Robot`]: a robot file's whole content (geometry and supervisor thresholds), read once |
 //! | [`robot_file`] | the robot's geometry as TOML |
 //! | [`reach`] | reach maps: the orientations reachable with both tips held |
 //! | [`numbers`] | numbers in messages, readable whatever their size |
@@ -81,6 +83,7 @@
 pub mod columns;
 pub mod csv;
 pub mod engine;
+pub mod input;
 pub mod mcap;
 pub mod motion;
 pub mod numbers;
@@ -90,6 +93,7 @@ pub mod plot;
 pub mod procedure;
 pub mod reach;
 pub mod record;
+pub mod robot;
 pub mod robot_file;
 pub mod scenario;
 pub mod sink;
@@ -98,7 +102,9 @@ pub mod supervisor;
 pub mod timing;
 
 pub use engine::{RunError, Simulation, SimulationError};
+pub use input::{Input, InputError};
 pub use output::{Format, OutputError, OutputFile};
 pub use record::{InstrumentRecord, Module1Record, Record};
+pub use robot::Robot;
 pub use scenario::Scenario;
 pub use sink::{BoxError, Sink, Tee};

@@ -304,9 +304,9 @@ fn build(
     let errors = Errors { origin, text };
     let mut scenario = Scenario::paper();
     if let Some(robot) = &file.robot {
-        let path = base.join(robot);
-        scenario.robot = robot_file::load(&path)?;
-        scenario.supervisor = crate::supervisor::load(&path)?;
+        let robot = robot_file::load_robot(base.join(robot))?;
+        scenario.robot = robot.geometry;
+        scenario.supervisor = robot.supervisor;
     }
     if let Some(pose) = file.pose {
         scenario.start_mm_deg = errors.finite(None, "pose", pose)?;

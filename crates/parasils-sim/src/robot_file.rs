@@ -43,11 +43,14 @@ use parasils::kin::{
 };
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+use crate::robot::Robot;
+use crate::supervisor::SupervisorTable;
+
 mod locate;
 mod write;
 
 use locate::locate;
-pub use write::to_toml_string;
+pub use write::{robot_to_toml_string, to_toml_string};
 
 /// What went wrong with a robot file.
 ///
@@ -164,10 +167,10 @@ pub struct RobotFile {
     /// assumed, when the table is missing).
     #[serde(default = "EndoscopeFile::paper")]
     pub endoscope: EndoscopeFile,
-    /// `[supervisor]`: the margin supervisor's thresholds, read by
-    /// [`crate::supervisor`] (accepted here, not part of the geometry).
+    /// `[supervisor]`: the margin supervisor's thresholds (see
+    /// [`crate::supervisor`]; not part of the geometry).
     #[serde(default, skip_serializing)]
-    pub supervisor: Option<toml::Table>,
+    pub supervisor: Option<SupervisorTable>,
 }
 
 /// The endoscope in the file: `[endoscope]`.
@@ -609,13 +612,21 @@ impl InstrumentFile {
     }
 }
 
-/// The geometry in a robot file's text, validated. Errors name `"robot file"`
-/// as their origin; see [`load`] for a path.
+/// The geometry in a robot file's text, validated: [`parse_robot`]'s
+/// geometry. Errors name `"robot file"` as their origin; see [`load`] for a
+/// path.
 pub fn parse(text: &str) -> Result<RobotGeometry<f64>, RobotFileError> {
+    parse_robot(text).map(|robot| robot.geometry)
+}
+
+/// The whole robot in a robot file's text, validated: its geometry and its
+/// `[supervisor]` thresholds, read in one pass. Errors name `"robot file"`
+/// as their origin; see [`load_robot`] for a path.
+pub fn parse_robot(text: &str) -> Result<Robot, RobotFileError> {
     parse_from(text, "robot file")
 }
 
-fn parse_from(text: &str, origin: &str) -> Result<RobotGeometry<f64>, RobotFileError> {
+fn parse_from(text: &str, origin: &str) -> Result<Robot, RobotFileError> {
     let file: RobotFile = toml::from_str(text).map_err(|e| parse_error(text, origin, e))?;
     let geometry = file.to_geometry();
     // Module by module, so that an instrument's error says which side.
@@ -637,7 +648,10 @@ fn parse_from(text: &str, origin: &str) -> Result<RobotGeometry<f64>, RobotFileE
             });
         }
     }
-    Ok(geometry)
+    Ok(Robot {
+        geometry,
+        supervisor: file.supervisor.unwrap_or_default(),
+    })
 }
 
 /// A [`RobotFileError::Parse`] with the line, column, key and text of the
@@ -667,8 +681,16 @@ pub(crate) fn parse_error(text: &str, origin: &str, source: toml::de::Error) -> 
     }
 }
 
-/// The geometry in the robot file at `path`, validated.
+/// The geometry in the robot file at `path`, validated: [`load_robot`]'s
+/// geometry.
 pub fn load(path: impl AsRef<Path>) -> Result<RobotGeometry<f64>, RobotFileError> {
+    load_robot(path).map(|robot| robot.geometry)
+}
+
+/// The whole robot in the robot file at `path`, validated: its geometry and
+/// its `[supervisor]` thresholds, from one reading of the file. This is what
+/// every front end loads a `--robot`/`robot=` file with.
+pub fn load_robot(path: impl AsRef<Path>) -> Result<Robot, RobotFileError> {
     let path = path.as_ref();
     let text = std::fs::read_to_string(path).map_err(|error| RobotFileError::Io {
         path: path.to_owned(),

@@ -29,102 +29,158 @@
 //! threshold must be above the solvers' hard one and each warning at least
 //! its stop threshold.
 
-use std::path::Path;
-
 use parasils::Supervisor;
 use parasils::supervisor::Margin;
-use serde::Deserialize;
-
-use crate::robot_file::RobotFileError;
+use serde::{Deserialize, Serialize};
 
 /// The `[supervisor]` table: the thresholds a robot file sets, each `None`
 /// when not given.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SupervisorTable {
     /// `|cos qs2|`, warning.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub cos_qs2_warn: Option<f64>,
     /// `|cos qs2|`, stop.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub cos_qs2_stop: Option<f64>,
     /// `qs3`, warning, mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub qs3_warn_mm: Option<f64>,
     /// `qs3`, stop, mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub qs3_stop_mm: Option<f64>,
     /// `qs1`, `qs2` to their limits, warning, deg.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub joint_limit_warn_deg: Option<f64>,
     /// `qs1`, `qs2` to their limits, stop, deg.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub joint_limit_stop_deg: Option<f64>,
     /// `qs3` to its limits, warning, mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub qs3_limit_warn_mm: Option<f64>,
     /// `qs3` to its limits, stop, mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub qs3_limit_stop_mm: Option<f64>,
     /// Module 1's serial margin, warning.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub serial_margin_warn: Option<f64>,
     /// Module 1's serial margin, stop.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub serial_margin_stop: Option<f64>,
     /// Module 1's parallel margin, warning.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub parallel_margin_warn: Option<f64>,
     /// Module 1's parallel margin, stop.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub parallel_margin_stop: Option<f64>,
     /// Module 1's strokes, warning, mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub stroke_warn_mm: Option<f64>,
     /// Module 1's strokes, stop, mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub stroke_stop_mm: Option<f64>,
 }
 
-#[derive(Deserialize)]
-struct Only {
-    #[serde(default)]
-    supervisor: Option<SupervisorTable>,
-}
-
 impl SupervisorTable {
-    /// The margins each key sets (both modules' for the instrument keys), the
-    /// value in library units, and whether it is a warning (else a stop).
-    fn entries(&self) -> [(&'static [Margin], Option<f64>, bool); 14] {
+    /// Each key: its name in the file, the margins it sets (both modules'
+    /// for the instrument keys), the value in library units, and whether it
+    /// is a warning (else a stop).
+    fn entries(&self) -> [Entry; 14] {
         use Margin::{
             LeftAngleLimits, LeftCosQs2, LeftQs3, LeftQs3Limits, Parallel, RightAngleLimits,
             RightCosQs2, RightQs3, RightQs3Limits, Serial, Stroke,
         };
-        let rad = |v: Option<f64>| v.map(f64::to_radians);
+        const COS_QS2: &[Margin] = &[LeftCosQs2, RightCosQs2];
+        const QS3: &[Margin] = &[LeftQs3, RightQs3];
+        const ANGLES: &[Margin] = &[LeftAngleLimits, RightAngleLimits];
+        const QS3_LIMITS: &[Margin] = &[LeftQs3Limits, RightQs3Limits];
+        let t = self;
         [
-            (&[LeftCosQs2, RightCosQs2], self.cos_qs2_warn, true),
-            (&[LeftCosQs2, RightCosQs2], self.cos_qs2_stop, false),
-            (&[LeftQs3, RightQs3], self.qs3_warn_mm, true),
-            (&[LeftQs3, RightQs3], self.qs3_stop_mm, false),
-            (
-                &[LeftAngleLimits, RightAngleLimits],
-                rad(self.joint_limit_warn_deg),
+            Entry::new("cos_qs2_warn", COS_QS2, t.cos_qs2_warn, 1.0, true),
+            Entry::new("cos_qs2_stop", COS_QS2, t.cos_qs2_stop, 1.0, false),
+            Entry::new("qs3_warn_mm", QS3, t.qs3_warn_mm, 1.0, true),
+            Entry::new("qs3_stop_mm", QS3, t.qs3_stop_mm, 1.0, false),
+            Entry::new(
+                "joint_limit_warn_deg",
+                ANGLES,
+                t.joint_limit_warn_deg,
+                RAD,
                 true,
             ),
-            (
-                &[LeftAngleLimits, RightAngleLimits],
-                rad(self.joint_limit_stop_deg),
+            Entry::new(
+                "joint_limit_stop_deg",
+                ANGLES,
+                t.joint_limit_stop_deg,
+                RAD,
                 false,
             ),
-            (
-                &[LeftQs3Limits, RightQs3Limits],
-                self.qs3_limit_warn_mm,
+            Entry::new(
+                "qs3_limit_warn_mm",
+                QS3_LIMITS,
+                t.qs3_limit_warn_mm,
+                1.0,
                 true,
             ),
-            (
-                &[LeftQs3Limits, RightQs3Limits],
-                self.qs3_limit_stop_mm,
+            Entry::new(
+                "qs3_limit_stop_mm",
+                QS3_LIMITS,
+                t.qs3_limit_stop_mm,
+                1.0,
                 false,
             ),
-            (&[Serial], self.serial_margin_warn, true),
-            (&[Serial], self.serial_margin_stop, false),
-            (&[Parallel], self.parallel_margin_warn, true),
-            (&[Parallel], self.parallel_margin_stop, false),
-            (&[Stroke], self.stroke_warn_mm, true),
-            (&[Stroke], self.stroke_stop_mm, false),
+            Entry::new(
+                "serial_margin_warn",
+                &[Serial],
+                t.serial_margin_warn,
+                1.0,
+                true,
+            ),
+            Entry::new(
+                "serial_margin_stop",
+                &[Serial],
+                t.serial_margin_stop,
+                1.0,
+                false,
+            ),
+            Entry::new(
+                "parallel_margin_warn",
+                &[Parallel],
+                t.parallel_margin_warn,
+                1.0,
+                true,
+            ),
+            Entry::new(
+                "parallel_margin_stop",
+                &[Parallel],
+                t.parallel_margin_stop,
+                1.0,
+                false,
+            ),
+            Entry::new("stroke_warn_mm", &[Stroke], t.stroke_warn_mm, 1.0, true),
+            Entry::new("stroke_stop_mm", &[Stroke], t.stroke_stop_mm, 1.0, false),
         ]
+    }
+
+    /// The thresholds given, each with its key as the file names it, in the
+    /// file's units (mm, deg, or none), in the order of the table above.
+    pub fn given(&self) -> impl Iterator<Item = (&'static str, f64)> {
+        self.entries()
+            .into_iter()
+            .filter_map(|e| e.file_value.map(|v| (e.key, v)))
     }
 
     /// `base` with the thresholds this table gives.
     pub fn apply(&self, mut base: Supervisor<f64>) -> Supervisor<f64> {
-        for (margins, value, warn) in self.entries() {
-            if let Some(v) = value {
+        for Entry {
+            margins,
+            file_value,
+            scale,
+            warn,
+            ..
+        } in self.entries()
+        {
+            if let Some(v) = file_value.map(|v| v * scale) {
                 for &m in margins {
                     if warn {
                         base.warn[m] = v;
@@ -139,45 +195,52 @@ impl SupervisorTable {
 
     /// Whether no threshold is given.
     pub fn is_empty(&self) -> bool {
-        self.entries().iter().all(|(_, v, _)| v.is_none())
+        self.given().next().is_none()
     }
 }
 
-/// The `[supervisor]` table of a robot file's text (empty when it has none);
-/// errors name `origin`, the line and the key.
-///
-/// # Errors
-/// [`RobotFileError::Parse`] for malformed TOML, an unknown key or a value
-/// that is not a number.
-pub fn parse(text: &str, origin: &str) -> Result<SupervisorTable, RobotFileError> {
-    let only: Only =
-        toml::from_str(text).map_err(|e| crate::robot_file::parse_error(text, origin, e))?;
-    Ok(only.supervisor.unwrap_or_default())
+/// Degrees to radians.
+const RAD: f64 = core::f64::consts::PI / 180.0;
+
+/// One key of the table.
+struct Entry {
+    key: &'static str,
+    margins: &'static [Margin],
+    file_value: Option<f64>,
+    /// The factor from the file's unit to the library's.
+    scale: f64,
+    warn: bool,
 }
 
-/// The `[supervisor]` table of the robot file at `path`.
-///
-/// # Errors
-/// [`RobotFileError::Io`] when the file cannot be read, and as [`parse`].
-pub fn load(path: impl AsRef<Path>) -> Result<SupervisorTable, RobotFileError> {
-    let path = path.as_ref();
-    let text = std::fs::read_to_string(path).map_err(|error| RobotFileError::Io {
-        path: path.to_owned(),
-        error,
-    })?;
-    parse(&text, &path.display().to_string())
+impl Entry {
+    const fn new(
+        key: &'static str,
+        margins: &'static [Margin],
+        file_value: Option<f64>,
+        scale: f64,
+        warn: bool,
+    ) -> Self {
+        Self {
+            key,
+            margins,
+            file_value,
+            scale,
+            warn,
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    fn table(text: &str) -> SupervisorTable {
+        toml::from_str(text).unwrap_or_else(|e| panic!("{text}: {e}"))
+    }
+
     #[test]
-    fn given_keys_replace_their_thresholds_only() -> Result<(), RobotFileError> {
-        let t = parse(
-            "[module1]\nassumed = true\n[supervisor]\ncos_qs2_warn = 0.2\njoint_limit_stop_deg = 2\n",
-            "r.toml",
-        )?;
+    fn given_keys_replace_their_thresholds_only() {
+        let t = table("cos_qs2_warn = 0.2\njoint_limit_stop_deg = 2\n");
         let base = Supervisor::<f64>::default();
         let s = t.apply(base);
         assert_eq!(s.warn[Margin::LeftCosQs2], 0.2);
@@ -185,19 +248,54 @@ mod tests {
         assert_eq!(s.stop[Margin::RightAngleLimits], 2f64.to_radians());
         assert_eq!(s.stop[Margin::LeftCosQs2], base.stop[Margin::LeftCosQs2]);
         assert_eq!(s.warn[Margin::Parallel], base.warn[Margin::Parallel]);
-        assert!(parse("[module1]\n", "r.toml")?.is_empty());
-        Ok(())
+        assert!(table("").is_empty());
+        assert!(!t.is_empty());
+        let given: Vec<_> = t.given().collect();
+        assert_eq!(
+            given,
+            [("cos_qs2_warn", 0.2), ("joint_limit_stop_deg", 2.0)]
+        );
     }
 
     #[test]
-    fn unknown_keys_are_errors_with_their_line() {
-        let e = parse("[supervisor]\ncos_qs2_warn = 0.2\nspeed = 3\n", "r.toml")
-            .map(|_| ())
-            .map_err(|e| e.to_string());
-        let Err(text) = e else {
-            panic!("an unknown key is an error");
-        };
-        assert!(text.starts_with("r.toml, line 3"), "{text}");
-        assert!(text.contains("unknown field `speed`"), "{text}");
+    fn every_key_is_named_as_the_file_names_it() {
+        // Each field set to a distinct value, written by serde, read back
+        // through `given`: the names and the order agree with the struct's.
+        let mut text = String::new();
+        let names = [
+            "cos_qs2_warn",
+            "cos_qs2_stop",
+            "qs3_warn_mm",
+            "qs3_stop_mm",
+            "joint_limit_warn_deg",
+            "joint_limit_stop_deg",
+            "qs3_limit_warn_mm",
+            "qs3_limit_stop_mm",
+            "serial_margin_warn",
+            "serial_margin_stop",
+            "parallel_margin_warn",
+            "parallel_margin_stop",
+            "stroke_warn_mm",
+            "stroke_stop_mm",
+        ];
+        for (k, name) in names.iter().enumerate() {
+            text.push_str(&format!("{name} = {}.5\n", k + 1));
+        }
+        let t = table(&text);
+        let given: Vec<_> = t.given().collect();
+        let expected: Vec<_> = names
+            .iter()
+            .enumerate()
+            .map(|(k, n)| (*n, k as f64 + 1.5))
+            .collect();
+        assert_eq!(given, expected);
+    }
+
+    #[test]
+    fn a_table_writes_only_its_given_keys_and_reads_back() {
+        let t = table("qs3_warn_mm = 7.5\nparallel_margin_stop = 0.04\n");
+        let text = toml::to_string(&t).unwrap_or_default();
+        assert_eq!(text, "qs3_warn_mm = 7.5\nparallel_margin_stop = 0.04\n");
+        assert_eq!(table(&text), t);
     }
 }

@@ -69,13 +69,13 @@ _PAPER = _parasils.PAPER
 
 def simulate(
     *,
-    psi_deg=_PAPER["psi_deg"],
-    theta_deg=_PAPER["theta_deg"],
-    absolute=False,
-    omega_max_deg_s=_PAPER["omega_max_deg_s"],
-    eps_max_deg_s2=_PAPER["eps_max_deg_s2"],
-    sync="phase",
-    rate_hz=_PAPER["rate_hz"],
+    psi_deg=None,
+    theta_deg=None,
+    absolute=None,
+    omega_max_deg_s=None,
+    eps_max_deg_s2=None,
+    sync=None,
+    rate_hz=None,
     pose_mm_deg=None,
     tip_left_mm=None,
     tip_right_mm=None,
@@ -87,7 +87,7 @@ def simulate(
     pose=None,
     force=False,
     procedure=None,
-    timing="trapezoid",
+    timing=None,
 ):
     """Simulates an endoscope reorientation (motion type 4) with the
     simulation library, as ``parasils simulate`` does: the platform turns
@@ -96,7 +96,11 @@ def simulate(
     keep their tips still. The defaults are the paper's scenario (see
     docs/model.md, "Check values"): 4501 samples over 4.5 s.
 
-    Keyword arguments (the CLI's options, names with their units):
+    Keyword arguments (the CLI's options, names with their units). Each
+    is None when not given, which is not the same as giving its default:
+    the rules (defaults, what a procedure excludes, which limits bind under
+    timing="optimal") are the simulation library's, the same code the CLI's
+    flags go through, so the same request gives the same table to the bit.
 
     - psi_deg, theta_deg: the increments of psi and theta from the start
       pose, deg (the final angles with absolute=True); default 15, 25.
@@ -140,7 +144,7 @@ def simulate(
       eps_max_deg_s2) or "optimal" (--timing optimal): the fastest turn along
       the same straight line whose twelve actuators stay within the robot's
       velocity and acceleration limits; omega_max_deg_s and eps_max_deg_s2
-      bind as well only when given other values than the paper's. With
+      bind as well only when given (even at the paper's values). With
       procedure, every motion is timed so, from rest to rest; the limits the
       procedure states for a motion bind as well (an endoscope insertion,
       which moves no actuator, keeps its own limits, stated or default).
@@ -194,42 +198,7 @@ def simulate(
             stacklevel=2,
         )
         pose_mm_deg = pose
-    if procedure is not None:
-        scenario = {
-            "psi_deg": psi_deg != _PAPER["psi_deg"],
-            "theta_deg": theta_deg != _PAPER["theta_deg"],
-            "absolute": absolute,
-            "omega_max_deg_s": omega_max_deg_s != _PAPER["omega_max_deg_s"],
-            "eps_max_deg_s2": eps_max_deg_s2 != _PAPER["eps_max_deg_s2"],
-            "sync": sync != "phase",
-            "pose_mm_deg": pose_mm_deg is not None,
-            "tip_left_mm": tip_left_mm is not None,
-            "tip_right_mm": tip_right_mm is not None,
-            "robot": robot is not None,
-            "retarget": retarget is not None,
-            "stop_at_s": stop_at_s is not None,
-        }
-        for name, given in scenario.items():
-            if given:
-                raise TypeError(
-                    f"simulate() got {name} with procedure: a procedure has its own "
-                    "start, robot and motions"
-                )
-        return _parasils.simulate(
-            procedure=procedure,
-            rate_hz=rate_hz,
-            out=out,
-            format=format,
-            force=force,
-            timing=timing,
-        )
-    angular_given = (
-        omega_max_deg_s != _PAPER["omega_max_deg_s"] or eps_max_deg_s2 != _PAPER["eps_max_deg_s2"]
-    )
-    if timing == "optimal" and not angular_given:
-        omega_max_deg_s = eps_max_deg_s2 = None
     return _parasils.simulate(
-        timing=timing,
         psi_deg=psi_deg,
         theta_deg=theta_deg,
         absolute=absolute,
@@ -246,6 +215,8 @@ def simulate(
         retarget=retarget,
         stop_at_s=stop_at_s,
         force=force,
+        procedure=procedure,
+        timing=timing,
     )
 
 

@@ -40,7 +40,12 @@ class Robot:
         """The robot of a robot file's text (TOML, as to_toml() writes it);
         a Robot pickles as that text."""
     def to_toml(self) -> str:
-        """The geometry as a robot file (TOML)."""
+        """The robot as a robot file (TOML): the geometry, and the
+        [supervisor] table when the file it was read from had one."""
+    @property
+    def supervisor(self) -> Dict[str, float]:
+        """The margin supervisor's thresholds the robot file set
+        ([supervisor]), keyed as the file names them, in its units."""
     @property
     def module1_assumed(self) -> bool:
         """Whether module 1's geometry is assumed (not the real robot's)."""
@@ -213,13 +218,13 @@ class Robot:
 
 def simulate(
     *,
-    psi_deg: float = ...,
-    theta_deg: float = ...,
-    absolute: bool = False,
-    omega_max_deg_s: float = ...,
-    eps_max_deg_s2: float = ...,
-    sync: Literal["phase", "time", "none"] = "phase",
-    rate_hz: float = ...,
+    psi_deg: Optional[float] = None,
+    theta_deg: Optional[float] = None,
+    absolute: Optional[bool] = None,
+    omega_max_deg_s: Optional[float] = None,
+    eps_max_deg_s2: Optional[float] = None,
+    sync: Optional[Literal["phase", "time", "none"]] = None,
+    rate_hz: Optional[float] = None,
     pose_mm_deg: Optional[Sequence[float]] = None,
     tip_left_mm: Optional[Sequence[float]] = None,
     tip_right_mm: Optional[Sequence[float]] = None,
@@ -231,7 +236,7 @@ def simulate(
     pose: Optional[Sequence[float]] = None,
     force: bool = False,
     procedure: Union[_Path, Dict[str, Any], None] = None,
-    timing: Literal["trapezoid", "optimal"] = "trapezoid",
+    timing: Optional[Literal["trapezoid", "optimal"]] = None,
 ) -> Dict[str, npt.NDArray[Any]]:
     """``parasils simulate`` from the simulation library: the CSV table as
     NumPy columns keyed by COLUMNS (float64). ``pose_mm_deg`` is (x, y, z mm,

@@ -4,6 +4,7 @@
 use parasils::kin::RobotGeometry;
 
 use super::{RobotFile, RobotFileError};
+use crate::robot::Robot;
 
 /// The header of every file this module writes.
 const HEADER: &str = "\
@@ -90,6 +91,18 @@ pub fn to_toml_string(geometry: &RobotGeometry<f64>) -> Result<String, RobotFile
             }
         }
         out.push('\n');
+    }
+    Ok(out)
+}
+
+/// The TOML text of a whole robot: [`to_toml_string`] of its geometry, then
+/// its `[supervisor]` table with the thresholds it gives (none: no table), so
+/// that [`parse_robot`](super::parse_robot) reads back the same [`Robot`].
+pub fn robot_to_toml_string(robot: &Robot) -> Result<String, RobotFileError> {
+    let mut out = to_toml_string(&robot.geometry)?;
+    if !robot.supervisor.is_empty() {
+        out.push_str("\n[supervisor]\n");
+        out.push_str(&toml::to_string(&robot.supervisor)?);
     }
     Ok(out)
 }

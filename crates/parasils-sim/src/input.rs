@@ -1,0 +1,528 @@
+//! What a user asks `simulate` for, as given: the one input model of every
+//! front end.
+//!
+//! The command line, the Python bindings and the fuzz targets only translate
+//! their own syntax into an [`Input`]; [`Input::resolve`] then applies the
+//! rules, once, for all of them:
+//! - **not given is not the default.** Every field is `None` until the user
+//!   gives it, so "given the paper's value" and "not given" stay distinct:
+//!   `--omega-max 10` binds under `--timing optimal` although 10 deg/s is the
+//!   paper's limit, and so does `omega_max_deg_s=10`;
+//! - **the defaults** are the paper's ([`Scenario::paper`]);
+//! - **the exclusions**: a procedure brings its own start, robot and motions,
+//!   so only the rate and the timing may be given with it
+//!   ([`InputError::WithProcedure`] names the first field that may not);
+//! - **the timing rule**: under [`TimingKind::Optimal`], the angular limits
+//!   bind only when one of them is given;
+//! - **files are read once**: a robot file into one [`Robot`] (geometry and
+//!   supervisor thresholds), a procedure into its scenario.
+//!
+//! ```
+//! use parasils_sim::input::{Input, TimingKind};
+//! use parasils_sim::scenario::Timing;
+//!
+//! // Given, even at the paper's value: the angular limits bind.
+//! let given = Input {
+//!     timing: Some(TimingKind::Optimal),
+//!     omega_max_deg_s: Some(10.0),
+//!     ..Input::default()
+//! }
+//! .resolve()?;
+//! assert_eq!(given.timing, Timing::Optimal { angular: true });
+//! assert_eq!(given.omega_max_deg_s, 10.0);
+//!
+//! // Not given: only the actuators' limits bind.
+//! let free = Input { timing: Some(TimingKind::Optimal), ..Input::default() }.resolve()?;
+//! assert_eq!(free.timing, Timing::Optimal { angular: false });
+//!
+//! // Nothing given is the paper's scenario.
+//! assert_eq!(Input::default().resolve()?, parasils_sim::Scenario::paper());
+//! # Ok::<(), parasils_sim::input::InputError>(())
+//! ```
+
+use std::path::{Path, PathBuf};
+
+use parasils::traj::Synchronization;
+
+use crate::procedure::{self, ProcedureError};
+use crate::robot::Robot;
+use crate::robot_file::{self, RobotFileError};
+use crate::scenario::{Retarget, Scenario, Timing};
+
+/// A procedure as a front end has it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ProcedureSource {
+    /// A procedure file (TOML); a robot it names is read relative to the
+    /// file's folder.
+    File(PathBuf),
+    /// JSON text of the same structure (what Python sends for a dict); a
+    /// robot it names is read relative to the working directory.
+    Json(String),
+}
+
+/// A robot as a front end has it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RobotSource {
+    /// A robot file, read once by [`Input::resolve`].
+    File(PathBuf),
+    /// A robot already read (Python's `parasils.Robot`), with its
+    /// supervisor thresholds.
+    Loaded(Box<Robot>),
+}
+
+/// How the reorientation (or each motion of a procedure) is timed, as a user
+/// names it; [`Input::resolve`] turns it into a [`Timing`] with the rule for
+/// the angular limits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum TimingKind {
+    /// The paper's synchronised trapezoids within the angular limits.
+    #[default]
+    Trapezoid,
+    /// The fastest rest-to-rest law within the actuators' limits.
+    Optimal,
+}
+
+/// Every field of an [`Input`], named as the libraries and Python name it
+/// and as the command line spells it, so that an error can name the field
+/// in its user's own words.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum InputField {
+    /// `procedure`, `--procedure`.
+    Procedure,
+    /// `psi_deg`, `--psi`.
+    PsiDeg,
+    /// `theta_deg`, `--theta`.
+    ThetaDeg,
+    /// `absolute`, `--absolute`.
+    Absolute,
+    /// `omega_max_deg_s`, `--omega-max`.
+    OmegaMaxDegS,
+    /// `eps_max_deg_s2`, `--eps-max`.
+    EpsMaxDegS2,
+    /// `sync`, `--sync`.
+    Sync,
+    /// `timing`, `--timing`.
+    Timing,
+    /// `rate_hz`, `--rate`.
+    RateHz,
+    /// `pose_mm_deg`, `--pose`.
+    PoseMmDeg,
+    /// `tip_left_mm`, `--tip-left`.
+    TipLeftMm,
+    /// `tip_right_mm`, `--tip-right`.
+    TipRightMm,
+    /// `robot`, `--robot`.
+    Robot,
+    /// `retarget`, `--retarget`.
+    Retarget,
+    /// `stop_at_s`, `--stop-at`.
+    StopAtS,
+}
+
+impl InputField {
+    /// The name in Rust and Python: `omega_max_deg_s`.
+    pub const fn name(self) -> &'static str {
+        self.names().0
+    }
+
+    /// The command line's flag: `--omega-max`.
+    pub const fn flag(self) -> &'static str {
+        self.names().1
+    }
+
+    const fn names(self) -> (&'static str, &'static str) {
+        match self {
+            Self::Procedure => ("procedure", "--procedure"),
+            Self::PsiDeg => ("psi_deg", "--psi"),
+            Self::ThetaDeg => ("theta_deg", "--theta"),
+            Self::Absolute => ("absolute", "--absolute"),
+            Self::OmegaMaxDegS => ("omega_max_deg_s", "--omega-max"),
+            Self::EpsMaxDegS2 => ("eps_max_deg_s2", "--eps-max"),
+            Self::Sync => ("sync", "--sync"),
+            Self::Timing => ("timing", "--timing"),
+            Self::RateHz => ("rate_hz", "--rate"),
+            Self::PoseMmDeg => ("pose_mm_deg", "--pose"),
+            Self::TipLeftMm => ("tip_left_mm", "--tip-left"),
+            Self::TipRightMm => ("tip_right_mm", "--tip-right"),
+            Self::Robot => ("robot", "--robot"),
+            Self::Retarget => ("retarget", "--retarget"),
+            Self::StopAtS => ("stop_at_s", "--stop-at"),
+        }
+    }
+}
+
+impl core::fmt::Display for InputField {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.pad(self.name())
+    }
+}
+
+/// Why an [`Input`] does not resolve.
+///
+/// # When this happens, how to handle it
+/// - [`InputError::WithProcedure`]: drop the field, or put it in the
+///   procedure file.
+/// - [`InputError::Unknown`]: use one of the names the message lists.
+/// - [`InputError::Procedure`], [`InputError::Robot`]: fix the file where
+///   the message says.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum InputError {
+    /// A field was given together with a procedure, which has its own
+    /// start, robot and motions.
+    #[error(
+        "{0} cannot be given with a procedure: a procedure has its own start, robot and motions"
+    )]
+    WithProcedure(InputField),
+    /// A field's value is not one of the names it takes.
+    #[error("{field} must be {expected}, got {value:?}")]
+    Unknown {
+        /// The field.
+        field: InputField,
+        /// What was given.
+        value: String,
+        /// The names it takes, as a phrase: `'phase', 'time' or 'none'`.
+        expected: &'static str,
+    },
+    /// The procedure does not read.
+    #[error(transparent)]
+    Procedure(#[from] ProcedureError),
+    /// The robot file does not read.
+    #[error(transparent)]
+    Robot(#[from] RobotFileError),
+}
+
+impl InputError {
+    /// The field the error is about.
+    pub fn field(&self) -> InputField {
+        match self {
+            Self::WithProcedure(field) | Self::Unknown { field, .. } => *field,
+            Self::Procedure(_) => InputField::Procedure,
+            Self::Robot(_) => InputField::Robot,
+        }
+    }
+}
+
+/// What a user asks a simulation for, in user units (mm, deg, deg/s,
+/// deg/s^2, Hz, s): each field `None` when not given. See the [module
+/// docs](self) for the rules [`Input::resolve`] applies.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Input {
+    /// A procedure: the motions of a file, each from where the previous one
+    /// ended; it gives the start, the tips and the robot.
+    pub procedure: Option<ProcedureSource>,
+    /// `psi`: the increment from the start (or, with `absolute`, the final
+    /// value), deg. Default: 15.
+    pub psi_deg: Option<f64>,
+    /// `theta`: the increment from the start (or the final value), deg.
+    /// Default: 25.
+    pub theta_deg: Option<f64>,
+    /// Whether `psi_deg` and `theta_deg` are final angles. Default: false.
+    pub absolute: Option<bool>,
+    /// The velocity limit of each Euler angle, deg/s. Default: 10; under
+    /// the optimal timing it binds only when given.
+    pub omega_max_deg_s: Option<f64>,
+    /// The acceleration limit of each Euler angle, deg/s^2. Default: 5;
+    /// under the optimal timing it binds only when given.
+    pub eps_max_deg_s2: Option<f64>,
+    /// How psi and theta are timed together. Default: phase.
+    pub sync: Option<Synchronization>,
+    /// The timing law. Default: the trapezoid.
+    pub timing: Option<TimingKind>,
+    /// Samples per second, Hz. Default: 1000.
+    pub rate_hz: Option<f64>,
+    /// The start pose `[x, y, z]` mm, `[psi, theta, phi]` deg. Default: the
+    /// paper's `P0`.
+    pub pose_mm_deg: Option<[f64; 6]>,
+    /// The left tip, held still, mm, fixed frame. Default: the paper's.
+    pub tip_left_mm: Option<[f64; 3]>,
+    /// The right tip, mm. Default: the left one's mirror image across the
+    /// platform's `Y'Z'` plane at the start.
+    pub tip_right_mm: Option<[f64; 3]>,
+    /// The robot. Default: the paper's (module 1 assumed).
+    pub robot: Option<RobotSource>,
+    /// New goals commanded while the platform moves, in time order.
+    pub retarget: Option<Vec<Retarget>>,
+    /// The time of a controlled stop, s.
+    pub stop_at_s: Option<f64>,
+}
+
+impl Input {
+    /// The fields a procedure brings itself, each with whether it is given.
+    fn given_besides_procedure(&self) -> [(InputField, bool); 12] {
+        [
+            (InputField::PsiDeg, self.psi_deg.is_some()),
+            (InputField::ThetaDeg, self.theta_deg.is_some()),
+            (InputField::Absolute, self.absolute.is_some()),
+            (InputField::OmegaMaxDegS, self.omega_max_deg_s.is_some()),
+            (InputField::EpsMaxDegS2, self.eps_max_deg_s2.is_some()),
+            (InputField::Sync, self.sync.is_some()),
+            (InputField::PoseMmDeg, self.pose_mm_deg.is_some()),
+            (InputField::TipLeftMm, self.tip_left_mm.is_some()),
+            (InputField::TipRightMm, self.tip_right_mm.is_some()),
+            (InputField::Robot, self.robot.is_some()),
+            (InputField::Retarget, self.retarget.is_some()),
+            (InputField::StopAtS, self.stop_at_s.is_some()),
+        ]
+    }
+
+    /// The scenario this input asks for: the paper's wherever a field is not
+    /// given, files read (once each).
+    ///
+    /// Values are not checked here: [`Simulation::new`](crate::Simulation::new)
+    /// validates the whole and says what is wrong.
+    ///
+    /// # Errors
+    /// [`InputError::WithProcedure`] for a field given with a procedure,
+    /// [`InputError::Procedure`] and [`InputError::Robot`] for files that do
+    /// not read.
+    pub fn resolve(self) -> Result<Scenario, InputError> {
+        let angular = self.omega_max_deg_s.is_some() || self.eps_max_deg_s2.is_some();
+        let timing = match self.timing.unwrap_or_default() {
+            TimingKind::Trapezoid => Timing::Trapezoid,
+            TimingKind::Optimal => Timing::Optimal { angular },
+        };
+        let paper = Scenario::paper();
+        let rate_hz = self.rate_hz.unwrap_or(paper.rate_hz);
+        if let Some(procedure) = &self.procedure {
+            if let Some((field, _)) = self.given_besides_procedure().iter().find(|(_, g)| *g) {
+                return Err(InputError::WithProcedure(*field));
+            }
+            let scenario = match procedure {
+                ProcedureSource::File(path) => procedure::load(path)?,
+                ProcedureSource::Json(text) => procedure::parse_json(text, Path::new("."))?,
+            };
+            return Ok(Scenario {
+                rate_hz,
+                timing,
+                ..scenario
+            });
+        }
+        let robot = match self.robot {
+            None => Robot::paper(),
+            Some(RobotSource::File(path)) => robot_file::load_robot(path)?,
+            Some(RobotSource::Loaded(robot)) => *robot,
+        };
+        Ok(Scenario {
+            start_mm_deg: self.pose_mm_deg.unwrap_or(paper.start_mm_deg),
+            psi_deg: self.psi_deg.unwrap_or(paper.psi_deg),
+            theta_deg: self.theta_deg.unwrap_or(paper.theta_deg),
+            absolute: self.absolute.unwrap_or(paper.absolute),
+            omega_max_deg_s: self.omega_max_deg_s.unwrap_or(paper.omega_max_deg_s),
+            eps_max_deg_s2: self.eps_max_deg_s2.unwrap_or(paper.eps_max_deg_s2),
+            sync: self.sync.unwrap_or(paper.sync),
+            rate_hz,
+            tip_left_mm: self.tip_left_mm.unwrap_or(paper.tip_left_mm),
+            tip_right_mm: self.tip_right_mm,
+            robot: robot.geometry,
+            supervisor: robot.supervisor,
+            retargets: self.retarget.unwrap_or_default(),
+            stop_at_s: self.stop_at_s,
+            timing,
+            ..paper
+        })
+    }
+}
+
+/// `name` as a [`Synchronization`]: `"phase"`, `"time"` or `"none"`.
+///
+/// # Errors
+/// [`InputError::Unknown`] naming `sync` for any other name.
+pub fn sync_named(name: &str) -> Result<Synchronization, InputError> {
+    match name {
+        "phase" => Ok(Synchronization::Phase),
+        "time" => Ok(Synchronization::Time),
+        "none" => Ok(Synchronization::None),
+        _ => Err(InputError::Unknown {
+            field: InputField::Sync,
+            value: name.into(),
+            expected: "'phase', 'time' or 'none'",
+        }),
+    }
+}
+
+/// `name` as a [`TimingKind`]: `"trapezoid"` or `"optimal"`.
+///
+/// # Errors
+/// [`InputError::Unknown`] naming `timing` for any other name.
+pub fn timing_named(name: &str) -> Result<TimingKind, InputError> {
+    match name {
+        "trapezoid" => Ok(TimingKind::Trapezoid),
+        "optimal" => Ok(TimingKind::Optimal),
+        _ => Err(InputError::Unknown {
+            field: InputField::Timing,
+            value: name.into(),
+            expected: "'trapezoid' or 'optimal'",
+        }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_field_but_rate_and_timing_is_refused_with_a_procedure() {
+        let procedure = Some(ProcedureSource::Json("{}".into()));
+        let base = Input {
+            procedure,
+            ..Input::default()
+        };
+        let cases: [(Input, InputField); 12] = [
+            (
+                Input {
+                    psi_deg: Some(15.0),
+                    ..base.clone()
+                },
+                InputField::PsiDeg,
+            ),
+            (
+                Input {
+                    theta_deg: Some(25.0),
+                    ..base.clone()
+                },
+                InputField::ThetaDeg,
+            ),
+            (
+                Input {
+                    absolute: Some(false),
+                    ..base.clone()
+                },
+                InputField::Absolute,
+            ),
+            (
+                Input {
+                    omega_max_deg_s: Some(10.0),
+                    ..base.clone()
+                },
+                InputField::OmegaMaxDegS,
+            ),
+            (
+                Input {
+                    eps_max_deg_s2: Some(5.0),
+                    ..base.clone()
+                },
+                InputField::EpsMaxDegS2,
+            ),
+            (
+                Input {
+                    sync: Some(Synchronization::Phase),
+                    ..base.clone()
+                },
+                InputField::Sync,
+            ),
+            (
+                Input {
+                    pose_mm_deg: Some([0.0; 6]),
+                    ..base.clone()
+                },
+                InputField::PoseMmDeg,
+            ),
+            (
+                Input {
+                    tip_left_mm: Some([0.0; 3]),
+                    ..base.clone()
+                },
+                InputField::TipLeftMm,
+            ),
+            (
+                Input {
+                    tip_right_mm: Some([0.0; 3]),
+                    ..base.clone()
+                },
+                InputField::TipRightMm,
+            ),
+            (
+                Input {
+                    robot: Some(RobotSource::Loaded(Box::default())),
+                    ..base.clone()
+                },
+                InputField::Robot,
+            ),
+            (
+                Input {
+                    retarget: Some(Vec::new()),
+                    ..base.clone()
+                },
+                InputField::Retarget,
+            ),
+            (
+                Input {
+                    stop_at_s: Some(1.0),
+                    ..base.clone()
+                },
+                InputField::StopAtS,
+            ),
+        ];
+        for (input, field) in cases {
+            match input.resolve() {
+                Err(InputError::WithProcedure(f)) => assert_eq!(f, field),
+                other => panic!("{field}: {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn a_procedure_takes_the_rate_and_the_timing() {
+        let json = r#"{"motion": [{"type": "insert", "instrument": "endoscope", "depth_mm": 40}]}"#;
+        let s = Input {
+            procedure: Some(ProcedureSource::Json(json.into())),
+            rate_hz: Some(250.0),
+            timing: Some(TimingKind::Optimal),
+            ..Input::default()
+        }
+        .resolve()
+        .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(s.rate_hz, 250.0);
+        assert_eq!(s.timing, Timing::Optimal { angular: false });
+        assert_eq!(s.motions.len(), 1);
+    }
+
+    #[test]
+    fn either_angular_limit_given_makes_both_bind() {
+        let eps = Input {
+            timing: Some(TimingKind::Optimal),
+            eps_max_deg_s2: Some(5.0),
+            ..Input::default()
+        }
+        .resolve()
+        .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(eps.timing, Timing::Optimal { angular: true });
+        // The trapezoid always binds them: the flag is not its business.
+        let trapezoid = Input {
+            omega_max_deg_s: Some(7.0),
+            ..Input::default()
+        }
+        .resolve()
+        .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(trapezoid.timing, Timing::Trapezoid);
+        assert_eq!(trapezoid.omega_max_deg_s, 7.0);
+    }
+
+    #[test]
+    fn a_loaded_robot_brings_its_supervisor_thresholds() {
+        let mut robot = Robot::paper();
+        robot.supervisor.cos_qs2_warn = Some(0.5);
+        let s = Input {
+            robot: Some(RobotSource::Loaded(Box::new(robot))),
+            ..Input::default()
+        }
+        .resolve()
+        .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(s.supervisor.cos_qs2_warn, Some(0.5));
+    }
+
+    #[test]
+    fn names_are_read_or_refused_naming_the_field() {
+        assert_eq!(sync_named("time").ok(), Some(Synchronization::Time));
+        assert_eq!(timing_named("optimal").ok(), Some(TimingKind::Optimal));
+        let e = sync_named("both").map(|_| ()).map_err(|e| e.to_string());
+        assert_eq!(
+            e,
+            Err("sync must be 'phase', 'time' or 'none', got \"both\"".into())
+        );
+        assert_eq!(InputField::OmegaMaxDegS.flag(), "--omega-max");
+        assert_eq!(InputField::OmegaMaxDegS.name(), "omega_max_deg_s");
+    }
+}
