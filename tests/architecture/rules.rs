@@ -92,7 +92,10 @@ fn rust_files(root: &Path, dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), Str
     let Ok(entries) = fs::read_dir(root.join(dir)) else {
         return Ok(());
     };
-    let mut entries: Vec<_> = entries.filter_map(Result::ok).map(|e| e.file_name()).collect();
+    let mut entries: Vec<_> = entries
+        .filter_map(Result::ok)
+        .map(|e| e.file_name())
+        .collect();
     entries.sort();
     for name in entries {
         let rel = dir.join(&name);
@@ -116,10 +119,17 @@ pub fn file_sizes(ws: &Workspace) -> Result<Vec<Violation>, String> {
             rust_files(&ws.root, &c.dir.join(part), &mut files)?;
         }
         for file in files {
-            let lines = crate::workspace::read(&ws.root.join(&file))?.lines().count();
+            let lines = crate::workspace::read(&ws.root.join(&file))?
+                .lines()
+                .count();
             if lines > MAX_LINES {
                 let message = format!("{lines} lines, more than {MAX_LINES}: split it by concept");
-                out.push(Violation { file, line: 0, rule: Rule::FileSize, message });
+                out.push(Violation {
+                    file,
+                    line: 0,
+                    rule: Rule::FileSize,
+                    message,
+                });
             }
         }
     }
@@ -174,7 +184,12 @@ pub fn mod_files(ws: &Workspace) -> Vec<Violation> {
                 code.len(),
                 listed.join(", ")
             );
-            out.push(Violation { file: m.file.clone(), line: first.line, rule: Rule::ModFile, message });
+            out.push(Violation {
+                file: m.file.clone(),
+                line: first.line,
+                rule: Rule::ModFile,
+                message,
+            });
         }
     }
     out
@@ -229,13 +244,21 @@ fn refs(c: &Crate, m: &Module) -> Vec<Ref> {
         if let Kind::Use(paths) = &it.kind {
             for p in paths {
                 if let Some(abs) = resolve(c, &m.path, &p.segs) {
-                    out.push(Ref { abs, glob: p.glob, line: it.line });
+                    out.push(Ref {
+                        abs,
+                        glob: p.glob,
+                        line: it.line,
+                    });
                 }
             }
         }
         for p in &it.paths {
             if let Some(abs) = resolve(c, &m.path, &p.segs) {
-                out.push(Ref { abs, glob: false, line: p.line });
+                out.push(Ref {
+                    abs,
+                    glob: false,
+                    line: p.line,
+                });
             }
         }
     }
@@ -269,7 +292,11 @@ pub fn parent_imports(ws: &Workspace) -> Vec<Violation> {
                         break;
                     }
                     let Some(anc_mod) = c.module(anc) else { break };
-                    let whose = if depth + 1 == m.path.len() { "its parent" } else { "an ancestor" };
+                    let whose = if depth + 1 == m.path.len() {
+                        "its parent"
+                    } else {
+                        "an ancestor"
+                    };
                     let what = match r.abs.get(depth) {
                         None if r.glob => format!("everything of {whose} {}", anc_mod.display()),
                         None => format!("{whose} {} itself", anc_mod.display()),
@@ -283,7 +310,12 @@ pub fn parent_imports(ws: &Workspace) -> Vec<Violation> {
                         r.abs.join("::")
                     );
                     let file = m.file.clone();
-                    out.push(Violation { file, line: r.line, rule: Rule::ParentImport, message });
+                    out.push(Violation {
+                        file,
+                        line: r.line,
+                        rule: Rule::ParentImport,
+                        message,
+                    });
                     break;
                 }
             }
@@ -312,20 +344,29 @@ fn provides(c: &Crate, at: &[String], target: &[String], name: &str, depth: usiz
     if depth > 8 {
         return false;
     }
-    m.items.iter().filter(|it| it.vis == Vis::Public && !it.test).any(|it| {
-        let Kind::Use(paths) = &it.kind else { return false };
-        paths.iter().any(|p: &UsePath| {
-            let Some(abs) = resolve(c, at, &p.segs) else { return false };
-            if p.glob {
-                return abs != at && provides(c, &abs, target, name, depth + 1);
-            }
-            let Some((last, prefix)) = abs.split_last() else { return false };
-            if prefix == target && last == name {
-                return true;
-            }
-            last == name && prefix != at && provides(c, prefix, target, name, depth + 1)
+    m.items
+        .iter()
+        .filter(|it| it.vis == Vis::Public && !it.test)
+        .any(|it| {
+            let Kind::Use(paths) = &it.kind else {
+                return false;
+            };
+            paths.iter().any(|p: &UsePath| {
+                let Some(abs) = resolve(c, at, &p.segs) else {
+                    return false;
+                };
+                if p.glob {
+                    return abs != at && provides(c, &abs, target, name, depth + 1);
+                }
+                let Some((last, prefix)) = abs.split_last() else {
+                    return false;
+                };
+                if prefix == target && last == name {
+                    return true;
+                }
+                last == name && prefix != at && provides(c, prefix, target, name, depth + 1)
+            })
         })
-    })
 }
 
 /// Every `pub struct/enum/union/trait/type` of a library that its users can
@@ -336,11 +377,18 @@ pub fn root_reexports(ws: &Workspace) -> Vec<Violation> {
     let mut out = Vec::new();
     for c in ws.crates.iter().filter(|c| c.kind == CrateKind::Library) {
         for m in c.modules.iter().filter(|m| !m.test && !m.path.is_empty()) {
-            for it in m.items.iter().filter(|it| it.vis == Vis::Public && !it.test) {
+            for it in m
+                .items
+                .iter()
+                .filter(|it| it.vis == Vis::Public && !it.test)
+            {
                 let Kind::Type(name) = &it.kind else { continue };
                 let reachable = m.public
                     || c.modules.iter().any(|n| {
-                        n.public && !n.test && n.path != m.path && provides(c, &n.path, &m.path, name, 0)
+                        n.public
+                            && !n.test
+                            && n.path != m.path
+                            && provides(c, &n.path, &m.path, name, 0)
                     });
                 if !reachable || provides(c, &[], &m.path, name, 0) {
                     continue;
@@ -352,7 +400,12 @@ pub fn root_reexports(ws: &Workspace) -> Vec<Violation> {
                     m.path.join("::")
                 );
                 let file = m.file.clone();
-                out.push(Violation { file, line: it.line, rule: Rule::RootReexport, message });
+                out.push(Violation {
+                    file,
+                    line: it.line,
+                    rule: Rule::RootReexport,
+                    message,
+                });
             }
         }
     }
@@ -368,17 +421,29 @@ pub fn crate_graph(ws: &Workspace) -> Vec<Violation> {
     let rows = crate_table(&ws.doc);
     let mut out = Vec::new();
     let mut push = |file: &Path, line, message: String| {
-        out.push(Violation { file: file.to_owned(), line, rule: Rule::CrateGraph, message });
+        out.push(Violation {
+            file: file.to_owned(),
+            line,
+            rule: Rule::CrateGraph,
+            message,
+        });
     };
     for row in &rows {
         if !names.contains(row.name.as_str()) && !row.name.contains('/') {
-            let message = format!("the crate table has a row for `{}`, not a workspace crate", row.name);
+            let message = format!(
+                "the crate table has a row for `{}`, not a workspace crate",
+                row.name
+            );
             push(&doc, row.line, message);
         }
     }
     for c in &ws.crates {
         let Some(row) = rows.iter().find(|r| r.name == c.name) else {
-            push(&doc, 0, format!("the crate table has no row for `{}`", c.name));
+            push(
+                &doc,
+                0,
+                format!("the crate table has no row for `{}`", c.name),
+            );
             continue;
         };
         let listed: BTreeSet<&str> = row
@@ -446,7 +511,9 @@ pub fn module_order(ws: &Workspace) -> Vec<Violation> {
         let mut edges: Vec<(String, String, PathBuf, usize)> = Vec::new();
         for m in c.modules.iter().filter(|m| !m.test && !m.path.is_empty()) {
             for r in refs(c, m) {
-                let Some(to) = target_top(c, &m.path[0], &r.abs) else { continue };
+                let Some(to) = target_top(c, &m.path[0], &r.abs) else {
+                    continue;
+                };
                 if !edges.iter().any(|e| e.0 == m.path[0] && e.1 == to) {
                     edges.push((m.path[0].clone(), to, m.file.clone(), r.line));
                 }
@@ -459,14 +526,27 @@ pub fn module_order(ws: &Workspace) -> Vec<Violation> {
                 "no module table for `{}`: a `## {}` section with a `| module | concept |` table",
                 c.name, c.name
             );
-            out.push(Violation { file: doc.clone(), line: 0, rule: Rule::ModuleOrder, message });
+            out.push(Violation {
+                file: doc.clone(),
+                line: 0,
+                rule: Rule::ModuleOrder,
+                message,
+            });
             continue;
         };
         let pos = |n: &str| table.modules.iter().position(|(m, _)| m == n);
         for (name, line) in &table.modules {
             if !tops.contains(&name.as_str()) {
-                let message = format!("the table of `{}` lists `{name}`, not a module of it", c.name);
-                out.push(Violation { file: doc.clone(), line: *line, rule: Rule::ModuleOrder, message });
+                let message = format!(
+                    "the table of `{}` lists `{name}`, not a module of it",
+                    c.name
+                );
+                out.push(Violation {
+                    file: doc.clone(),
+                    line: *line,
+                    rule: Rule::ModuleOrder,
+                    message,
+                });
             }
         }
         for m in c.modules.iter().filter(|m| m.path.len() == 1 && !m.test) {
@@ -476,11 +556,18 @@ pub fn module_order(ws: &Workspace) -> Vec<Violation> {
                     m.display(),
                     c.name
                 );
-                out.push(Violation { file: m.file.clone(), line: 0, rule: Rule::ModuleOrder, message });
+                out.push(Violation {
+                    file: m.file.clone(),
+                    line: 0,
+                    rule: Rule::ModuleOrder,
+                    message,
+                });
             }
         }
         for (a, b, file, line) in &edges {
-            let (Some(pa), Some(pb)) = (pos(a), pos(b)) else { continue };
+            let (Some(pa), Some(pb)) = (pos(a), pos(b)) else {
+                continue;
+            };
             if pb > pa && !allowed(a, b) {
                 let message = format!(
                     "`{a}` uses `{b}`, which ARCHITECTURE.md's table of `{}` lists after it \
@@ -488,7 +575,12 @@ pub fn module_order(ws: &Workspace) -> Vec<Violation> {
                     c.name
                 );
                 let file = file.clone();
-                out.push(Violation { file, line: *line, rule: Rule::ModuleOrder, message });
+                out.push(Violation {
+                    file,
+                    line: *line,
+                    rule: Rule::ModuleOrder,
+                    message,
+                });
             }
         }
     }
@@ -547,8 +639,15 @@ fn circles(
             quoted.join(", "),
             uses.join("; ")
         );
-        let (file, line) = inside.first().map_or((PathBuf::new(), 0), |e| (e.2.clone(), e.3));
-        out.push(Violation { file, line, rule: Rule::ImportCircle, message });
+        let (file, line) = inside
+            .first()
+            .map_or((PathBuf::new(), 0), |e| (e.2.clone(), e.3));
+        out.push(Violation {
+            file,
+            line,
+            rule: Rule::ImportCircle,
+            message,
+        });
     }
     out
 }

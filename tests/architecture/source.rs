@@ -88,7 +88,10 @@ pub fn tokens(text: &str) -> Vec<Token> {
         } else if let Some(end) = raw_string_end(&c, i) {
             line += c[i..end].iter().filter(|&&x| x == '\n').count();
             i = end;
-            out.push(Token { tok: Tok::Lit, line: start });
+            out.push(Token {
+                tok: Tok::Lit,
+                line: start,
+            });
         } else if ch == '"' || ((ch == 'b' || ch == 'c') && at(i + 1) == '"') {
             i += if ch == '"' { 1 } else { 2 };
             while i < c.len() && c[i] != '"' {
@@ -99,7 +102,10 @@ pub fn tokens(text: &str) -> Vec<Token> {
                 i += 1;
             }
             i += 1;
-            out.push(Token { tok: Tok::Lit, line: start });
+            out.push(Token {
+                tok: Tok::Lit,
+                line: start,
+            });
         } else if ch == '\'' || (ch == 'b' && at(i + 1) == '\'') {
             let q = if ch == '\'' { i } else { i + 1 };
             if at(q + 1) == '\\' {
@@ -109,13 +115,22 @@ pub fn tokens(text: &str) -> Vec<Token> {
                     i += 1;
                 }
                 i += 1;
-                out.push(Token { tok: Tok::Lit, line: start });
+                out.push(Token {
+                    tok: Tok::Lit,
+                    line: start,
+                });
             } else if at(q + 2) == '\'' {
                 i = q + 3;
-                out.push(Token { tok: Tok::Lit, line: start });
+                out.push(Token {
+                    tok: Tok::Lit,
+                    line: start,
+                });
             } else {
                 // A lifetime: the quote, then its name as an identifier.
-                out.push(Token { tok: Tok::Punct('\''), line: start });
+                out.push(Token {
+                    tok: Tok::Punct('\''),
+                    line: start,
+                });
                 i = q + 1;
             }
         } else if ch.is_ascii_digit() {
@@ -126,7 +141,10 @@ pub fn tokens(text: &str) -> Vec<Token> {
             {
                 i += 1;
             }
-            out.push(Token { tok: Tok::Lit, line: start });
+            out.push(Token {
+                tok: Tok::Lit,
+                line: start,
+            });
         } else if ch.is_alphabetic() || ch == '_' {
             if ch == 'r' && at(i + 1) == '#' {
                 i += 2;
@@ -139,10 +157,16 @@ pub fn tokens(text: &str) -> Vec<Token> {
             out.push(Token { tok, line: start });
         } else if ch == ':' && at(i + 1) == ':' {
             i += 2;
-            out.push(Token { tok: Tok::PathSep, line: start });
+            out.push(Token {
+                tok: Tok::PathSep,
+                line: start,
+            });
         } else {
             i += 1;
-            out.push(Token { tok: Tok::Punct(ch), line: start });
+            out.push(Token {
+                tok: Tok::Punct(ch),
+                line: start,
+            });
         }
     }
     out
@@ -206,7 +230,9 @@ impl UsePath {
         if self.glob {
             return None;
         }
-        self.alias.as_deref().or(self.segs.last().map(String::as_str))
+        self.alias
+            .as_deref()
+            .or(self.segs.last().map(String::as_str))
     }
 }
 
@@ -298,30 +324,48 @@ pub fn items(toks: &[Token]) -> Vec<Item> {
             "use" => {
                 let end = item_end(toks, i, true);
                 let mut paths = Vec::new();
-                use_tree(&toks[i + 1..end.saturating_sub(1)], &mut Vec::new(), &mut paths);
+                use_tree(
+                    &toks[i + 1..end.saturating_sub(1)],
+                    &mut Vec::new(),
+                    &mut paths,
+                );
                 (Kind::Use(paths), end)
             }
             "mod" => {
-                let name = toks.get(i + 1).and_then(Token::ident).unwrap_or("").to_owned();
+                let name = toks
+                    .get(i + 1)
+                    .and_then(Token::ident)
+                    .unwrap_or("")
+                    .to_owned();
                 if toks.get(i + 2).is_some_and(|t| t.is_punct('{')) {
                     let end = group_end(toks, i + 2);
                     let body = items(&toks[i + 3..end.saturating_sub(1)]);
-                    (Kind::Mod { name, body: Some(body) }, end)
+                    (
+                        Kind::Mod {
+                            name,
+                            body: Some(body),
+                        },
+                        end,
+                    )
                 } else {
                     (Kind::Mod { name, body: None }, item_end(toks, i, true))
                 }
             }
             "struct" | "enum" | "union" | "trait" | "type" => {
-                let name = toks.get(i + 1).and_then(Token::ident).unwrap_or("").to_owned();
+                let name = toks
+                    .get(i + 1)
+                    .and_then(Token::ident)
+                    .unwrap_or("")
+                    .to_owned();
                 (Kind::Type(name), item_end(toks, i, word == "type"))
             }
             "extern" if toks.get(i + 1).is_some_and(|t| t.is("crate")) => {
                 (Kind::ExternCrate, item_end(toks, i, true))
             }
             "const" | "static"
-                if !toks
-                    .get(i + 1)
-                    .is_some_and(|t| ["fn", "unsafe", "async", "extern"].iter().any(|w| t.is(w))) =>
+                if !toks.get(i + 1).is_some_and(|t| {
+                    ["fn", "unsafe", "async", "extern"].iter().any(|w| t.is(w))
+                }) =>
             {
                 (Kind::Other(word), item_end(toks, i, true))
             }
@@ -331,7 +375,13 @@ pub fn items(toks: &[Token]) -> Vec<Item> {
             Kind::Use(_) | Kind::Mod { .. } => Vec::new(),
             _ => code_paths(&toks[start..end]),
         };
-        out.push(Item { kind, vis, test, line, paths });
+        out.push(Item {
+            kind,
+            vis,
+            test,
+            line,
+            paths,
+        });
         i = end;
     }
     out
@@ -387,7 +437,11 @@ fn use_tree(toks: &[Token], prefix: &mut Vec<String>, out: &mut Vec<UsePath>) {
         match &toks[k].tok {
             Tok::PathSep => k += 1,
             Tok::Punct('*') => {
-                out.push(UsePath { segs: prefix.clone(), alias: None, glob: true });
+                out.push(UsePath {
+                    segs: prefix.clone(),
+                    alias: None,
+                    glob: true,
+                });
                 k += 1;
             }
             Tok::Punct('{') => {
@@ -415,7 +469,11 @@ fn use_tree(toks: &[Token], prefix: &mut Vec<String>, out: &mut Vec<UsePath>) {
                         alias = Some("_".to_owned());
                     }
                 }
-                out.push(UsePath { segs, alias, glob: false });
+                out.push(UsePath {
+                    segs,
+                    alias,
+                    glob: false,
+                });
                 break;
             }
             _ => k += 1,

@@ -44,8 +44,6 @@ pub struct Module {
     pub has_file_children: bool,
     /// Its items.
     pub items: Vec<Item>,
-    /// Its line count (of its file).
-    pub lines: usize,
 }
 
 impl Module {
@@ -139,7 +137,11 @@ pub fn load(root: &Path) -> Result<Workspace, String> {
         c.deps.retain(|d| names.contains(&d.name));
     }
     let doc = read(&root.join("ARCHITECTURE.md")).unwrap_or_default();
-    Ok(Workspace { root: root.to_owned(), crates, doc })
+    Ok(Workspace {
+        root: root.to_owned(),
+        crates,
+        doc,
+    })
 }
 
 /// The strings of the root manifest's `members = [...]`.
@@ -198,12 +200,12 @@ fn load_crate(root: &Path, dir: &Path) -> Result<Crate, String> {
             let name = renamed.unwrap_or_else(|| key.to_owned());
             deps.push(Dependency { name, line });
         }
-        if let Some(dep) = section.strip_prefix("dependencies.") {
-            if key == "version" || key == "path" || key == "workspace" {
-                if !deps.iter().any(|d| d.name == dep) {
-                    deps.push(Dependency { name: dep.to_owned(), line });
-                }
-            }
+        let table = section.strip_prefix("dependencies.");
+        if let Some(dep) = table.filter(|d| !deps.iter().any(|x: &Dependency| x.name == *d)) {
+            deps.push(Dependency {
+                name: dep.to_owned(),
+                line,
+            });
         }
     }
     if name.is_empty() {
@@ -211,14 +213,32 @@ fn load_crate(root: &Path, dir: &Path) -> Result<Crate, String> {
     }
     let src = dir.join("src");
     let (root_file, kind) = if root.join(src.join("lib.rs")).is_file() {
-        let kind = if cdylib { CrateKind::Extension } else { CrateKind::Library };
+        let kind = if cdylib {
+            CrateKind::Extension
+        } else {
+            CrateKind::Library
+        };
         (src.join("lib.rs"), kind)
     } else {
         (src.join("main.rs"), CrateKind::Binary)
     };
     let mut modules = Vec::new();
-    load_module(root, &root_file, &src, Vec::new(), (true, false), &mut modules)?;
-    Ok(Crate { name, dir: dir.to_owned(), manifest: manifest_path, kind, deps, modules })
+    load_module(
+        root,
+        &root_file,
+        &src,
+        Vec::new(),
+        (true, false),
+        &mut modules,
+    )?;
+    Ok(Crate {
+        name,
+        dir: dir.to_owned(),
+        manifest: manifest_path,
+        kind,
+        deps,
+        modules,
+    })
 }
 
 /// The string after the first `=` of a `key = "value"` line, unquoted.
@@ -239,13 +259,19 @@ fn load_module(
     out: &mut Vec<Module>,
 ) -> Result<(), String> {
     let text = read(&root.join(file))?;
-    let lines = text.lines().count();
     let its = items(&tokens(&text));
-    add_module(root, file, children_dir, path, (public, test, false), its, lines, out)
+    add_module(
+        root,
+        file,
+        children_dir,
+        path,
+        (public, test, false),
+        its,
+        out,
+    )
 }
 
 /// Adds one module (file or inline) and its descendants to `out`.
-#[allow(clippy::too_many_arguments)]
 fn add_module(
     root: &Path,
     file: &Path,
@@ -253,7 +279,6 @@ fn add_module(
     path: Vec<String>,
     (public, test, inline): (bool, bool, bool),
     its: Vec<Item>,
-    lines: usize,
     out: &mut Vec<Module>,
 ) -> Result<(), String> {
     let mut children = Vec::new();
@@ -274,13 +299,12 @@ fn add_module(
         inline,
         has_file_children,
         items: its,
-        lines,
     });
     for (p, body, (pb, ts), name) in children {
         let dir = children_dir.join(&name);
         match body {
             Some(body) => {
-                add_module(root, file, &dir, p, (pb, ts, true), body, lines, out)?;
+                add_module(root, file, &dir, p, (pb, ts, true), body, out)?;
             }
             None => {
                 let flat = children_dir.join(format!("{name}.rs"));
@@ -309,7 +333,11 @@ fn row(line: &str) -> Option<Vec<String>> {
 
 /// The `` `quoted` `` words of a cell, in order.
 pub fn quoted(cell: &str) -> Vec<String> {
-    cell.split('`').skip(1).step_by(2).map(str::to_owned).collect()
+    cell.split('`')
+        .skip(1)
+        .step_by(2)
+        .map(str::to_owned)
+        .collect()
 }
 
 /// A row of the crate table: the crate and the workspace crates it depends on.
@@ -341,7 +369,11 @@ pub fn crate_table(doc: &str) -> Vec<CrateRow> {
             Some(col) => {
                 let name = quoted(&cells[0]).into_iter().next().unwrap_or_default();
                 let depends_on = cells.get(col).map(|c| quoted(c)).unwrap_or_default();
-                out.push(CrateRow { name, depends_on, line: k + 1 });
+                out.push(CrateRow {
+                    name,
+                    depends_on,
+                    line: k + 1,
+                });
             }
             None => {}
         }
@@ -373,7 +405,10 @@ pub fn module_tables(doc: &str) -> Vec<ModuleTable> {
         let Some(name) = &section else { continue };
         match (state, row(line)) {
             (0, Some(cells)) if cells.first().is_some_and(|c| c == "module") => {
-                out.push(ModuleTable { crate_name: name.clone(), modules: Vec::new() });
+                out.push(ModuleTable {
+                    crate_name: name.clone(),
+                    modules: Vec::new(),
+                });
                 state = 1;
             }
             (1, Some(cells)) => {
