@@ -495,6 +495,26 @@ fn target_top(c: &Crate, from: &str, abs: &[String]) -> Option<String> {
     (top != from && tops.contains(&top.as_str())).then_some(top)
 }
 
+/// A use of one top-level module by another: user, used, and the first
+/// place (file, line) the user names it.
+pub type Use = (String, String, PathBuf, usize);
+
+/// The uses between crate `c`'s top-level modules, outside tests.
+pub fn module_uses(c: &Crate) -> Vec<Use> {
+    let mut edges: Vec<Use> = Vec::new();
+    for m in c.modules.iter().filter(|m| !m.test && !m.path.is_empty()) {
+        for r in refs(c, m) {
+            let Some(to) = target_top(c, &m.path[0], &r.abs) else {
+                continue;
+            };
+            if !edges.iter().any(|e| e.0 == m.path[0] && e.1 == to) {
+                edges.push((m.path[0].clone(), to, m.file.clone(), r.line));
+            }
+        }
+    }
+    edges
+}
+
 /// Each crate's top-level modules are listed in its `## <crate>` section's
 /// module table, a module uses only modules listed before it (the
 /// [`ALLOWED_CIRCLE`] aside), and the modules form no import circle.
@@ -507,18 +527,7 @@ pub fn module_order(ws: &Workspace) -> Vec<Violation> {
         if tops.is_empty() {
             continue;
         }
-        // The uses between top-level modules, the first place of each.
-        let mut edges: Vec<(String, String, PathBuf, usize)> = Vec::new();
-        for m in c.modules.iter().filter(|m| !m.test && !m.path.is_empty()) {
-            for r in refs(c, m) {
-                let Some(to) = target_top(c, &m.path[0], &r.abs) else {
-                    continue;
-                };
-                if !edges.iter().any(|e| e.0 == m.path[0] && e.1 == to) {
-                    edges.push((m.path[0].clone(), to, m.file.clone(), r.line));
-                }
-            }
-        }
+        let edges = module_uses(c);
         let allowed = |a: &str, b: &str| (c.name.as_str(), a, b) == ALLOWED_CIRCLE;
         out.extend(circles(c, &edges, &allowed));
         let Some(table) = tables.iter().find(|t| t.crate_name == c.name) else {
@@ -589,11 +598,7 @@ pub fn module_order(ws: &Workspace) -> Vec<Violation> {
 
 /// The import circles (strongly connected sets of two or more top-level
 /// modules), the allowed pair aside.
-fn circles(
-    c: &Crate,
-    edges: &[(String, String, PathBuf, usize)],
-    allowed: &dyn Fn(&str, &str) -> bool,
-) -> Vec<Violation> {
+fn circles(c: &Crate, edges: &[Use], allowed: &dyn Fn(&str, &str) -> bool) -> Vec<Violation> {
     let nodes = c.top_modules();
     let n = nodes.len();
     let idx = |s: &str| nodes.iter().position(|x| *x == s);
@@ -624,7 +629,7 @@ fn circles(
         if names.len() == 2 && (allowed(names[0], names[1]) || allowed(names[1], names[0])) {
             continue;
         }
-        let inside: Vec<&(String, String, PathBuf, usize)> = edges
+        let inside: Vec<&Use> = edges
             .iter()
             .filter(|e| names.contains(&e.0.as_str()) && names.contains(&e.1.as_str()))
             .collect();
