@@ -364,9 +364,7 @@ fn an_import_circle_is_reported_and_the_trait_iterator_pair_is_not() {
         &[
             (
                 "Cargo.toml",
-                Some(
-                    "[workspace]\nmembers = [\"crates/alpha\", \"crates/beta\", \"crates/traj\"]\n",
-                ),
+                Some("[workspace]\nmembers = [\"crates/*\"]\n"),
             ),
             ("crates/beta/src/lib.rs", Some(lib)),
             ("crates/beta/src/area.rs", None),
@@ -421,4 +419,43 @@ fn an_import_circle_is_reported_and_the_trait_iterator_pair_is_not() {
         "{}",
         rest[0]
     );
+}
+
+#[test]
+fn the_reader_skips_comments_and_literals_but_not_code() {
+    use crate::source::{Kind, items, tokens};
+    let text = r####"
+//! `use crate::doc::Hidden;`
+/* a block /* nested crate::block::Hidden */ still a comment */
+use crate::real::{self, Used as Alias, nested::*};
+fn f<'a>(x: &'a str) -> char {
+    let _ = r#"crate::raw::Hidden "quoted""#;
+    let _ = "crate::string::Hidden \" super::Hidden";
+    let _ = (b'\'', '"', 'x', br"crate::bytes::Hidden");
+    crate::code::seen(x); '}'
+}
+#[cfg(not(test))]
+mod kept {}
+#[cfg(test)]
+mod tests {}
+"####;
+    let found = items(&tokens(text));
+    let Kind::Use(uses) = &found[0].kind else {
+        panic!("{found:?}")
+    };
+    let written: Vec<String> = uses.iter().map(|u| u.segs.join("::")).collect();
+    assert_eq!(
+        written,
+        ["crate::real", "crate::real::Used", "crate::real::nested"]
+    );
+    assert_eq!(uses[1].name(), Some("Alias"));
+    assert!(uses[2].glob && uses[2].name().is_none());
+    let paths: Vec<(String, usize)> = found[1]
+        .paths
+        .iter()
+        .map(|p| (p.segs.join("::"), p.line))
+        .collect();
+    assert_eq!(paths, [("crate::code::seen".to_owned(), 9)]);
+    assert_eq!(found.len(), 4, "{found:?}");
+    assert!(!found[2].test && found[3].test);
 }

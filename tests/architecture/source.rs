@@ -296,7 +296,8 @@ pub fn items(toks: &[Token]) -> Vec<Item> {
             }
             let end = group_end(toks, k);
             let attr = &toks[k..end];
-            if attr.get(1).is_some_and(|t| t.is("cfg")) && attr.iter().any(|t| t.is("test")) {
+            let cfg = attr.get(1).is_some_and(|t| t.is("cfg"));
+            if cfg && attr.iter().any(|t| t.is("test")) && !attr.iter().any(|t| t.is("not")) {
                 test = true;
             }
             i = end;

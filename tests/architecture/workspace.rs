@@ -127,7 +127,22 @@ pub fn load(root: &Path) -> Result<Workspace, String> {
     if sections(&manifest).any(|(s, _, _)| s == "package") {
         dirs.push(PathBuf::new());
     }
-    dirs.extend(members(&manifest).into_iter().map(PathBuf::from));
+    for member in members(&manifest) {
+        match member.strip_suffix("/*") {
+            // `crates/*`: every folder with a manifest.
+            Some(parent) => {
+                let mut found: Vec<PathBuf> = fs::read_dir(root.join(parent))
+                    .map_err(|e| format!("{parent}: {e}"))?
+                    .filter_map(Result::ok)
+                    .map(|e| Path::new(parent).join(e.file_name()))
+                    .filter(|d| root.join(d).join("Cargo.toml").is_file())
+                    .collect();
+                found.sort();
+                dirs.extend(found);
+            }
+            None => dirs.push(PathBuf::from(member)),
+        }
+    }
     let mut crates = Vec::new();
     for dir in dirs {
         crates.push(load_crate(root, &dir)?);
