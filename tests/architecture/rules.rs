@@ -171,7 +171,10 @@ pub fn mod_files(ws: &Workspace) -> Vec<Violation> {
                 })
                 .collect();
             let Some(first) = code.first() else { continue };
-            let listed: Vec<String> = code
+            // The items that are code first, the private `use`s they need after.
+            let mut shown = code.clone();
+            shown.sort_by_key(|it| matches!(it.kind, Kind::Use(_)));
+            let listed: Vec<String> = shown
                 .iter()
                 .take(6)
                 .map(|it| format!("{} (line {})", describe(it), it.line))
