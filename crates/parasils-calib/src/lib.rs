@@ -8,6 +8,7 @@
 //! encoder offset; per leg the node). [`identify`] fixes what the data
 //! cannot see, [`fit`] runs Levenberg-Marquardt and reports standard
 //! deviations and observability, and [`plan`] chooses the poses to measure.
+//! Every public type is also at the crate root.
 //!
 //! ```
 //! use parasils_calib::{FitOptions, Measurement, Sigma, calibrate, plan};
@@ -49,5 +50,9 @@ pub mod rng;
 pub use data::{Measurement, Sigma};
 pub use error::CalibError;
 pub use fit::{Fit, FitOptions, calibrate};
+pub use identify::{Fixed, Selection};
+pub use model::{Model, OutOfReach, PoseEval, PoseMmDeg};
 pub use params::{PARAMETERS, Parameter, ParameterMap};
-pub use report::Report;
+pub use plan::{Plan, PlanOptions, PlanReport};
+pub use report::{FixedParameter, Identified, Observability, Outcome, Report, Worst};
+pub use rng::Rng;

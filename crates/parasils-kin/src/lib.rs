@@ -56,6 +56,7 @@
 //!   one **assumed**), IK, actuator rates, margins and Jacobian, FK by
 //!   Newton's method, and the margin tracker of a control loop
 //!   ([`parallel::margin`]);
+//! - [`endoscope`]: the endoscope's insertion depth and its tip;
 //! - [`controller`]: the one call per control cycle, and the whole robot's
 //!   geometry;
 //! - [`limits`]: the actuators' velocity and acceleration limits (assumed
@@ -70,10 +71,12 @@
 //! panic-free 6x6 kernels: Jacobi SVD, Gram product, shifted `L D L^T`) and
 //! `trig` (the crate's own sine and cosine). Every public type is also at
 //! the crate root. Imports go one way, from the leaves to the solvers, with
-//! no circle: `presets`, `side`, `real` (and `trig`), then `interval` and
+//! no circle: `trig`, `real`, `presets`, `side`, then `interval` and
 //! `linalg`, then `error`, `frame`, `check`, then `instrument` and
 //! `parallel` (each split by concept, the `mod.rs` only re-exporting), then
-//! `controller`. The model is described in `docs/model.md`.
+//! `endoscope` and `limits`, then `controller` (the order of
+//! `ARCHITECTURE.md`'s table, which the workspace's tests check). The model
+//! is described in `docs/model.md`.
 //!
 //! # Features
 //! - `std` (default): nalgebra's std back end. Without it the crate builds for
