@@ -7,9 +7,13 @@ use std::io::Cursor;
 use nalgebra::Vector3;
 use parasils::kin::{Joints, Pose, Side};
 
+use mcap::records::Metadata;
+
 use super::*;
-use crate::columns;
+use crate::columns::{self, Channel};
 use crate::engine::Simulation;
+use crate::scenario::Scenario;
+use crate::sink::Sink;
 
 /// The paper's scenario at `rate_hz`.
 fn scenario(rate_hz: f64) -> Scenario {

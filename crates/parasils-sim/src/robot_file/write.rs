@@ -3,7 +3,8 @@
 
 use parasils::kin::RobotGeometry;
 
-use super::{RobotFile, RobotFileError};
+use super::error::RobotFileError;
+use super::schema::RobotFile;
 use crate::robot::Robot;
 
 /// The header of every file this module writes.
@@ -97,7 +98,7 @@ pub fn to_toml_string(geometry: &RobotGeometry<f64>) -> Result<String, RobotFile
 
 /// The TOML text of a whole robot: [`to_toml_string`] of its geometry, then
 /// its `[supervisor]` table with the thresholds it gives (none: no table), so
-/// that [`parse_robot`](super::parse_robot) reads back the same [`Robot`].
+/// that [`parse_robot`](crate::robot_file::parse_robot) reads back the same [`Robot`].
 pub fn robot_to_toml_string(robot: &Robot) -> Result<String, RobotFileError> {
     let mut out = to_toml_string(&robot.geometry)?;
     if !robot.supervisor.is_empty() {
