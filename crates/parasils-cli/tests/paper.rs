@@ -109,7 +109,9 @@ fn closed_form(k: usize) -> ControlStep<f64> {
 /// falls on is a matter of rounding.
 fn expected(k: usize) -> Vec<(String, f64)> {
     let t = k as f64 / RATE_HZ;
-    let switch = [2000, 2500].contains(&k);
+    // The samples at `t_a = v / a` and `t_a + t_c = d / v`: 2000 and 2500.
+    let switches = [OMEGA_MAX / EPS_MAX, TURN_DEG[1] / OMEGA_MAX].map(|s| s * RATE_HZ);
+    let switch = switches.contains(&(k as f64));
     let [psi, theta] = platform(t);
     let mut want: Vec<(String, f64)> = vec![
         ("t_s".into(), t),
