@@ -7,9 +7,8 @@ checks that:
 - the summary has statistics, chunk indexes and message indexes, and the
   reader can seek with them;
 - every message validates against its channel's JSON Schema (``jsonschema``);
-  ``/tf`` and ``/scene`` also against Foxglove's official schemas, kept in
-  ``tests/python/foxglove-schemas`` and pinned by their SHA-256 (see the README
-  there), which the embedded ones must equal;
+  ``/tf`` and ``/scene`` also against Foxglove's official schemas, which the
+  embedded ones must equal (see *The official schemas* below);
 - each data channel has one message per sample: as many as the rows of the
   CSV named by ``PARASILS_CSV`` when set (the same run written as CSV), else
   the ``samples`` of the ``parasils.run`` metadata record;
@@ -20,6 +19,29 @@ The pinned copies of the official schemas are checked even without a file.
 
 Run: ``pip install -r tests/python/requirements.txt``, then
 ``PARASILS_MCAP=run.mcap PARASILS_CSV=run.csv pytest tests/python``.
+
+The official schemas
+--------------------
+
+The repository holds one copy of Foxglove's JSON Schemas for
+``foxglove.FrameTransforms`` and ``foxglove.SceneUpdate``, with their licence:
+``crates/parasils-sim/schemas`` (inside the crate, so that ``cargo package``
+ships the files its MCAP writer embeds; its README names their origin). This
+module reads that copy, and only after checking each file's SHA-256 against
+``PINNED_SHA256``: the hashes of the copy that was reviewed against
+Foxglove's published files. The copy is thus an independent reference even
+though the writer embeds the same files: a file that differs from the
+reviewed one by a single byte fails the tests, naming the file and both
+hashes, and so does a file added to the folder without a pin; a writer that
+embeds anything but the file unchanged fails the equality below.
+
+To move to a newer release of the schemas: copy the two files and the
+licence, unchanged, from ``schemas/jsonschema/`` of a newer commit of
+Foxglove's public ``foxglove/foxglove-sdk`` repository into
+``crates/parasils-sim/schemas``; update the commit its README names and the
+hashes in ``PINNED_SHA256`` (``sha256sum *`` in that folder); then run the
+whole test command (``bash scripts/test``), which writes a fresh MCAP file
+and reads it back against them.
 """
 
 from __future__ import annotations
@@ -36,7 +58,10 @@ import pytest
 from mcap.reader import make_reader
 from mcap.stream_reader import StreamReader
 
-OFFICIAL_SCHEMAS = Path(__file__).resolve().parent / "foxglove-schemas"
+#: The one copy of Foxglove's official schemas, inside the simulation crate.
+OFFICIAL_SCHEMAS = (
+    Path(__file__).resolve().parents[2] / "crates" / "parasils-sim" / "schemas"
+)
 
 DATA_TOPICS = ["/platform", "/module1", "/left", "/right", "/tips", "/margins"]
 FOXGLOVE = {"/tf": "foxglove.FrameTransforms", "/scene": "foxglove.SceneUpdate"}
@@ -44,8 +69,9 @@ OFFICIAL_FILES = {
     "foxglove.FrameTransforms": "FrameTransforms.json",
     "foxglove.SceneUpdate": "SceneUpdate.json",
 }
-#: The SHA-256 of each file of ``foxglove-schemas``: the copies are used only
-#: if they are byte for byte the ones that were pinned (see the README there).
+#: The SHA-256 of each file of ``OFFICIAL_SCHEMAS`` (its README excepted): the
+#: files are used only if they are byte for byte the ones that were reviewed
+#: (see *The official schemas* above).
 PINNED_SHA256 = {
     "FrameTransforms.json": "95a598789fd7e5a588448cd527fce6a90830a64613ed0daa514a954f7c597099",
     "SceneUpdate.json": "d06db9b671fee79f44bade5853a76e4ac3dce1902b6f619a241c802b7d06d138",
@@ -57,7 +83,7 @@ CSV_PATH = os.environ.get("PARASILS_CSV")
 
 
 def pinned(name: str) -> bytes:
-    """The bytes of ``foxglove-schemas/<name>``, after checking its SHA-256 pin."""
+    """The bytes of ``OFFICIAL_SCHEMAS/<name>``, after checking its SHA-256 pin."""
     path = OFFICIAL_SCHEMAS / name
     if not path.is_file():
         pytest.fail(f"{path} is missing: the official schemas live in the repository")
@@ -68,7 +94,7 @@ def pinned(name: str) -> bytes:
         pytest.fail(
             f"{path} has SHA-256 {got}, but {want} is pinned: it is not the "
             "reviewed copy of Foxglove's file. Restore it, or update it as "
-            "tests/python/foxglove-schemas/README.md says (pin included)."
+            "the docstring of tests/python/test_mcap.py says (pin included)."
         )
     return data
 
@@ -124,7 +150,7 @@ def sample_count(recording) -> int:
 def test_the_official_schemas_are_the_pinned_copies():
     assert set(PINNED_SHA256) == {
         p.name for p in OFFICIAL_SCHEMAS.iterdir() if p.name != "README.md"
-    }, "every file of foxglove-schemas (but its README) is pinned, and only those"
+    }, f"every file of {OFFICIAL_SCHEMAS} (but its README) is pinned, and only those"
     for name in PINNED_SHA256:
         pinned(name)
     for name, file in OFFICIAL_FILES.items():

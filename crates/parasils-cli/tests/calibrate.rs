@@ -8,7 +8,9 @@ mod common;
 use parasils::kin::{ParallelRobot, Pose, RobotGeometry};
 use parasils_sim::robot_file;
 
-use common::{fails, ok, s};
+use common::files::s;
+use common::process::{fails, ok};
+use common::table::Table;
 
 /// The paper's robot with module 1 moved by up to about 1.5 mm and 0.5 deg
 /// and encoder offsets, as a robot file.
@@ -65,22 +67,21 @@ fn plan_measure_fit_and_load_the_fitted_robot() {
     // The planned poses, measured on the perturbed robot.
     let truth_geometry = perturbed();
     let truth = ParallelRobot::new(truth_geometry.module1).expect("valid");
-    let text = std::fs::read_to_string(&poses).expect("poses");
-    let mut lines = text.lines();
-    let header = lines.next().expect("header");
+    let planned = Table::read(&poses);
+    let header = planned.header().join(",");
     assert_eq!(
         header,
         "q1_mm,q2_mm,q3_mm,q4_mm,q5_mm,q6_mm,x_mm,y_mm,z_mm,psi_deg,theta_deg,phi_deg"
     );
-    let mut measured = String::from(header);
+    let mut measured = header;
     measured.push('\n');
     let mut rows = Vec::new();
-    for line in lines {
-        let v: Vec<f64> = line
-            .split(',')
-            .map(|c| c.parse().expect("number"))
-            .collect();
-        let pose: [f64; 6] = core::array::from_fn(|k| v[6 + k]);
+    let columns = ["x_mm", "y_mm", "z_mm", "psi_deg", "theta_deg", "phi_deg"];
+    let planned_q: Vec<Vec<f64>> = (1..=6).map(|j| planned.col(&format!("q{j}_mm"))).collect();
+    for k in 0..planned.rows() {
+        // The plan's readings are numbers too.
+        assert!(planned_q.iter().all(|q| q[k].is_finite()), "row {k}");
+        let pose: [f64; 6] = core::array::from_fn(|i| planned.at(columns[i], k));
         let q = readings(&truth, &pose);
         let cells: Vec<String> = q.iter().chain(&pose).map(f64::to_string).collect();
         measured.push_str(&cells.join(","));

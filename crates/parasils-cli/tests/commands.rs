@@ -1,22 +1,11 @@
 //! `parasils ik`, `parasils fk` and `parasils robot` run as processes.
 
-use std::process::{Command, Output};
+mod common;
 
-fn parasils(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_parasils"))
-        .args(args)
-        .output()
-        .expect("the binary runs")
-}
+use common::process::{ok, parasils};
 
 fn json(args: &[&str]) -> serde_json::Value {
-    let out = parasils(args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("JSON")
+    serde_json::from_str(&ok(args)).expect("JSON")
 }
 
 fn num(v: &serde_json::Value) -> f64 {
@@ -55,15 +44,13 @@ fn ik_at_p0_gives_the_check_values() {
 
 #[test]
 fn ik_text_names_the_assumed_geometry() {
-    let out = parasils(&[
+    let text = ok(&[
         "ik",
         "--pose",
         "15,20,-500,-15,10,-60",
         "--tip-left",
         "50,-50,-620",
     ]);
-    assert!(out.status.success());
-    let text = String::from_utf8(out.stdout).expect("utf8");
     assert!(text.contains("ASSUMED"), "{text}");
     assert!(
         text.contains("mode A: qs1 =    3.0889 deg, qs2 =  -38.8695 deg, qs3 = 147.7687 mm"),
@@ -104,40 +91,37 @@ fn fk_recovers_p0_and_the_tip() {
 
 #[test]
 fn fk_from_a_singular_guess_fails_cleanly() {
-    let out = parasils(&[
+    let err = parasils(&[
         "fk",
         "--q",
         "117.942,151.459,56.937,89.428,132.193,77.441",
         "--guess",
         "15,20,-500,-15,90,-60",
-    ]);
-    assert!(!out.status.success());
-    let err = String::from_utf8(out.stderr).expect("utf8");
+    ])
+    .run()
+    .error_line();
     assert!(
         err.starts_with("parasils: error: module 1 forward kinematics"),
         "{err}"
     );
-    assert_eq!(err.lines().count(), 1, "{err}");
 }
 
 #[test]
 fn robot_prints_the_committed_default_file() {
-    let out = parasils(&["robot"]);
-    assert!(out.status.success());
+    let printed = ok(&["robot"]);
     let committed = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../robots/default.toml"
     ))
     .expect("robots/default.toml");
-    assert_eq!(String::from_utf8(out.stdout).expect("utf8"), committed);
+    assert_eq!(printed, committed);
 }
 
 /// Runs a command expected to fail: its whole standard error.
 fn error_of(args: &[&str]) -> String {
-    let out = parasils(args);
-    assert!(!out.status.success(), "{args:?} succeeded");
+    let out = parasils(args).run();
     assert!(out.stdout.is_empty(), "{args:?} printed {:?}", out.stdout);
-    String::from_utf8(out.stderr).expect("utf8")
+    out.fails()
 }
 
 #[test]

@@ -4,61 +4,26 @@
 //! that killed runs leave. In every case: the message, the exit status, no
 //! temporary file left, the previous file byte-identical.
 
+mod common;
+
 use core::time::Duration;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
+use std::process::Command;
 use std::time::Instant;
 
-const BIN: &str = env!("CARGO_BIN_EXE_parasils");
+use common::files::names;
+use common::process::{Parasils, parasils};
+
 /// How long any one child may run.
 const LIMIT: Duration = Duration::from_secs(20);
 const PREVIOUS: &[u8] = b"the previous run's file\n";
 
-fn parasils(dir: &Path) -> Command {
-    let mut c = Command::new(BIN);
-    c.current_dir(dir)
-        .arg("simulate")
-        .env_remove("PARASILS_OUTPUT_CAP_BYTES")
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-    c
+/// `parasils simulate ARGS` in `dir`, killed past [`LIMIT`].
+fn simulate(dir: &Path, args: &[&str]) -> Parasils {
+    parasils(&["simulate"]).args(args).dir(dir).limit(LIMIT)
 }
 
-/// Waits for `child`, killed past [`LIMIT`].
-fn finish(mut child: Child) -> Output {
-    let start = Instant::now();
-    loop {
-        if child.try_wait().expect("wait").is_some() {
-            return child.wait_with_output().expect("output");
-        }
-        if start.elapsed() > LIMIT {
-            child.kill().ok();
-            child.wait().ok();
-            panic!("the child ran past {LIMIT:?}");
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    }
-}
-
-fn run(cmd: &mut Command) -> Output {
-    finish(cmd.spawn().expect("spawn"))
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-/// The names in `dir`, sorted.
-fn names(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .expect("read dir")
-        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
-}
-
+/// The temporary files in `dir`.
 fn parts(dir: &Path) -> Vec<String> {
     names(dir)
         .into_iter()
@@ -66,19 +31,12 @@ fn parts(dir: &Path) -> Vec<String> {
         .collect()
 }
 
-/// One line on standard error, ending the run with status `code`.
-fn failed(out: &Output, code: i32) -> String {
-    let text = stderr(out);
-    assert_eq!(out.status.code(), Some(code), "{text}");
-    assert_eq!(text.lines().count(), 1, "{text}");
-    text
-}
-
 /// The paper's scenario at 10 Hz written to `name` in a fresh folder.
 fn reference(name: &str) -> Vec<u8> {
     let dir = tempfile::tempdir().expect("tempdir");
-    let out = run(parasils(dir.path()).args(["--rate", "10", "-o", name]));
-    assert!(out.status.success(), "{}", stderr(&out));
+    simulate(dir.path(), &["--rate", "10", "-o", name])
+        .run()
+        .ok();
     std::fs::read(dir.path().join(name)).expect("written")
 }
 
@@ -86,10 +44,7 @@ fn interrupted_by(signal: &str, code: i32) {
     let dir = tempfile::tempdir().expect("tempdir");
     let target = dir.path().join("run.csv");
     std::fs::write(&target, PREVIOUS).expect("previous");
-    let child = parasils(dir.path())
-        .args(["--rate", "1e6", "-o", "run.csv"])
-        .spawn()
-        .expect("spawn");
+    let child = simulate(dir.path(), &["--rate", "1e6", "-o", "run.csv"]).spawn();
     let start = Instant::now();
     while parts(dir.path()).is_empty() {
         assert!(start.elapsed() < LIMIT, "no temporary file appeared");
@@ -98,13 +53,8 @@ fn interrupted_by(signal: &str, code: i32) {
     let part = parts(dir.path()).remove(0);
     let expected = format!(".run.csv.parasils-{}-", child.id());
     assert!(part.starts_with(&expected), "{part}");
-    let sent = Command::new("kill")
-        .args([signal, &child.id().to_string()])
-        .status()
-        .expect("kill runs");
-    assert!(sent.success());
-    let out = finish(child);
-    let text = failed(&out, code);
+    child.signal(signal);
+    let text = child.finish().error_line_with(code);
     assert!(
         text.starts_with("parasils: interrupted: removed the partial run.csv"),
         "{text}"
@@ -157,8 +107,9 @@ fn stale_temporary_files_of_dead_processes_only_are_removed() {
     let link = format!(".kept.csv.parasils-{}-Lk0000.part", dead_pid());
     std::os::unix::fs::symlink(&linked, dir.path().join(&link)).expect("symlink");
 
-    let out = run(parasils(dir.path()).args(["--rate", "10", "-o", "run.csv"]));
-    assert!(out.status.success(), "{}", stderr(&out));
+    simulate(dir.path(), &["--rate", "10", "-o", "run.csv"])
+        .run()
+        .ok();
     let mut expected: Vec<String> = foreign.iter().map(|s| s.to_string()).collect();
     expected.extend([live, link, "kept.csv".into(), "run.csv".into()]);
     expected.sort();
@@ -173,12 +124,10 @@ fn a_file_size_limit_ends_with_a_clear_error() {
     std::fs::write(&target, PREVIOUS).expect("previous");
     // 64 blocks of 512 bytes: the header fits, the paper's 4 MB do not. The
     // kernel sends SIGXFSZ, which must not kill the process.
-    let out = run(Command::new("sh")
-        .current_dir(dir.path())
-        .args(["-c", "ulimit -f 64 && exec \"$0\" simulate -o run.csv", BIN])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped()));
-    let text = failed(&out, 1);
+    let text = simulate(dir.path(), &["-o", "run.csv"])
+        .after_shell("ulimit -f 64")
+        .run()
+        .error_line_with(1);
     assert!(
         text.starts_with("parasils: error: writing run.csv: File too large"),
         "{text}"
@@ -207,10 +156,10 @@ fn a_read_only_folder_is_a_clear_error() {
     let scratch = tempfile::tempdir().expect("tempdir");
     let dir = read_only_folder(scratch.path());
     let target = dir.join("run.csv");
-    let out = run(parasils(scratch.path())
-        .args(["--rate", "10", "-o"])
-        .arg(&target));
-    let text = failed(&out, 1);
+    let text = simulate(scratch.path(), &["--rate", "10", "-o"])
+        .arg(&target)
+        .run()
+        .error_line_with(1);
     let expected = format!("parasils: error: cannot write in {}: ", dir.display());
     assert!(text.starts_with(&expected), "{text}");
     assert!(text.contains("(os error 13)"), "{text}");
@@ -222,12 +171,16 @@ fn a_target_that_is_a_folder_is_a_clear_error() {
     let dir = tempfile::tempdir().expect("tempdir");
     std::fs::create_dir(dir.path().join("run.csv")).expect("mkdir");
     for args in [&["-o", "run.csv"][..], &["--format", "mcap", "-o", "."]] {
-        let out = run(parasils(dir.path()).args(["--rate", "10"]).args(args));
-        let text = failed(&out, 1);
+        let text = simulate(dir.path(), &["--rate", "10"])
+            .args(args)
+            .run()
+            .error_line_with(1);
         assert!(text.ends_with("is a folder: give a file name\n"), "{text}");
     }
-    let out = run(parasils(dir.path()).args(["--rate", "10", "--plot", "run.csv"]));
-    assert!(failed(&out, 1).contains("is a folder"));
+    let text = simulate(dir.path(), &["--rate", "10", "--plot", "run.csv"])
+        .run()
+        .error_line_with(1);
+    assert!(text.contains("is a folder"), "{text}");
     assert_eq!(names(dir.path()), ["run.csv"]);
 }
 
@@ -241,17 +194,14 @@ fn a_fifo_is_written_directly() {
         let fifo = fifo.clone();
         std::thread::spawn(move || std::fs::read(fifo).expect("read the FIFO"))
     };
-    let child = parasils(dir.path())
-        .args(["--rate", "10", "-o", "run.csv"])
-        .spawn()
-        .expect("spawn");
-    let out = finish(child);
+    let child = simulate(dir.path(), &["--rate", "10", "-o", "run.csv"]).spawn();
+    let out = child.finish();
     if !reader.is_finished() {
         // Unblock a reader that no writer opened.
         drop(std::fs::OpenOptions::new().write(true).open(&fifo));
     }
     let read = reader.join().expect("reader");
-    assert!(out.status.success(), "{}", stderr(&out));
+    out.ok();
     assert_eq!(read, reference("run.csv"));
     assert_eq!(names(dir.path()), ["run.csv"]);
     let kind = std::fs::symlink_metadata(&fifo).expect("fifo").file_type();
@@ -262,21 +212,16 @@ fn a_fifo_is_written_directly() {
 fn two_runs_on_one_target_leave_one_complete_file() {
     let dir = tempfile::tempdir().expect("tempdir");
     let single = {
-        let out = run(parasils(dir.path()).args(["--rate", "2000", "-o", "one.mcap"]));
-        assert!(out.status.success(), "{}", stderr(&out));
+        simulate(dir.path(), &["--rate", "2000", "-o", "one.mcap"])
+            .run()
+            .ok();
         std::fs::read(dir.path().join("one.mcap")).expect("written")
     };
-    let children: Vec<Child> = (0..2)
-        .map(|_| {
-            parasils(dir.path())
-                .args(["--rate", "2000", "-o", "run.mcap"])
-                .spawn()
-                .expect("spawn")
-        })
+    let children: Vec<_> = (0..2)
+        .map(|_| simulate(dir.path(), &["--rate", "2000", "-o", "run.mcap"]).spawn())
         .collect();
     for child in children {
-        let out = finish(child);
-        assert!(out.status.success(), "{}", stderr(&out));
+        child.finish().ok();
     }
     assert_eq!(
         std::fs::read(dir.path().join("run.mcap")).expect("written"),
@@ -290,8 +235,10 @@ fn an_output_larger_than_the_free_space_is_refused_at_once() {
     let dir = tempfile::tempdir().expect("tempdir");
     let start = Instant::now();
     for args in [&["-o", "run.csv"][..], &["-o", "run.mcap", "--force"]] {
-        let out = run(parasils(dir.path()).args(["--rate", "1e12"]).args(args));
-        let text = failed(&out, 1);
+        let text = simulate(dir.path(), &["--rate", "1e12"])
+            .args(args)
+            .run()
+            .error_line_with(1);
         assert!(text.contains("would take about "), "{text}");
         assert!(text.contains(" PB (4500000000001 samples)"), "{text}");
         assert!(text.contains(" free on its file system"), "{text}");
@@ -305,10 +252,10 @@ fn an_output_above_the_cap_needs_force() {
     let dir = tempfile::tempdir().expect("tempdir");
     let target = dir.path().join("run.csv");
     std::fs::write(&target, PREVIOUS).expect("previous");
-    let out = run(parasils(dir.path())
+    let text = simulate(dir.path(), &["--rate", "10", "-o", "run.csv"])
         .env("PARASILS_OUTPUT_CAP_BYTES", "100000")
-        .args(["--rate", "10", "-o", "run.csv"]));
-    let text = failed(&out, 1);
+        .run()
+        .error_line_with(1);
     assert_eq!(
         text,
         "parasils: error: run.csv would take about 309.2 kB (46 samples), \
@@ -316,10 +263,10 @@ fn an_output_above_the_cap_needs_force() {
     );
     assert_eq!(std::fs::read(&target).expect("target"), PREVIOUS);
 
-    let out = run(parasils(dir.path())
+    simulate(dir.path(), &["--rate", "10", "-o", "run.csv", "--force"])
         .env("PARASILS_OUTPUT_CAP_BYTES", "100000")
-        .args(["--rate", "10", "-o", "run.csv", "--force"]));
-    assert!(out.status.success(), "{}", stderr(&out));
+        .run()
+        .ok();
     assert_eq!(
         std::fs::read(&target).expect("target"),
         reference("run.csv")
@@ -396,10 +343,7 @@ fn a_full_disk_ends_with_a_clear_error() {
     // The run takes far longer than filling the disk; should it still win
     // the race, it has written a complete file, and the test tries again.
     for _attempt in 0..3 {
-        let child = parasils(dir)
-            .args(["--rate", "1e4", "-o", "run.csv"])
-            .spawn()
-            .expect("spawn");
+        let child = simulate(dir, &["--rate", "1e4", "-o", "run.csv"]).spawn();
         let start = Instant::now();
         while parts(dir).is_empty() {
             assert!(start.elapsed() < LIMIT, "no temporary file appeared");
@@ -407,14 +351,14 @@ fn a_full_disk_ends_with_a_clear_error() {
         }
         let filler = dir.join("filler");
         fill(&filler);
-        let out = finish(child);
+        let out = child.finish();
         std::fs::remove_file(&filler).expect("remove the filler");
         if out.status.success() {
             eprintln!("the run finished before the disk was full: again");
             std::fs::write(&target, PREVIOUS).expect("previous");
             continue;
         }
-        let text = failed(&out, 1);
+        let text = out.error_line_with(1);
         assert!(
             text.starts_with("parasils: error: writing run.csv: No space left on device"),
             "{text}"

@@ -3,51 +3,40 @@
 
 mod common;
 
-use std::path::Path;
-use std::process::{Command, Output};
-
-use common::demo;
-
-fn parasils(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_parasils"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
-
-fn text(bytes: Vec<u8>) -> String {
-    String::from_utf8(bytes).expect("utf8")
-}
+use common::files::{demo, names};
+use common::process::parasils;
+use common::table::Table;
 
 #[test]
 fn the_demo_runs_and_its_csv_has_the_procedure_columns() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let out = parasils(
-        &[
-            "simulate",
-            "--procedure",
-            &demo(),
-            "--rate",
-            "100",
-            "-o",
-            "demo.csv",
-        ],
-        dir.path(),
-    );
-    assert!(out.status.success(), "{}", text(out.stderr));
-    let csv = std::fs::read_to_string(dir.path().join("demo.csv")).expect("csv");
-    let mut lines = csv.lines();
-    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let out = parasils(&[
+        "simulate",
+        "--procedure",
+        &demo(),
+        "--rate",
+        "100",
+        "-o",
+        "demo.csv",
+    ])
+    .dir(dir.path())
+    .run();
+    let stderr = out.stderr();
+    out.ok();
+    let table = Table::read(&dir.path().join("demo.csv"));
+    let header = table.header();
     assert_eq!(header.len(), 53 + 12);
     assert_eq!(
         header[53..56],
         ["motion", "motion_type", "endoscope_depth_mm"]
     );
     assert_eq!(header[64], "endoscope_tip_z_mm");
-    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     // The motions' types in order, as the file gives them.
-    let mut types: Vec<(&str, &str)> = rows.iter().map(|r| (r[53], r[54])).collect();
+    let mut types: Vec<(&str, &str)> = table
+        .text("motion")
+        .into_iter()
+        .zip(table.text("motion_type"))
+        .collect();
     types.dedup();
     assert_eq!(
         types,
@@ -61,22 +50,20 @@ fn the_demo_runs_and_its_csv_has_the_procedure_columns() {
         ]
     );
     // The endoscope goes in by 60 mm and comes back out.
-    let depth: Vec<f64> = rows
-        .iter()
-        .map(|r| r[55].parse().expect("number"))
-        .collect();
+    let depth = table.col("endoscope_depth_mm");
     assert_eq!(depth.iter().copied().fold(0.0, f64::max), 60.0);
     assert_eq!(depth[depth.len() - 1], 0.0);
     // The summary line names the samples and the duration.
-    assert!(text(out.stderr).contains("(20.232 s)"));
+    assert!(stderr.contains("(20.232 s)"), "{stderr}");
 }
 
 #[test]
 fn check_prints_the_verdict_and_a_table_and_writes_nothing() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let out = parasils(&["simulate", "--procedure", &demo(), "--check"], dir.path());
-    assert!(out.status.success(), "{}", text(out.stderr));
-    let stdout = text(out.stdout);
+    let stdout = parasils(&["simulate", "--procedure", &demo(), "--check"])
+        .dir(dir.path())
+        .run()
+        .ok();
     assert!(
         stdout.starts_with("procedure OK: 6 motions, 20.232 s, 20234 samples at 1000 Hz"),
         "{stdout}"
@@ -92,7 +79,7 @@ fn check_prints_the_verdict_and_a_table_and_writes_nothing() {
     // 0.715 of its velocity limit during the turn (35.7 of 50 mm/s).
     assert!(stdout.contains("actuator limits, peak use (velocity, acceleration):"));
     assert!(stdout.contains(" q6 0.715 0.205"), "{stdout}");
-    assert_eq!(std::fs::read_dir(dir.path()).expect("dir").count(), 0);
+    assert_eq!(names(dir.path()), Vec::<String>::new());
 }
 
 /// Runs a procedure written into a fresh folder; expects a failure whose
@@ -102,18 +89,9 @@ fn fails_cleanly(procedure: &str, extra: &[&str], needle: &str) {
     std::fs::write(dir.path().join("p.toml"), procedure).expect("write");
     let mut args = vec!["simulate", "--procedure", "p.toml"];
     args.extend_from_slice(extra);
-    let out = parasils(&args, dir.path());
-    assert!(!out.status.success(), "{args:?} succeeded");
-    let err = text(out.stderr);
+    let err = parasils(&args).dir(dir.path()).run().error_line();
     assert!(err.contains(needle), "{err:?} lacks {needle:?}");
-    assert_eq!(err.trim_end().lines().count(), 1, "{err:?}");
-    let left: Vec<_> = std::fs::read_dir(dir.path())
-        .expect("dir")
-        .filter_map(Result::ok)
-        .map(|e| e.file_name())
-        .filter(|n| n != "p.toml")
-        .collect();
-    assert!(left.is_empty(), "left {left:?}");
+    assert_eq!(names(dir.path()), ["p.toml"], "a file was left");
 }
 
 const START: &str = "pose = [15, 20, -460, -15, 10, -60]\ntip_left_mm = [50, -50, -580]\n";
@@ -179,16 +157,14 @@ fn procedures_do_not_mix_with_the_single_reorientation_s_options() {
     for extra in [["--psi", "3"], ["--robot", "r.toml"], ["--stop-at", "1"]] {
         let mut args = vec!["simulate", "--procedure", "p.toml"];
         args.extend_from_slice(&extra);
-        let out = parasils(&args, dir.path());
-        assert!(!out.status.success());
-        assert!(
-            text(out.stderr).contains("cannot be used with"),
-            "{extra:?}"
-        );
+        let err = parasils(&args).dir(dir.path()).run().fails();
+        assert!(err.contains("cannot be used with"), "{extra:?}: {err}");
     }
-    let out = parasils(&["simulate", "--check"], dir.path());
-    assert!(!out.status.success());
-    assert!(text(out.stderr).contains("--procedure"));
+    let err = parasils(&["simulate", "--check"])
+        .dir(dir.path())
+        .run()
+        .fails();
+    assert!(err.contains("--procedure"), "{err}");
 }
 
 #[test]
@@ -202,12 +178,10 @@ fn a_motion_cut_short_and_a_stop_in_the_check_table() {
          [[motion]]\ntype = \"insert\"\ninstrument = \"endoscope\"\ndepth_mm = 10\n",
     )
     .expect("write");
-    let out = parasils(
-        &["simulate", "--procedure", "p.toml", "--check"],
-        dir.path(),
-    );
-    assert!(out.status.success(), "{}", text(out.stderr));
-    let stdout = text(out.stdout);
+    let stdout = parasils(&["simulate", "--procedure", "p.toml", "--check"])
+        .dir(dir.path())
+        .run()
+        .ok();
     let rows: Vec<&str> = stdout
         .lines()
         .filter(|l| l.contains(':') && l.trim_start().starts_with(char::is_numeric))

@@ -2,7 +2,8 @@
 
 mod common;
 
-use common::{ok, parasils};
+use common::process::{ok, parasils};
+use common::table::Table;
 
 #[test]
 fn the_csv_has_a_row_per_cell_and_the_paper_target_is_straight_ahead() {
@@ -10,13 +11,12 @@ fn the_csv_has_a_row_per_cell_and_the_paper_target_is_straight_ahead() {
     let path = dir.path().join("map.csv");
     let path_s = path.to_str().expect("path");
     ok(&["reach", "--step", "5", "-o", path_s]);
-    let text = std::fs::read_to_string(&path).expect("written");
-    let mut lines = text.lines();
+    let table = Table::read(&path);
     assert_eq!(
-        lines.next(),
-        Some("dpsi_deg,dtheta_deg,psi_deg,theta_deg,feasible,reachable,line,limiting,margin")
+        table.header().join(","),
+        "dpsi_deg,dtheta_deg,psi_deg,theta_deg,feasible,reachable,line,limiting,margin"
     );
-    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let rows: Vec<Vec<&str>> = (0..table.rows()).map(|k| table.cells(k)).collect();
     assert_eq!(rows.len(), 19 * 19);
     // The start, and the paper's target (15, 25): at psi -15 + 15 = 0 deg,
     // theta 10 + 25 = 35 deg.
@@ -80,12 +80,9 @@ fn the_shared_flags_and_bad_grids() {
         "--pose=15,20,-500,-5,0,-60",
     ]);
     assert!(text.contains("from psi = -5 deg, theta = 0 deg"), "{text}");
-    let out = parasils(&["reach", "--psi-range=5,10"]);
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = parasils(&["reach", "--psi-range=5,10"]).run().fails();
     assert!(err.contains("must be finite and contain 0"), "{err}");
-    let out = parasils(&["reach", "-o", "map.txt"]);
-    assert!(!out.status.success());
+    parasils(&["reach", "-o", "map.txt"]).run().fails();
 }
 
 #[test]

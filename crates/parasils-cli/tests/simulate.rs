@@ -1,238 +1,29 @@
-//! `parasils simulate` run as a process: the paper's scenario, the CSV
-//! contract, and every error path.
+//! `parasils simulate` run as a process: its options (final angles, other
+//! synchronisations, the user's start degrees, commands while turning), the
+//! summary, a closed pipe, and every error path. The paper's run itself is
+//! checked in `paper.rs`.
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-fn parasils(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_parasils"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
+mod common;
 
-struct Table {
-    header: Vec<String>,
-    rows: Vec<Vec<f64>>,
-}
+use common::files::names;
+use common::process::parasils;
+use common::table::Table;
 
-impl Table {
-    fn parse(text: &str) -> Table {
-        let mut lines = text.lines();
-        let header = lines
-            .next()
-            .expect("a header")
-            .split(',')
-            .map(str::to_owned)
-            .collect();
-        let rows = lines
-            .map(|l| {
-                l.split(',')
-                    .map(|v| v.parse::<f64>().expect("a float"))
-                    .collect()
-            })
-            .collect();
-        Table { header, rows }
-    }
-
-    fn col(&self, name: &str) -> Vec<f64> {
-        let i = self
-            .header
-            .iter()
-            .position(|h| h == name)
-            .unwrap_or_else(|| panic!("no column {name}"));
-        self.rows.iter().map(|r| r[i]).collect()
-    }
-}
-
+/// The paper's run with its increments given, written to standard output.
 fn paper_csv() -> Table {
-    let dir = tempfile::tempdir().expect("tempdir");
-    let out = parasils(
-        &["simulate", "--psi", "15", "--theta", "25", "-o", "-"],
-        dir.path(),
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    Table::parse(&String::from_utf8(out.stdout).expect("utf8"))
-}
-
-const REQUIRED: &[&str] = &[
-    "t_s",
-    "x_mm",
-    "y_mm",
-    "z_mm",
-    "psi_deg",
-    "theta_deg",
-    "phi_deg",
-    "psi_rate_deg_s",
-    "theta_rate_deg_s",
-    "psi_acc_deg_s2",
-    "theta_acc_deg_s2",
-    "module1_serial_margin",
-    "module1_parallel_margin",
-];
-
-#[test]
-fn the_paper_scenario() {
-    let t = paper_csv();
-    for c in REQUIRED {
-        assert!(t.header.iter().any(|h| h == c), "missing {c}");
-    }
-    for j in 1..=6 {
-        for c in [
-            format!("q{j}_mm"),
-            format!("q{j}_rate_mm_s"),
-            format!("q{j}_acc_mm_s2"),
-        ] {
-            assert!(t.header.contains(&c), "missing {c}");
-        }
-    }
-    for side in ["left", "right"] {
-        for c in [
-            "qs1_deg",
-            "qs2_deg",
-            "qs3_mm",
-            "qs1_rate_deg_s",
-            "qs2_rate_deg_s",
-            "qs3_rate_mm_s",
-            "qs1_acc_deg_s2",
-            "qs2_acc_deg_s2",
-            "qs3_acc_mm_s2",
-            "cos_qs2",
-            "tip_err_mm",
-        ] {
-            assert!(
-                t.header.contains(&format!("{side}_{c}")),
-                "missing {side}_{c}"
-            );
-        }
-    }
-    // 4501 samples over 4.5 s.
-    let time = t.col("t_s");
-    assert_eq!(time.len(), 4501);
-    assert_eq!(time[0], 0.0);
-    assert_eq!(time[4500], 4.5);
-    // The tips do not drift.
-    for side in ["left", "right"] {
-        let worst = t
-            .col(&format!("{side}_tip_err_mm"))
-            .into_iter()
-            .fold(0.0, f64::max);
-        assert!(worst < 1e-9, "{side} drift {worst} mm");
-    }
-    // Platform: psi -15 -> 0, theta 10 -> 35 deg.
-    let (psi, theta) = (t.col("psi_deg"), t.col("theta_deg"));
-    assert!((psi[0] + 15.0).abs() < 1e-12 && psi[4500].abs() < 1e-12);
-    assert!((theta[0] - 10.0).abs() < 1e-12 && (theta[4500] - 35.0).abs() < 1e-12);
-    // The paper's joints at the start and the end (docs/model.md, *Check
-    // values*).
-    let check = |side: &str, k: usize, want: [f64; 3]| {
-        let got = [
-            t.col(&format!("{side}_qs1_deg"))[k],
-            t.col(&format!("{side}_qs2_deg"))[k],
-            t.col(&format!("{side}_qs3_mm"))[k],
-        ];
-        for i in 0..3 {
-            assert!(
-                (got[i] - want[i]).abs() < 5e-5,
-                "{side} at {k}: {got:?} vs {want:?}"
-            );
-        }
-    };
-    check("left", 0, [3.0889, -38.8695, 147.7687]);
-    check("right", 0, [3.0889, -38.8695, 147.7687]);
-    check("left", 4500, [20.7942, -61.8435, 151.0378]);
-    check("right", 4500, [18.5977, -13.0799, 143.6301]);
-    // Module 1 at P0 (docs/model.md, *Check values*; assumed geometry).
-    let p0 = [117.942, 151.459, 56.937, 89.428, 132.193, 77.441];
-    for (j, want) in p0.iter().enumerate() {
-        let got = t.col(&format!("q{}_mm", j + 1))[0];
-        assert!((got - want).abs() < 5e-4, "q{} = {got}", j + 1);
-    }
-}
-
-/// Central differences of `pos` at every sample more than 2 ms from a switch
-/// of the profile (0, 2, 2.5 and 4.5 s for the paper's theta axis, which
-/// psi's phase-synchronised profile shares) against `rate`.
-fn worst_fd_error(time: &[f64], pos: &[f64], rate: &[f64]) -> f64 {
-    let switches = [0.0, 2.0, 2.5, 4.5];
-    let mut worst = 0.0f64;
-    for k in 1..time.len() - 1 {
-        if switches.iter().any(|s| (time[k] - s).abs() <= 0.002 + 1e-9) {
-            continue;
-        }
-        let fd = (pos[k + 1] - pos[k - 1]) / (time[k + 1] - time[k - 1]);
-        worst = worst.max((fd - rate[k]).abs());
-    }
-    worst
-}
-
-#[test]
-fn rates_and_accelerations_match_finite_differences() {
-    let t = paper_csv();
-    let time = t.col("t_s");
-    let mut pairs: Vec<(String, String, String)> = vec![
-        (
-            "psi_deg".into(),
-            "psi_rate_deg_s".into(),
-            "psi_acc_deg_s2".into(),
-        ),
-        (
-            "theta_deg".into(),
-            "theta_rate_deg_s".into(),
-            "theta_acc_deg_s2".into(),
-        ),
-    ];
-    for j in 1..=6 {
-        pairs.push((
-            format!("q{j}_mm"),
-            format!("q{j}_rate_mm_s"),
-            format!("q{j}_acc_mm_s2"),
-        ));
-    }
-    for side in ["left", "right"] {
-        for (q, u) in [("qs1", "deg"), ("qs2", "deg"), ("qs3", "mm")] {
-            pairs.push((
-                format!("{side}_{q}_{u}"),
-                format!("{side}_{q}_rate_{u}_s"),
-                format!("{side}_{q}_acc_{u}_s2"),
-            ));
-        }
-    }
-    for (p, r, a) in &pairs {
-        let (pos, rate, acc) = (t.col(p), t.col(r), t.col(a));
-        let e_rate = worst_fd_error(&time, &pos, &rate);
-        let e_acc = worst_fd_error(&time, &rate, &acc);
-        assert!(e_rate < 1e-4, "{r}: {e_rate}");
-        assert!(e_acc < 1e-4, "{a}: {e_acc}");
-    }
-}
-
-#[test]
-fn same_inputs_give_byte_identical_csv() {
-    let dir = tempfile::tempdir().expect("tempdir");
-    let a = parasils(&["simulate", "-o", "a.csv"], dir.path());
-    let b = parasils(
-        &["simulate", "--psi", "15", "--theta", "25", "-o", "b.csv"],
-        dir.path(),
-    );
-    assert!(a.status.success() && b.status.success());
-    let a = std::fs::read(dir.path().join("a.csv")).expect("a.csv");
-    let b = std::fs::read(dir.path().join("b.csv")).expect("b.csv");
-    assert!(a.len() > 1000);
-    assert!(a == b, "the two runs differ");
+    Table::parse(
+        &parasils(&["simulate", "--psi", "15", "--theta", "25", "-o", "-"])
+            .run()
+            .ok(),
+    )
 }
 
 #[test]
 fn summary_without_output() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let out = parasils(&["simulate"], dir.path());
-    assert!(out.status.success());
-    let text = String::from_utf8(out.stdout).expect("utf8");
+    let text = parasils(&["simulate"]).dir(dir.path()).run().ok();
     assert!(text.contains("duration 4.500 s, 4501 samples"), "{text}");
     assert!(text.contains("ASSUMED"), "{text}");
     assert!(text.contains("largest tip drift"), "{text}");
@@ -243,27 +34,22 @@ fn summary_without_output() {
 #[test]
 fn absolute_angles_and_other_syncs() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let out = parasils(
-        &[
-            "simulate",
-            "--absolute",
-            "--psi",
-            "15",
-            "--theta",
-            "25",
-            "--sync",
-            "time",
-            "-o",
-            "-",
-        ],
-        dir.path(),
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let t = Table::parse(&String::from_utf8(out.stdout).expect("utf8"));
+    let out = parasils(&[
+        "simulate",
+        "--absolute",
+        "--psi",
+        "15",
+        "--theta",
+        "25",
+        "--sync",
+        "time",
+        "-o",
+        "-",
+    ])
+    .dir(dir.path())
+    .run()
+    .ok();
+    let t = Table::parse(&out);
     let time = t.col("t_s");
     // psi -15 -> 15 deg is the longer axis: 30 deg at 10 deg/s, 5 deg/s^2 = 5 s.
     assert_eq!(*time.last().expect("rows"), 5.0);
@@ -276,15 +62,13 @@ fn absolute_angles_and_other_syncs() {
 fn fails_cleanly(args: &[&str], needle: &str, setup: impl FnOnce(&Path)) {
     let dir = tempfile::tempdir().expect("tempdir");
     setup(dir.path());
-    let before: Vec<_> = std::fs::read_dir(dir.path()).expect("dir").collect();
-    let out = parasils(args, dir.path());
-    assert!(!out.status.success(), "{args:?} succeeded");
-    let err = String::from_utf8(out.stderr).expect("utf8");
+    let before = names(dir.path());
+    let err = parasils(args).dir(dir.path()).run().fails();
     assert!(
         err.contains(needle),
         "{args:?}: message {err:?} lacks {needle:?}"
     );
-    let after: Vec<_> = std::fs::read_dir(dir.path()).expect("dir").collect();
+    let after = names(dir.path());
     assert_eq!(before.len(), after.len(), "{args:?} left a file: {after:?}");
 }
 
@@ -342,8 +126,7 @@ fn unreachable_tip() {
 /// (1e9 mm/s, deg/s and per s^2), written as `fast.toml` into `dir`, so that
 /// the joint limits, strokes and singularities are what a run meets first.
 fn unlimited_robot(dir: &Path) {
-    let out = parasils(&["robot"], dir);
-    let text = String::from_utf8(out.stdout).expect("utf8");
+    let text = parasils(&["robot"]).dir(dir).run().ok();
     let raised: Vec<String> = text
         .lines()
         .map(|line| match line.split_once(" = ") {
@@ -441,28 +224,23 @@ fn the_csv_starts_on_the_user_s_degrees() {
     // phi does not move: the user's -60 on every row, not -59.99999999999999.
     assert!(t.col("phi_deg").iter().all(|phi| *phi == -60.0));
     let dir = tempfile::tempdir().expect("tempdir");
-    let out = parasils(
-        &[
-            "simulate",
-            "--pose",
-            "15,20,-500,-14.3,10.56,-57.89",
-            "--psi",
-            "1",
-            "--theta",
-            "1",
-            "--rate",
-            "10",
-            "-o",
-            "-",
-        ],
-        dir.path(),
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let t = Table::parse(&String::from_utf8(out.stdout).expect("utf8"));
+    let out = parasils(&[
+        "simulate",
+        "--pose",
+        "15,20,-500,-14.3,10.56,-57.89",
+        "--psi",
+        "1",
+        "--theta",
+        "1",
+        "--rate",
+        "10",
+        "-o",
+        "-",
+    ])
+    .dir(dir.path())
+    .run()
+    .ok();
+    let t = Table::parse(&out);
     assert_eq!(
         [
             t.col("psi_deg")[0],
@@ -477,38 +255,29 @@ fn the_csv_starts_on_the_user_s_degrees() {
 #[test]
 fn a_closed_pipe_ends_the_run_quietly() {
     use std::io::Read;
-    use std::process::Stdio;
 
-    let dir = tempfile::tempdir().expect("tempdir");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_parasils"))
-        .args(["simulate", "-o", "-"])
-        .current_dir(dir.path())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
+    let mut child = parasils(&["simulate", "-o", "-"]).spawn();
     // Read the header only, then close the pipe, as `| head -1` does (the
     // whole CSV, 4 MB, is far more than the pipe holds).
     let mut first = [0u8; 64];
     child
-        .stdout
-        .take()
-        .expect("stdout")
+        .take_stdout()
         .read_exact(&mut first)
         .expect("a header");
     assert!(first.starts_with(b"t_s,x_mm"));
-    let out = child.wait_with_output().expect("ends");
+    let out = child.finish();
     assert!(out.status.success(), "{:?}", out.status);
-    assert_eq!(String::from_utf8_lossy(&out.stderr), "");
+    assert_eq!(out.stderr(), "");
 }
 
 #[test]
 fn messages_write_huge_numbers_with_an_exponent() {
     let dir = tempfile::tempdir().expect("tempdir");
     // One sample per 1e300 s: the summary's times are huge.
-    let out = parasils(&["simulate", "--rate", "1e-300"], dir.path());
-    assert!(out.status.success());
-    let text = String::from_utf8(out.stdout).expect("utf8");
+    let text = parasils(&["simulate", "--rate", "1e-300"])
+        .dir(dir.path())
+        .run()
+        .ok();
     assert!(
         text.starts_with("duration 1.000e300 s, 2 samples (0.000 to 1.000e300 s)\n"),
         "{text}"
@@ -532,43 +301,14 @@ fn messages_write_huge_numbers_with_an_exponent() {
 #[test]
 fn an_unwritable_folder_is_named_once() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let out = parasils(&["simulate", "-o", "missing/run.csv"], dir.path());
-    assert!(!out.status.success());
+    let err = parasils(&["simulate", "-o", "missing/run.csv"])
+        .dir(dir.path())
+        .run()
+        .fails();
     assert_eq!(
-        String::from_utf8(out.stderr).expect("utf8"),
+        err,
         "parasils: error: cannot write in missing: No such file or directory (os error 2)\n"
     );
-}
-
-/// FNV-1a, 64 bits: a digest of a file, to compare it with a recorded one.
-fn fnv1a(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, b| {
-        (h ^ u64::from(*b)).wrapping_mul(0x0100_0000_01b3)
-    })
-}
-
-/// The paper's CSV is the one `parasils simulate -o paper.csv` wrote before
-/// commands existed, byte for byte: its 53 columns, no `command`, every
-/// number to the last bit. The digest is of that file on Linux x86-64 (other
-/// platforms' maths libraries may round some functions differently). A
-/// change that means to alter the paper's numbers updates it, and says so.
-#[test]
-fn the_paper_csv_is_unchanged_byte_for_byte() {
-    let dir = tempfile::tempdir().expect("tempdir");
-    let out = parasils(&["simulate", "-o", "paper.csv"], dir.path());
-    assert!(out.status.success());
-    let bytes = std::fs::read(dir.path().join("paper.csv")).expect("paper.csv");
-    let header = bytes.split(|b| *b == b'\n').next().expect("a header");
-    assert_eq!(header.split(|b| *b == b',').count(), 53);
-    assert!(!header.windows(7).any(|w| w == b"command"));
-    assert_eq!(bytes.len(), 4_003_152);
-    if cfg!(all(target_os = "linux", target_arch = "x86_64")) {
-        assert_eq!(
-            fnv1a(&bytes),
-            0x3140_e691_69d4_96cf,
-            "the paper's CSV changed"
-        );
-    }
 }
 
 /// The acceptance run's flags: the paper's reorientation, a new goal at
@@ -586,21 +326,15 @@ const COMMANDS: &[&str] = &[
 #[test]
 fn retargets_and_a_stop() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let out = parasils(
-        &[&["simulate"], COMMANDS, &["-o", "-"]].concat(),
-        dir.path(),
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = String::from_utf8(out.stdout).expect("utf8");
-    let t = Table::parse(&text);
-    assert_eq!(t.header.len(), 54);
-    assert_eq!(t.header.last().map(String::as_str), Some("command"));
+    let out = parasils(&[&["simulate"], COMMANDS, &["-o", "-"]].concat())
+        .dir(dir.path())
+        .run()
+        .ok();
+    let t = Table::parse(&out);
+    assert_eq!(t.header().len(), 54);
+    assert_eq!(t.header().last().map(String::as_str), Some("command"));
     // The index as an integer, grown by one at each command's sample.
-    assert!(text.lines().nth(1).is_some_and(|r| r.ends_with(",0")));
+    assert_eq!(t.text("command")[0], "0");
     let (time, command) = (t.col("t_s"), t.col("command"));
     for (k, c) in command.iter().enumerate() {
         let want = [1.2, 3.0, 3.5].iter().filter(|s| time[k] >= **s).count();
@@ -632,20 +366,22 @@ fn retargets_and_a_stop() {
     assert!((t.col("theta_deg").last().expect("rows") - 40.0).abs() < 1e-9);
 
     // The summary lists the commands; the MCAP file is written.
-    let out = parasils(&[&["simulate"], COMMANDS].concat(), dir.path());
-    let summary = String::from_utf8(out.stdout).expect("utf8");
+    let summary = parasils(&[&["simulate"], COMMANDS].concat())
+        .dir(dir.path())
+        .run()
+        .ok();
     assert!(summary.contains("\ncommands (each active"), "{summary}");
     assert!(
         summary.contains("  3   retarget        at    3.500 s, active from    3.500 s: psi +5.0000, theta +30.0000 deg\n"),
         "{summary}"
     );
-    let out = parasils(
-        &[&["simulate"], COMMANDS, &["-o", "run.mcap"]].concat(),
-        dir.path(),
-    );
-    assert!(out.status.success());
+    let out = parasils(&[&["simulate"], COMMANDS, &["-o", "run.mcap"]].concat())
+        .dir(dir.path())
+        .run();
+    let stderr = out.stderr();
+    out.ok();
     assert_eq!(
-        String::from_utf8_lossy(&out.stderr),
+        stderr,
         "parasils: wrote 8895 samples (8.894 s) to run.mcap\n"
     );
 }
@@ -654,29 +390,24 @@ fn retargets_and_a_stop() {
 fn retargets_read_like_psi_and_theta() {
     // With --absolute, the retarget's angles are final ones too.
     let dir = tempfile::tempdir().expect("tempdir");
-    let out = parasils(
-        &[
-            "simulate",
-            "--absolute",
-            "--psi",
-            "0",
-            "--theta",
-            "30",
-            "--retarget",
-            "1:-10,20",
-            "--rate",
-            "100",
-            "-o",
-            "-",
-        ],
-        dir.path(),
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let t = Table::parse(&String::from_utf8(out.stdout).expect("utf8"));
+    let out = parasils(&[
+        "simulate",
+        "--absolute",
+        "--psi",
+        "0",
+        "--theta",
+        "30",
+        "--retarget",
+        "1:-10,20",
+        "--rate",
+        "100",
+        "-o",
+        "-",
+    ])
+    .dir(dir.path())
+    .run()
+    .ok();
+    let t = Table::parse(&out);
     assert!((t.col("psi_deg").last().expect("rows") + 10.0).abs() < 1e-9);
     assert!((t.col("theta_deg").last().expect("rows") - 20.0).abs() < 1e-9);
     assert_eq!(t.col("command").last(), Some(&1.0));
@@ -728,10 +459,12 @@ fn bad_commands() {
     }
     // One line each.
     let dir = tempfile::tempdir().expect("tempdir");
-    let out = parasils(&["simulate", "--stop-at", "-2"], dir.path());
-    assert!(!out.status.success());
+    let err = parasils(&["simulate", "--stop-at", "-2"])
+        .dir(dir.path())
+        .run()
+        .fails();
     assert_eq!(
-        String::from_utf8(out.stderr).expect("utf8"),
+        err,
         "parasils: error: commands: the stop: t = -2 s is before the start (t = 0)\n"
     );
 }
@@ -742,26 +475,20 @@ fn the_supervisor_stops_where_the_plain_run_fails() {
     // (`trajectory_through_a_joint_limit` above); with a command it runs
     // through the online controller, whose supervisor stops the platform.
     let dir = tempfile::tempdir().expect("tempdir");
-    let out = parasils(
-        &[
-            "simulate",
-            "--psi",
-            "0",
-            "--theta",
-            "60",
-            "--stop-at",
-            "10",
-            "--rate",
-            "100",
-        ],
-        dir.path(),
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = String::from_utf8(out.stdout).expect("utf8");
+    let text = parasils(&[
+        "simulate",
+        "--psi",
+        "0",
+        "--theta",
+        "60",
+        "--stop-at",
+        "10",
+        "--rate",
+        "100",
+    ])
+    .dir(dir.path())
+    .run()
+    .ok();
     assert!(text.contains("  1   supervisor_stop demanded,"), "{text}");
     assert!(text.contains("supervisor warnings on "), "{text}");
 }

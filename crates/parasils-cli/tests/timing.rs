@@ -3,41 +3,9 @@
 
 mod common;
 
-use std::path::Path;
-use std::process::{Command, Output};
-
-use common::demo;
-
-fn parasils(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_parasils"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the binary runs")
-}
-
-/// The CSV as named columns.
-fn read(path: &Path) -> Vec<(String, Vec<f64>)> {
-    let text = std::fs::read_to_string(path).expect("csv");
-    let mut lines = text.lines();
-    let header: Vec<String> = lines
-        .next()
-        .expect("header")
-        .split(',')
-        .map(str::to_owned)
-        .collect();
-    let mut cols: Vec<(String, Vec<f64>)> = header.into_iter().map(|h| (h, Vec::new())).collect();
-    for line in lines {
-        for (c, v) in cols.iter_mut().zip(line.split(',')) {
-            c.1.push(v.parse().expect("number"));
-        }
-    }
-    cols
-}
-
-fn col<'a>(t: &'a [(String, Vec<f64>)], name: &str) -> &'a [f64] {
-    &t.iter().find(|c| c.0 == name).expect(name).1
-}
+use common::files::demo;
+use common::process::parasils;
+use common::table::Table;
 
 /// The twelve actuators' rate and acceleration columns with their assumed
 /// limits (mm/s, mm/s^2; deg/s, deg/s^2 as the CSV writes them).
@@ -76,10 +44,10 @@ fn actuators() -> Vec<(String, String, f64, f64)> {
 
 /// Every actuator's rate and acceleration columns of `table` within their
 /// limits (1e-9 relative) at every sample; the largest fraction used.
-fn peak_use(table: &[(String, Vec<f64>)]) -> f64 {
+fn peak_use(table: &Table) -> f64 {
     let mut peak: f64 = 0.0;
     for (rate, acc, v_max, a_max) in actuators() {
-        for (k, (v, a)) in col(table, &rate).iter().zip(col(table, &acc)).enumerate() {
+        for (k, (v, a)) in table.col(&rate).iter().zip(table.col(&acc)).enumerate() {
             assert!(
                 v.abs() <= v_max * (1.0 + 1e-9),
                 "{rate} = {v} at sample {k}"
@@ -101,17 +69,12 @@ fn the_optimal_turn_keeps_every_actuator_within_its_limits_and_is_shorter() {
         ),
         (&["simulate", "-o", "trap.csv"][..], "trap.csv"),
     ] {
-        let out = parasils(args, dir.path());
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        parasils(args).dir(dir.path()).run().ok();
         assert!(dir.path().join(file).is_file());
     }
-    let opt = read(&dir.path().join("opt.csv"));
-    let trap = read(&dir.path().join("trap.csv"));
-    let t = col(&opt, "t_s");
+    let opt = Table::read(&dir.path().join("opt.csv"));
+    let trap = Table::read(&dir.path().join("trap.csv"));
+    let t = opt.col("t_s");
     let n = t.len();
     let duration = t[n - 1];
     assert!(duration < 4.5 * 0.6, "{duration}");
@@ -123,8 +86,8 @@ fn the_optimal_turn_keeps_every_actuator_within_its_limits_and_is_shorter() {
     // acceleration jumps (100 mm/s^2 x 1 ms / 2), and by h^2 / 6 of the jerk
     // elsewhere.
     for j in 1..=6 {
-        let q = col(&opt, &format!("q{j}_mm"));
-        let v = col(&opt, &format!("q{j}_rate_mm_s"));
+        let q = opt.col(&format!("q{j}_mm"));
+        let v = opt.col(&format!("q{j}_rate_mm_s"));
         for k in 1..n - 1 {
             let fd = (q[k + 1] - q[k - 1]) / (t[k + 1] - t[k - 1]);
             assert!((fd - v[k]).abs() < 100.0 * 1e-3 / 2.0, "q{j} at {}", t[k]);
@@ -134,7 +97,7 @@ fn the_optimal_turn_keeps_every_actuator_within_its_limits_and_is_shorter() {
     // in (psi, theta).
     for side in ["left", "right"] {
         assert!(
-            col(&opt, &format!("{side}_tip_err_mm"))
+            opt.col(&format!("{side}_tip_err_mm"))
                 .iter()
                 .all(|e| *e < 1e-9)
         );
@@ -145,11 +108,11 @@ fn the_optimal_turn_keeps_every_actuator_within_its_limits_and_is_shorter() {
         "q1_rate_mm_s",
         "left_qs2_rate_deg_s",
     ] {
-        assert_eq!(col(&opt, c)[0], 0.0, "{c}");
-        assert!(col(&opt, c)[n - 1].abs() < 1e-9, "{c}");
+        assert_eq!(opt.col(c)[0], 0.0, "{c}");
+        assert!(opt.col(c)[n - 1].abs() < 1e-9, "{c}");
     }
-    let (psi, theta) = (col(&opt, "psi_deg"), col(&opt, "theta_deg"));
-    let (tp, tt) = (col(&trap, "psi_deg"), col(&trap, "theta_deg"));
+    let (psi, theta) = (opt.col("psi_deg"), opt.col("theta_deg"));
+    let (tp, tt) = (trap.col("psi_deg"), trap.col("theta_deg"));
     let (p0, t0) = (tp[0], tt[0]);
     let (p1, t1) = (tp[tp.len() - 1], tt[tt.len() - 1]);
     assert!((psi[n - 1] - p1).abs() < 1e-9 && (theta[n - 1] - t1).abs() < 1e-9);
@@ -163,40 +126,32 @@ fn the_optimal_turn_keeps_every_actuator_within_its_limits_and_is_shorter() {
 #[test]
 fn limits_the_trapezoid_exceeds_fail_it_and_slow_the_optimal_law() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let out = parasils(&["robot"], dir.path());
-    let text = String::from_utf8(out.stdout).expect("utf8");
+    let text = parasils(&["robot"]).dir(dir.path()).run().ok();
     // Module 1's sliders limited to 20 mm/s: the paper's turn needs 35.7.
     let slow = text.replace("velocity_max_mm_s = 50.0", "velocity_max_mm_s = 20.0");
     assert_ne!(slow, text);
     std::fs::write(dir.path().join("slow.toml"), slow).expect("write");
-    let trap = parasils(
-        &["simulate", "--robot", "slow.toml", "-o", "t.csv"],
-        dir.path(),
-    );
-    assert!(!trap.status.success());
-    let err = String::from_utf8(trap.stderr).expect("utf8");
+    let trap = parasils(&["simulate", "--robot", "slow.toml", "-o", "t.csv"])
+        .dir(dir.path())
+        .run();
+    let err = trap.fails();
     assert!(err.contains("module 1 q"), "{err}");
     assert!(err.contains("is beyond its limit 20 mm/s"), "{err}");
     assert!(!dir.path().join("t.csv").exists());
-    let opt = parasils(
-        &[
-            "simulate",
-            "--robot",
-            "slow.toml",
-            "--timing",
-            "optimal",
-            "-o",
-            "o.csv",
-        ],
-        dir.path(),
-    );
-    assert!(
-        opt.status.success(),
-        "{}",
-        String::from_utf8_lossy(&opt.stderr)
-    );
-    let table = read(&dir.path().join("o.csv"));
-    let t = col(&table, "t_s");
+    let opt = parasils(&[
+        "simulate",
+        "--robot",
+        "slow.toml",
+        "--timing",
+        "optimal",
+        "-o",
+        "o.csv",
+    ])
+    .dir(dir.path())
+    .run();
+    opt.ok();
+    let table = Table::read(&dir.path().join("o.csv"));
+    let t = table.col("t_s");
     assert!(
         t[t.len() - 1] > 4.5,
         "slower than the paper's 4.5 s: {}",
@@ -204,17 +159,17 @@ fn limits_the_trapezoid_exceeds_fail_it_and_slow_the_optimal_law() {
     );
     for j in 1..=6 {
         assert!(
-            col(&table, &format!("q{j}_rate_mm_s"))
+            table
+                .col(&format!("q{j}_rate_mm_s"))
                 .iter()
                 .all(|v| v.abs() <= 20.0 * (1.0 + 1e-9))
         );
     }
     // The summary says what binds.
-    let summary = parasils(
-        &["simulate", "--robot", "slow.toml", "--timing", "optimal"],
-        dir.path(),
-    );
-    let text = String::from_utf8(summary.stdout).expect("utf8");
+    let summary = parasils(&["simulate", "--robot", "slow.toml", "--timing", "optimal"])
+        .dir(dir.path())
+        .run();
+    let text = summary.stdout();
     assert!(
         text.contains("time-optimal timing, what limits each phase:"),
         "{text}"
@@ -226,17 +181,12 @@ fn limits_the_trapezoid_exceeds_fail_it_and_slow_the_optimal_law() {
 fn the_plot_of_an_optimal_run_adds_its_phase_plane() {
     let dir = tempfile::tempdir().expect("temp dir");
     let svg = |timing: &str| {
-        let out = parasils(
-            &[
-                "simulate", "--timing", timing, "--rate", "100", "--plot", "p.svg",
-            ],
-            dir.path(),
-        );
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let out = parasils(&[
+            "simulate", "--timing", timing, "--rate", "100", "--plot", "p.svg",
+        ])
+        .dir(dir.path())
+        .run();
+        out.ok();
         std::fs::read_to_string(dir.path().join("p.svg")).expect("the picture")
     };
     let optimal = svg("optimal");
@@ -249,25 +199,20 @@ fn the_plot_of_an_optimal_run_adds_its_phase_plane() {
 fn a_procedure_timed_optimally_keeps_every_limit_and_names_what_binds() {
     let dir = tempfile::tempdir().expect("tempdir");
     let demo = demo();
-    let out = parasils(
-        &[
-            "simulate",
-            "--procedure",
-            &demo,
-            "--timing",
-            "optimal",
-            "-o",
-            "opt.csv",
-        ],
-        dir.path(),
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let opt = read(&dir.path().join("opt.csv"));
-    let t = col(&opt, "t_s");
+    let out = parasils(&[
+        "simulate",
+        "--procedure",
+        &demo,
+        "--timing",
+        "optimal",
+        "-o",
+        "opt.csv",
+    ])
+    .dir(dir.path())
+    .run();
+    out.ok();
+    let opt = Table::read(&dir.path().join("opt.csv"));
+    let t = opt.col("t_s");
     // Shorter than the trapezoids' 20.232 s: the platform (1.3 s instead
     // of 3 s) and the turn (2.22 s instead of 4.5 s) at the actuators'
     // limits; the endoscope and the tip motions at the limits the
@@ -278,7 +223,7 @@ fn a_procedure_timed_optimally_keeps_every_limit_and_names_what_binds() {
     let peak = peak_use(&opt);
     assert!(peak > 0.999, "{peak}");
     // Every motion of the procedure is in the file, in order.
-    let motions = col(&opt, "motion");
+    let motions = opt.col("motion");
     assert_eq!((motions[0], motions[motions.len() - 1]), (0.0, 5.0));
     assert!(
         motions
@@ -286,19 +231,17 @@ fn a_procedure_timed_optimally_keeps_every_limit_and_names_what_binds() {
             .all(|w| w[1] - w[0] == 0.0 || w[1] - w[0] == 1.0)
     );
     // --check names what limits each phase of each motion.
-    let out = parasils(
-        &[
-            "simulate",
-            "--procedure",
-            &demo,
-            "--timing",
-            "optimal",
-            "--check",
-        ],
-        dir.path(),
-    );
-    let text = String::from_utf8(out.stdout).expect("utf8");
-    assert!(out.status.success(), "{text}");
+    let text = parasils(&[
+        "simulate",
+        "--procedure",
+        &demo,
+        "--timing",
+        "optimal",
+        "--check",
+    ])
+    .dir(dir.path())
+    .run()
+    .ok();
     for line in [
         "  motion 0 (position \"platform down to the port\"): 0.0000 s to 0.4998 s: module 1 q1 acceleration limit",
         "  motion 1 (insert \"endoscope in\"): 2.2985 s to 4.3015 s: depth velocity limit",
@@ -317,32 +260,25 @@ fn a_procedure_motion_cut_short_is_refused_under_optimal_timing() {
         "[[motion]]\ntype = \"insert\"\ninstrument = \"left\"\ndepth_mm = 30\nuntil_s = 0.5\n\n[[motion]]\ntype = \"stop\"\n",
     )
     .expect("write");
-    let out = parasils(
-        &[
-            "simulate",
-            "--procedure",
-            "cut.toml",
-            "--timing",
-            "optimal",
-            "-o",
-            "cut.csv",
-        ],
-        dir.path(),
-    );
-    assert_eq!(out.status.code(), Some(1));
-    let stderr = String::from_utf8(out.stderr).expect("utf8");
+    let out = parasils(&[
+        "simulate",
+        "--procedure",
+        "cut.toml",
+        "--timing",
+        "optimal",
+        "-o",
+        "cut.csv",
+    ])
+    .dir(dir.path())
+    .run();
+    let stderr = out.fails_with(1);
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
     assert!(stderr.contains("motion 0 (insert)"), "{stderr}");
     assert!(stderr.contains("from rest to rest"), "{stderr}");
     assert!(!dir.path().join("cut.csv").exists());
     // The trapezoid takes it: cut short, then stopped.
-    let out = parasils(
-        &["simulate", "--procedure", "cut.toml", "-o", "cut.csv"],
-        dir.path(),
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = parasils(&["simulate", "--procedure", "cut.toml", "-o", "cut.csv"])
+        .dir(dir.path())
+        .run();
+    out.ok();
 }

@@ -11,13 +11,15 @@ use std::path::Path;
 use parquet::file::reader::{FileReader, SerializedFileReader};
 use parquet::record::Field;
 
-use common::{fails, ok, s};
+use common::files::s;
+use common::process::{fails, ok, parasils};
+use common::table::Table;
 
+/// The rows of a study's CSV as numbers, in its columns' order (`sample`,
+/// the four deviations, `failed`).
 fn rows(csv: &str) -> Vec<Vec<f64>> {
-    csv.lines()
-        .skip(1)
-        .map(|l| l.split(',').map(|v| v.parse().expect("a number")).collect())
-        .collect()
+    let table = Table::parse(csv);
+    (0..table.rows()).map(|k| table.row(k)).collect()
 }
 
 #[test]
@@ -195,24 +197,19 @@ fn bad_input_is_one_line_and_no_file() {
     let err = fails(&["tolerance", "-n", "200000000"]);
     assert!(err.contains("split the study"), "{err}");
     // Above the output cap: refused before the first robot, unless --force.
-    let over = |force: bool| {
-        let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_parasils"));
-        cmd.args(["tolerance", "-n", "3", "--rate", "5", "-o", s(&out)])
-            .env("PARASILS_OUTPUT_CAP_BYTES", "1000");
-        if force {
-            cmd.arg("--force");
-        }
-        cmd.output().expect("the binary runs")
+    let over = |force: &[&str]| {
+        parasils(&["tolerance", "-n", "3", "--rate", "5", "-o", s(&out)])
+            .args(force)
+            .env("PARASILS_OUTPUT_CAP_BYTES", "1000")
+            .run()
     };
-    let refused = over(false);
-    assert!(!refused.status.success());
-    let err = String::from_utf8_lossy(&refused.stderr);
+    let err = over(&[]).fails();
     assert!(
         err.contains("more than the 1.0 kB cap: give --force"),
         "{err}"
     );
     assert!(!out.exists());
-    assert!(over(true).status.success());
+    over(&["--force"]).ok();
     std::fs::remove_file(&out).expect("written with --force");
     let names: Vec<_> = std::fs::read_dir(dir.path())
         .expect("listing")
@@ -230,32 +227,23 @@ fn an_interrupted_study_exits_130_and_leaves_the_previous_file() {
     // come before the handler is installed (a very slow start), the child
     // dies of it instead; try again, waiting longer.
     for wait_ms in [400, 1600, 6400] {
-        let child = std::process::Command::new(env!("CARGO_BIN_EXE_parasils"))
-            .args([
-                "tolerance",
-                "-n",
-                "1000000",
-                "--threads",
-                "1",
-                "-o",
-                s(&out),
-            ])
-            .stdout(std::process::Stdio::piped())
-            .stderr(std::process::Stdio::piped())
-            .spawn()
-            .expect("spawn");
+        let child = parasils(&[
+            "tolerance",
+            "-n",
+            "1000000",
+            "--threads",
+            "1",
+            "-o",
+            s(&out),
+        ])
+        .spawn();
         std::thread::sleep(core::time::Duration::from_millis(wait_ms));
-        let sent = std::process::Command::new("kill")
-            .args(["-INT", &child.id().to_string()])
-            .status()
-            .expect("kill runs");
-        assert!(sent.success());
-        let done = child.wait_with_output().expect("output");
+        child.signal("-INT");
+        let done = child.finish();
         if done.status.code().is_none() {
             continue;
         }
-        let err = String::from_utf8_lossy(&done.stderr);
-        assert_eq!(done.status.code(), Some(130), "{err}");
+        let err = done.fails_with(130);
         assert_eq!(err.trim(), "parasils: interrupted");
         assert_eq!(std::fs::read_to_string(&out).expect("kept"), "previous\n");
         let names: Vec<_> = std::fs::read_dir(dir.path()).expect("listing").collect();

@@ -6,7 +6,7 @@ use nalgebra::Vector3;
 use parasils_kin::{Controller, Real, TipTargets};
 
 mod common;
-use common::reorientation;
+use common::motion::reorientation;
 
 /// The largest tip drift (mm) over 4501 samples at 1 kHz, both modules.
 fn largest_drift<T: Real>() -> f64 {
