@@ -72,8 +72,7 @@ fn run<T: Real>(
         Command::Goal(k, _) | Command::Stop(k) => m.max(k),
     });
     for k in 0..max_cycles {
-        let t = T::from_index(k as usize)
-            / T::lit(RATE_HZ);
+        let t = T::from_index(k as usize) / T::lit(RATE_HZ);
         for cmd in stream {
             match *cmd {
                 Command::Goal(at, deg) if at == k => {

@@ -27,11 +27,7 @@ fn tip_drift<T: Real>(
         (&controller.right, &out.right.q, &tips.right),
     ] {
         let tip = m.fk(&state.pose, q).expect("finite");
-        worst = worst.max(
-            (tip - target)
-                .map(|v| v.to_f64())
-                .norm(),
-        );
+        worst = worst.max((tip - target).map(|v| v.to_f64()).norm());
     }
     worst
 }

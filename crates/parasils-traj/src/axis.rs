@@ -171,7 +171,12 @@ impl<T: Real, S: Shape<T>> Axis<T, S> {
     /// # Errors
     /// [`Error::InvalidDuration`] (see [`check_duration`]) or
     /// [`Error::OutOfRange`], naming `axis`.
-    pub(crate) fn stretched(self, axis: usize, limits: S::Limits, duration: T) -> Result<Self, Error> {
+    pub(crate) fn stretched(
+        self,
+        axis: usize,
+        limits: S::Limits,
+        duration: T,
+    ) -> Result<Self, Error> {
         check_duration(axis, self.shape.duration(), duration)?;
         if self.dir == T::zero() {
             return Ok(Self::still(self.start, self.goal, duration.max(T::zero())));

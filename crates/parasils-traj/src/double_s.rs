@@ -103,7 +103,6 @@ impl<T: Real> SShape<T> {
             duration,
         })
     }
-
 }
 
 impl<T: Real> Shape<T> for SShape<T> {
@@ -258,7 +257,6 @@ impl<T: Real> Shape<T> for SShape<T> {
         self.v_p
     }
 
-
     /// The jerk phase, the constant acceleration, the jerk phase back to
     /// the cruise.
     fn accel_half(&self, t: T) -> (T, T, T) {
@@ -277,7 +275,8 @@ impl<T: Real> Shape<T> for SShape<T> {
             let s = half * self.v_p * self.t_a - self.v_p * sigma + a * sigma * sigma * sixth;
             (s, self.v_p - half * a * sigma, a)
         }
-    }}
+    }
+}
 
 /// A rest-to-rest jerk-limited (double-S, seven-phase) profile of one axis,
 /// with the same interface and conventions as [`Trapezoid`](crate::Trapezoid).

@@ -65,7 +65,7 @@ fn count_of(n: f64) -> Option<usize> {
     #[allow(clippy::cast_precision_loss)]
     let end = usize::MAX as f64 + 1.0;
     #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
-    (n >= 0.0 && n < end).then(|| n as usize)
+    (n >= 0.0 && n < end).then_some(n as usize)
 }
 
 impl<T: Real, M: Motion<T>> Sampler<T, M> {

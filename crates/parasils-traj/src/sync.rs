@@ -82,10 +82,7 @@ fn longest<T: Real>(durations: impl Iterator<Item = (T, bool)>) -> (Option<usize
 
 /// The straight line's distance `D = max_i d_i` and limits, each
 /// `min_i limit_i D / d_i` over the moving axes.
-fn line_limits<T: Real, S: Shape<T>>(
-    axes: &[Axis<T, S>],
-    limits: &[S::Limits],
-) -> (T, S::Limits) {
+fn line_limits<T: Real, S: Shape<T>>(axes: &[Axis<T, S>], limits: &[S::Limits]) -> (T, S::Limits) {
     let big = axes.iter().fold(T::zero(), |m, p| m.max(p.distance()));
     let mut line = S::unbounded();
     for (p, l) in axes.iter().zip(limits) {
@@ -116,8 +113,8 @@ fn build<T: Real, const N: usize, P: OneAxis<T>>(
             Synchronization::None => {}
             Synchronization::Phase => {
                 let (big, line) = line_limits(&own, &limits);
-                let shape = P::Shape::min_time(big, line)
-                    .ok_or_else(|| out_of_range(lead_axis, big))?;
+                let shape =
+                    P::Shape::min_time(big, line).ok_or_else(|| out_of_range(lead_axis, big))?;
                 for (i, ax) in axes.iter_mut().enumerate() {
                     *ax = ax.share(i, &shape, ax.distance() / big)?;
                 }
@@ -129,7 +126,9 @@ fn build<T: Real, const N: usize, P: OneAxis<T>>(
             }
         }
     }
-    let duration = axes.iter().fold(T::zero(), |m, p| m.max(p.shape().duration()));
+    let duration = axes
+        .iter()
+        .fold(T::zero(), |m, p| m.max(p.shape().duration()));
     Ok(Multi {
         axes: axes.map(P::from_axis),
         duration,

@@ -183,7 +183,6 @@ impl<T: Real> Shape<T> for TrapShape<T> {
         self.v
     }
 
-
     fn accel_half(&self, t: T) -> (T, T, T) {
         (ramp(self.a, t), self.a * t, self.a)
     }

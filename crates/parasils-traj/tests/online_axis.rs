@@ -17,7 +17,9 @@ use online_common::{
     CASES, Case, anything, case_f32, case_f64, check_profile, fail, moving, needs_no_overshoot,
     reference, rounding, time_slack,
 };
-use parasils_traj::{Error, LimitKind, Limits, OnlineMulti, OnlineTrapezoid, Real, State, Synchronization};
+use parasils_traj::{
+    Error, LimitKind, Limits, OnlineMulti, OnlineTrapezoid, Real, State, Synchronization,
+};
 use proptest::prelude::*;
 
 /// Every single-axis check; returns the profile.
@@ -93,7 +95,6 @@ fn check_replan<T: Real>(k: &Case, frac: f64) -> Result<(), TestCaseError> {
     }
     Ok(())
 }
-
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(CASES))]
@@ -196,7 +197,6 @@ fn hand_derived_cases() -> Result<(), Error> {
     Ok(())
 }
 
-
 #[test]
 fn errors_name_the_axis_and_value() {
     let lim = Limits::new(1.0_f64, 1.0);
@@ -267,4 +267,3 @@ fn errors_name_the_axis_and_value() {
         Some("axis 0: the start velocity inf is not finite")
     );
 }
-

@@ -16,7 +16,9 @@ use online_common::{
     CASES, Case, case_f32, case_f64, check_profile, fail, group, moving, needs_no_overshoot,
     rounding, time_slack,
 };
-use parasils_traj::{Error, Limits, Motion, OnlineMulti, OnlineTrapezoid, Real, State, Synchronization};
+use parasils_traj::{
+    Error, Limits, Motion, OnlineMulti, OnlineTrapezoid, Real, State, Synchronization,
+};
 use proptest::prelude::*;
 
 /// Time synchronisation of `N` axes: one duration, the longest minimum time,
@@ -97,7 +99,7 @@ fn check_multi_replan<T: Real, const N: usize>(
             let d = disp[i].abs();
             if d > T::zero() {
                 let rel = T::EPSILON * (s[i].position.abs() + target[i].abs()) / d;
-                tol_t = tol_t + c::<T>(4.0) * rel * m.duration();
+                tol_t += c::<T>(4.0) * rel * m.duration();
             }
         }
     }
@@ -107,7 +109,7 @@ fn check_multi_replan<T: Real, const N: usize>(
         let delta = rounding(x.position, x.velocity, g, l.a_max)
             + rounding(k.start::<T>().position, k.start::<T>().velocity, g, l.a_max);
         let gap = g - (x.position + T::lit(0.5) * x.velocity * x.velocity.abs() / l.a_max);
-        tol_t = tol_t + time_slack(delta, gap, l);
+        tol_t += time_slack(delta, gap, l);
     }
     let rest = m.duration() - t;
     prop_assert!(
@@ -239,9 +241,9 @@ fn check_phase<T: Real, const N: usize>(
             let gap = target[i]
                 - (start[i].position
                     + T::lit(0.5) * start[i].velocity * start[i].velocity.abs() / limits[i].a_max);
-            tol = tol + time_slack(delta, gap, limits[i]);
+            tol += time_slack(delta, gap, limits[i]);
         }
-        tol = tol + c::<T>(64.0) * T::EPSILON * longest;
+        tol += c::<T>(64.0) * T::EPSILON * longest;
         prop_assert!(
             (m.duration() - longest).abs() <= tol,
             "line {:?} vs slowest axis {:?}",
@@ -251,7 +253,6 @@ fn check_phase<T: Real, const N: usize>(
     }
     Ok(())
 }
-
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(CASES))]
@@ -395,7 +396,6 @@ fn sampler_ends_on_the_targets() -> Result<(), Error> {
     assert_eq!(last.state, [State::rest(1.0), State::rest(2.0)]);
     Ok(())
 }
-
 
 /// A line whose lead axis brakes nearly all the way (`h` small) and is
 /// stretched by an ulp or two of time to the line's duration: in f32 the

@@ -70,7 +70,6 @@ fn check_stop<T: Real, const N: usize>(ks: &[Case; N]) -> Result<(), TestCaseErr
     Ok(())
 }
 
-
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(CASES))]
     #[test]

@@ -73,8 +73,8 @@ pub fn certify<T: Real, P: Path<T, M>, const M: usize>(
     if stretch > T::one() {
         let f = T::one() / (stretch * stretch);
         for k in knots.iter_mut() {
-            k.x = k.x * f;
-            k.u = k.u * f;
+            k.x *= f;
+            k.u *= f;
         }
         set_times(knots).map_err(Error::widen)?;
     }

@@ -370,7 +370,7 @@ pub(crate) fn set_times<T: Real, const M: usize>(knots: &mut [Knot<T, M>]) -> Re
     for (index, k) in knots.iter_mut().enumerate() {
         if let Some((s, v)) = previous {
             let dt = (k.s - s) * T::lit(2.0) / (v + k.x.sqrt());
-            t = t + dt;
+            t += dt;
             if !(t.finite() && dt > T::zero()) {
                 return Err(Error::OutOfRange { index });
             }

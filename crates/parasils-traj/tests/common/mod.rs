@@ -148,8 +148,8 @@ pub fn check_continuity<T: Real, P: Profile<T>>(
             y.position - x.position,
             s
         );
-        let tol_v = c::<T>(16.0) * T::EPSILON * p.peak_velocity()
-            + p.peak_acceleration() * nudge * c(2.0);
+        let tol_v =
+            c::<T>(16.0) * T::EPSILON * p.peak_velocity() + p.peak_acceleration() * nudge * c(2.0);
         prop_assert!(
             (x.velocity - y.velocity).abs() <= tol_v,
             "velocity jumps at switch {:?}",

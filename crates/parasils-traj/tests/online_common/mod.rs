@@ -160,8 +160,8 @@ pub fn check_profile<T: Real>(
 
     let rel = T::one() + c::<T>(16.0) * T::EPSILON;
     // The rounding of the positions met: 16 eps of the largest.
-    let tol_p = rounding(p0, v0, target, lim.a_max)
-        + c::<T>(16.0) * T::EPSILON * p.peak_velocity() * t_end;
+    let tol_p =
+        rounding(p0, v0, target, lim.a_max) + c::<T>(16.0) * T::EPSILON * p.peak_velocity() * t_end;
     let (lo, hi) = (p0.min(target), p0.max(target));
     let dir = (target - p0).signum();
     let braking = v0.abs() > lim.v_max;
@@ -256,7 +256,12 @@ pub fn needs_no_overshoot<T: Real>(p0: T, v0: T, target: T, lim: Limits<T>) -> b
 /// is the tail of a rest-to-rest profile from a virtual start, or brakes to
 /// `v_max` and cruises. Also returns the upper bound of the requirements,
 /// braking to rest then rest-to-rest.
-pub fn reference<T: Real>(p0: T, v0: T, target: T, lim: Limits<T>) -> Result<(T, T), TestCaseError> {
+pub fn reference<T: Real>(
+    p0: T,
+    v0: T,
+    target: T,
+    lim: Limits<T>,
+) -> Result<(T, T), TestCaseError> {
     let half = T::lit(0.5);
     let (vm, am) = (lim.v_max, lim.a_max);
     let t_brake = v0.abs() / am;
