@@ -38,7 +38,7 @@ fn bench_step<T: Real>(c: &mut Criterion, name: &str) {
 /// backwards), made outside the timing.
 fn bench_online<T: Real>(c: &mut Criterion, name: &str) {
     let online = common::paper_online::<T>();
-    let t = <T as parasils::kin::Real>::lit(1.0);
+    let t = T::lit(1.0);
     c.bench_function(&format!("controller/online_tick/{name}"), |b| {
         b.iter_batched_ref(|| online, |o| o.tick(black_box(t)), BatchSize::SmallInput)
     });

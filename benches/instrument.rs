@@ -280,7 +280,7 @@ fn bench_closed_form<T: Real>(c: &mut Criterion, name: &str) {
     let motion = paper_motion::<T>();
     let left = Instrument::<T>::paper(Side::Left);
     let tip = TipTargets::<T>::paper().left;
-    let pose = motion.state_at(<T as parasils::kin::Real>::lit(1.0)).pose;
+    let pose = motion.state_at(T::lit(1.0)).pose;
     c.bench_function(&format!("instrument/ik/{name}"), |b| {
         b.iter(|| left.ik(black_box(&pose), black_box(&tip), AssemblyMode::A))
     });

@@ -17,7 +17,7 @@ use parasils::path::{PATH_ROWS, ReorientationPath, row_limits};
 use parasils::traj::optimal::{self, Knot};
 
 fn paper_path<T: Real>() -> ReorientationPath<T> {
-    let lit = <T as parasils::kin::Real>::lit;
+    let lit = T::lit;
     ReorientationPath::new(
         &Controller::paper(),
         Pose::paper_start(),

@@ -17,7 +17,7 @@ use parasils::kin::ParallelRobot;
 use common::paper_motion;
 
 fn bench<T: Real>(c: &mut Criterion, name: &str) {
-    let lit = <T as parasils::kin::Real>::lit;
+    let lit = T::lit;
     let motion = paper_motion::<T>();
     let robot = ParallelRobot::<T>::assumed();
     let pose = motion.state_at(lit(1.0)).pose;
@@ -27,7 +27,7 @@ fn bench<T: Real>(c: &mut Criterion, name: &str) {
     println!(
         "parallel/fk/{name}: {} Newton steps from the pose 1 ms earlier, residual {:.1e}",
         fk.iterations,
-        parasils::kin::Real::to_f64(fk.residual)
+        fk.residual.to_f64()
     );
     c.bench_function(&format!("parallel/fk_from_previous/{name}"), |b| {
         b.iter(|| robot.fk(black_box(&q), black_box(&previous)))

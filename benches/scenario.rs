@@ -39,7 +39,7 @@ impl Sink for Discard {
 fn bench_loop<T: Real>(c: &mut Criterion, name: &str) {
     let motion = paper_motion::<T>();
     let tips = TipTargets::<T>::paper();
-    let lit = <T as parasils::kin::Real>::lit;
+    let lit = T::lit;
     c.bench_function(&format!("scenario/loop/{name}"), |b| {
         b.iter(|| {
             let mut controller = Controller::<T>::paper();

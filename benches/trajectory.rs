@@ -32,7 +32,7 @@ fn bench_next<T: Real, M: Motion<T> + Clone>(c: &mut Criterion, id: &str, sample
 }
 
 fn bench<T: Real>(c: &mut Criterion, name: &str) {
-    let lit = <T as parasils::kin::Real>::lit;
+    let lit = T::lit;
     let motion = paper_motion::<T>();
     let profile = *motion.profile();
     c.bench_function(&format!("trajectory/multi_sample/{name}"), |b| {

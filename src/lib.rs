@@ -30,7 +30,7 @@ pub use online::{MotionKind, OnlineController, Setpoint};
 pub use reorientation::Reorientation;
 pub use supervisor::Supervisor;
 
-/// A float type of both crates, [`f32`] or [`f64`]: what the kinematics
-/// ([`kin::Real`]) and the profiles ([`traj::Real`]) are both generic over.
-pub trait Real: kin::Real + traj::Real {}
-impl<T: kin::Real + traj::Real> Real for T {}
+/// The float type of both crates, [`f32`] or [`f64`]: the one trait the
+/// kinematics ([`kin::Real`]) and the profiles ([`traj::Real`]) are both
+/// generic over (defined in `parasils-num`).
+pub use parasils_kin::Real;

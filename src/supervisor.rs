@@ -220,7 +220,7 @@ pub struct Supervisor<T> {
 impl<T: Real> Default for Supervisor<T> {
     /// The thresholds of the [module docs](self)' table.
     fn default() -> Self {
-        let lit = |x: f64| <T as crate::kin::Real>::lit(x);
+        let lit = |x: f64| T::lit(x);
         let deg = |x: f64| lit(x.to_radians());
         let side = |cos: f64, qs3: f64, angle: T, qs3_limits: f64| {
             [lit(cos), lit(qs3), angle, lit(qs3_limits)]
@@ -298,7 +298,7 @@ impl<T: Real> Supervisor<T> {
     /// (see the [module docs](self)). A NaN margin or rate demands a stop.
     pub fn check_ahead(&self, now: &Margins<T>, rates: &Margins<T>, stop_time: T) -> Verdict {
         let mut v = Verdict::default();
-        let half = stop_time * <T as crate::kin::Real>::lit(0.5);
+        let half = stop_time * T::lit(0.5);
         for m in Margin::ALL {
             let (x, rate) = (now[m], rates[m]);
             if !(x >= self.warn[m]) {

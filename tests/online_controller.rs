@@ -31,7 +31,7 @@ const STREAM: [Command; 4] = [
 ];
 
 fn online<T: Real>() -> Result<OnlineController<T>, Error> {
-    let deg = |x: f64| <T as parasils::kin::Real>::lit(x.to_radians());
+    let deg = |x: f64| T::lit(x.to_radians());
     OnlineController::new(
         Controller::paper(),
         TipTargets::paper(),
@@ -43,7 +43,7 @@ fn online<T: Real>() -> Result<OnlineController<T>, Error> {
 
 fn goal<T: Real>(deg: [f64; 2]) -> [T; 2] {
     let p0 = Pose::<f64>::paper_start();
-    let lit = |x: f64| <T as parasils::kin::Real>::lit(x);
+    let lit = |x: f64| T::lit(x);
     [
         lit(p0.psi + deg[0].to_radians()),
         lit(p0.theta + deg[1].to_radians()),
@@ -72,8 +72,7 @@ fn run<T: Real>(
         Command::Goal(k, _) | Command::Stop(k) => m.max(k),
     });
     for k in 0..max_cycles {
-        let t = <T as parasils::traj::Real>::from_index(k as usize)
-            / <T as parasils::kin::Real>::lit(RATE_HZ);
+        let t = T::from_index(k as usize) / T::lit(RATE_HZ);
         for cmd in stream {
             match *cmd {
                 Command::Goal(at, deg) if at == k => {

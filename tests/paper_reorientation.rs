@@ -10,7 +10,7 @@ use parasils::{Real, Reorientation, paper};
 
 /// `x` as `T`.
 fn lit<T: Real>(x: f64) -> T {
-    <T as parasils::kin::Real>::lit(x)
+    T::lit(x)
 }
 
 /// The larger distance (mm) of the two tips, recomputed from the step's
@@ -27,11 +27,7 @@ fn tip_drift<T: Real>(
         (&controller.right, &out.right.q, &tips.right),
     ] {
         let tip = m.fk(&state.pose, q).expect("finite");
-        worst = worst.max(
-            (tip - target)
-                .map(|v| parasils::kin::Real::to_f64(v))
-                .norm(),
-        );
+        worst = worst.max((tip - target).map(|v| v.to_f64()).norm());
     }
     worst
 }

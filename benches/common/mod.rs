@@ -24,7 +24,7 @@ pub fn paper_motion<T: Real>() -> Reorientation<T> {
 /// 1 ms away, as in a 1 kHz loop.
 pub fn paper_step_inputs<T: Real>() -> (Controller<T>, TipTargets<T>, [PlatformState<T>; 2]) {
     let motion = paper_motion::<T>();
-    let lit = <T as parasils::kin::Real>::lit;
+    let lit = T::lit;
     let states = [motion.state_at(lit(0.999)), motion.state_at(lit(1.0))];
     let mut controller = Controller::paper();
     let tips = TipTargets::paper();
@@ -39,7 +39,7 @@ pub fn paper_step_inputs<T: Real>() -> (Controller<T>, TipTargets<T>, [PlatformS
 /// bench ticks (or commands) a copy of it at `t = 1 s`, since the
 /// controller's clock never runs backwards.
 pub fn paper_online<T: Real>() -> OnlineController<T> {
-    let lit = <T as parasils::kin::Real>::lit;
+    let lit = T::lit;
     let rad = |deg: f64| lit(deg.to_radians());
     let p0 = Pose::<T>::paper_start();
     let mut online = OnlineController::new(
@@ -63,7 +63,7 @@ pub fn paper_online<T: Real>() -> OnlineController<T> {
 /// and `theta` +15 deg from `P0` (`psi` turns back; time-synchronised), rad.
 pub fn retarget<T: Real>() -> [T; 2] {
     let p0 = Pose::<T>::paper_start();
-    let rad = |deg: f64| <T as parasils::kin::Real>::lit(deg.to_radians());
+    let rad = |deg: f64| T::lit(deg.to_radians());
     [p0.psi + rad(-10.0), p0.theta + rad(15.0)]
 }
 

@@ -65,13 +65,15 @@
 //!   which every named constructor (`paper`, `assumed`, `paper_start`) is built;
 //! - [`error`]: what can go wrong, typed;
 //! - [`Side`] and [`Interval`], shared by the modules; [`real`]: the
-//!   [`Real`] trait (`f32` or `f64`).
+//!   [`Real`] trait (`f32` or `f64`), the workspace's one float trait from
+//!   `parasils-num` (also `parasils_traj::Real`), with the crate's own sine
+//!   and cosine ([`Real::sincos`]).
 //!
 //! Private: `check` (the finiteness checks on inputs), `linalg` (the
-//! panic-free 6x6 kernels: Jacobi SVD, Gram product, shifted `L D L^T`) and
-//! `trig` (the crate's own sine and cosine). Every public type is also at
+//! panic-free 6x6 kernels: Jacobi SVD, Gram product, shifted `L D L^T`).
+//! Every public type is also at
 //! the crate root. Imports go one way, from the leaves to the solvers, with
-//! no circle: `trig`, `real`, `presets`, `side`, then `interval` and
+//! no circle: `real`, `presets`, `side`, then `interval` and
 //! `linalg`, then `error`, `frame`, `check`, then `instrument` and
 //! `parallel` (each split by concept, the `mod.rs` only re-exporting), then
 //! `endoscope` and `limits`, then `controller` (the order of
@@ -101,7 +103,6 @@ pub mod parallel;
 pub mod presets;
 pub mod real;
 mod side;
-mod trig;
 
 pub use controller::{
     ControlStep, Controller, ModuleCommand, RobotGeometry, TipTargets, mirror_across_platform,

@@ -16,7 +16,8 @@
 //!    `t_j = a_max / j_max`, `t_a = (t_j + sqrt(t_j^2 + 4 d / a_max)) / 2`;
 //! 3. otherwise neither: `t_j = cbrt(d / (2 j_max))`, `t_a = 2 t_j`.
 
-use crate::error::{Error, LimitKind, check_limit, check_move, out_of_range};
+use crate::axis::{Axis, Instant, OneAxis, Shape, instant};
+use crate::error::{Error, LimitKind, check_limit};
 use crate::profile::{Motion, Profile, State};
 use crate::real::Real;
 use crate::trapezoid::Limits;
@@ -67,21 +68,62 @@ impl<T: Real> JerkLimits<T> {
     }
 }
 
-/// The timing of a double-S over a positive distance.
+/// The timing of a double-S over a positive distance (module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct SShape<T> {
-    pub(crate) t_j: T,
-    pub(crate) t_a: T,
-    pub(crate) t_v: T,
-    pub(crate) j: T,
-    pub(crate) a_p: T,
-    pub(crate) v_p: T,
-    pub(crate) duration: T,
+    t_j: T,
+    t_a: T,
+    t_v: T,
+    j: T,
+    a_p: T,
+    v_p: T,
+    duration: T,
 }
 
 impl<T: Real> SShape<T> {
-    /// The minimum-time shape over `d > 0` under valid limits (module docs).
-    pub(crate) fn min_time(d: T, lim: JerkLimits<T>) -> Option<Self> {
+    /// The shape with these phase times and peaks; `None` when one does not
+    /// fit the float type: not finite, or (the jerk time, the jerk and the
+    /// peaks) not a normal number. A subnormal one holds too few significant
+    /// bits for the profile to keep its limits and end on its goal (a jerk
+    /// time of 8e-42 s in `f32` made `a_p = j t_j` 8e-5 above `a_max`), as
+    /// for a scaled shape ([`SShape::scaled`]).
+    fn checked(t_j: T, t_a: T, t_v: T, j: T, a_p: T, v_p: T) -> Option<Self> {
+        let duration = t_a + t_a + t_v;
+        let all = [t_j, t_a, t_v, j, a_p, v_p, duration];
+        let finite = all.iter().all(|x| x.finite());
+        let normal = [t_j, j, a_p, v_p].iter().all(|x| x.is_normal());
+        let positive = t_j > T::zero() && j > T::zero() && a_p > T::zero() && v_p > T::zero();
+        (finite && normal && positive).then_some(Self {
+            t_j,
+            t_a,
+            t_v,
+            j,
+            a_p,
+            v_p,
+            duration,
+        })
+    }
+}
+
+impl<T: Real> Shape<T> for SShape<T> {
+    type Limits = JerkLimits<T>;
+
+    fn check_limits(limits: &JerkLimits<T>, axis: usize) -> Result<(), Error> {
+        limits.check(axis)
+    }
+
+    fn unbounded() -> JerkLimits<T> {
+        JerkLimits::new(T::INFINITY, T::INFINITY, T::INFINITY)
+    }
+
+    fn tighten(line: &mut JerkLimits<T>, limits: &JerkLimits<T>, ratio: T) {
+        line.v_max = line.v_max.min(limits.v_max * ratio);
+        line.a_max = line.a_max.min(limits.a_max * ratio);
+        line.j_max = line.j_max.min(limits.j_max * ratio);
+    }
+
+    /// The three cases of the module docs.
+    fn min_time(d: T, lim: JerkLimits<T>) -> Option<Self> {
         let (v, a, j) = (lim.v_max, lim.a_max, lim.j_max);
         let two = T::lit(2.0);
         let half = T::lit(0.5);
@@ -108,16 +150,13 @@ impl<T: Real> SShape<T> {
         Self::checked(t_j, t_j + t_j, T::zero(), j, a_p, a_p * t_j)
     }
 
-    /// The shape over `d > 0` lasting exactly `duration` (at least the minimum
-    /// time), keeping `a_max` and `j_max` and lowering the cruise velocity.
-    /// `own_v_p` is the peak velocity of the minimum-time profile.
-    ///
     /// With `T(v) = d / v + t_a(v)` decreasing in the cruise velocity `v` up to
-    /// `own_v_p`: when `a_max` is reached (`v >= a_max^2 / j_max`), `T` is a
-    /// quadratic in `v`, solved in closed form; otherwise `2 t_j^3 - T t_j^2 +
-    /// d / j_max = 0`, solved by bisection on `(0, min(T / 4, sqrt(2 d / (j_max T)))]`
-    /// (at most 256 halvings).
-    pub(crate) fn with_duration(d: T, lim: JerkLimits<T>, own_v_p: T, duration: T) -> Option<Self> {
+    /// the minimum-time peak velocity: when `a_max` is reached (`v >= a_max^2 /
+    /// j_max`), `T` is a quadratic in `v`, solved in closed form; otherwise `2
+    /// t_j^3 - T t_j^2 + d / j_max = 0`, solved by bisection on `(0, min(T / 4,
+    /// sqrt(2 d / (j_max T)))]` (at most 256 halvings).
+    fn with_duration(&self, d: T, lim: JerkLimits<T>, duration: T) -> Option<Self> {
+        let own_v_p = self.v_p;
         let (v_max, a, j) = (lim.v_max, lim.a_max, lim.j_max);
         let two = T::lit(2.0);
         let half = T::lit(0.5);
@@ -128,7 +167,7 @@ impl<T: Real> SShape<T> {
             // v^2 / a - (T - w_c) v + d = 0, smaller root.
             let b = duration - w_c;
             let r = two * (d / a).sqrt();
-            if !r.is_finite() {
+            if !r.finite() {
                 // `d / a_max` overflows: out of range, as for the trapezoid.
                 return None;
             }
@@ -175,11 +214,8 @@ impl<T: Real> SShape<T> {
         Some(shape)
     }
 
-    /// This shape scaled by `k` in space (same phase times); `None` when `k`
-    /// or a scaled jerk, acceleration or velocity is not a normal number (a
-    /// subnormal one holds too few significant bits for the axis to end on
-    /// its goal).
-    pub(crate) fn scaled(&self, k: T) -> Option<Self> {
+    /// A subnormal jerk, acceleration or velocity is refused.
+    fn scaled(&self, k: T) -> Option<Self> {
         let shape = Self {
             j: self.j * k,
             a_p: self.a_p * k,
@@ -192,30 +228,37 @@ impl<T: Real> SShape<T> {
             .then_some(shape)
     }
 
-    /// The shape with these phase times and peaks; `None` when one does not
-    /// fit the float type: not finite, or (the jerk time, the jerk and the
-    /// peaks) not a normal number. A subnormal one holds too few significant
-    /// bits for the profile to keep its limits and end on its goal (a jerk
-    /// time of 8e-42 s in `f32` made `a_p = j t_j` 8e-5 above `a_max`), as
-    /// for a scaled shape ([`SShape::scaled`]).
-    fn checked(t_j: T, t_a: T, t_v: T, j: T, a_p: T, v_p: T) -> Option<Self> {
-        let duration = t_a + t_a + t_v;
-        let all = [t_j, t_a, t_v, j, a_p, v_p, duration];
-        let finite = all.iter().all(|x| x.is_finite());
-        let normal = [t_j, j, a_p, v_p].iter().all(|x| x.is_normal());
-        let positive = t_j > T::zero() && j > T::zero() && a_p > T::zero() && v_p > T::zero();
-        (finite && normal && positive).then_some(Self {
-            t_j,
-            t_a,
-            t_v,
-            j,
-            a_p,
-            v_p,
+    fn still(duration: T) -> Self {
+        let z = T::zero();
+        Self {
+            t_j: z,
+            t_a: z,
+            t_v: duration,
+            j: z,
+            a_p: z,
+            v_p: z,
             duration,
-        })
+        }
     }
 
-    /// Offset from the start, speed and acceleration magnitude at `t` in `[0, t_a]`.
+    fn duration(&self) -> T {
+        self.duration
+    }
+
+    fn t_accel(&self) -> T {
+        self.t_a
+    }
+
+    fn t_cruise(&self) -> T {
+        self.t_v
+    }
+
+    fn peak_velocity(&self) -> T {
+        self.v_p
+    }
+
+    /// The jerk phase, the constant acceleration, the jerk phase back to
+    /// the cruise.
     fn accel_half(&self, t: T) -> (T, T, T) {
         let half = T::lit(0.5);
         let sixth = T::one() / T::lit(6.0);
@@ -254,15 +297,7 @@ impl<T: Real> SShape<T> {
 /// # Ok::<(), parasils_traj::Error>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DoubleS<T> {
-    start: T,
-    goal: T,
-    /// +1, -1, or 0 for a zero distance.
-    dir: T,
-    distance: T,
-    /// Shape in magnitudes; all zero but `duration` for a zero distance.
-    s: SShape<T>,
-}
+pub struct DoubleS<T>(Axis<T, SShape<T>>);
 
 impl<T: Real> DoubleS<T> {
     /// The minimum-time jerk-limited profile from `start` to `goal` (position units).
@@ -271,7 +306,7 @@ impl<T: Real> DoubleS<T> {
     /// [`Error::NonFinitePosition`], [`Error::InvalidLimit`],
     /// [`Error::DistanceOverflow`] or [`Error::OutOfRange`], with axis `0`.
     pub fn new(start: T, goal: T, limits: JerkLimits<T>) -> Result<Self, Error> {
-        Self::new_axis(0, start, goal, limits)
+        Axis::new(0, start, goal, limits).map(Self)
     }
 
     /// The profile lasting `duration` (s) exactly, keeping `a_max` and `j_max`
@@ -287,205 +322,108 @@ impl<T: Real> DoubleS<T> {
         limits: JerkLimits<T>,
         duration: T,
     ) -> Result<Self, Error> {
-        Self::new_axis(0, start, goal, limits)?.stretched(0, limits, duration)
+        let own = Axis::new(0, start, goal, limits)?;
+        own.stretched(0, limits, duration).map(Self)
     }
 
-    /// [`DoubleS::new`] reporting `axis` in errors.
-    pub(crate) fn new_axis(
-        axis: usize,
-        start: T,
-        goal: T,
-        limits: JerkLimits<T>,
-    ) -> Result<Self, Error> {
-        limits.check(axis)?;
-        let (dir, distance) = check_move(axis, start, goal)?;
-        if dir == T::zero() {
-            return Ok(Self::still(start, goal, T::zero()));
-        }
-        let s = SShape::min_time(distance, limits).ok_or_else(|| out_of_range(axis, distance))?;
-        Ok(Self::from_shape(start, goal, dir, distance, s))
-    }
-
-    /// This minimum-time profile stretched to `duration`.
-    pub(crate) fn stretched(
-        self,
-        axis: usize,
-        limits: JerkLimits<T>,
-        duration: T,
-    ) -> Result<Self, Error> {
-        let tol = self.s.duration * T::epsilon() * T::lit(8.0);
-        if !duration.is_finite() || duration < self.s.duration - tol {
-            return Err(Error::InvalidDuration {
-                axis,
-                requested: duration.widen(),
-                minimum: self.s.duration.widen(),
-            });
-        }
-        if self.dir == T::zero() {
-            return Ok(Self::still(self.start, self.goal, duration.max(T::zero())));
-        }
-        if duration <= self.s.duration {
-            return Ok(self);
-        }
-        let s = SShape::with_duration(self.distance, limits, self.s.v_p, duration)
-            .ok_or_else(|| out_of_range(axis, self.distance))?;
-        Ok(Self::from_shape(
-            self.start,
-            self.goal,
-            self.dir,
-            self.distance,
-            s,
-        ))
-    }
-
-    pub(crate) fn from_shape(start: T, goal: T, dir: T, distance: T, s: SShape<T>) -> Self {
-        Self {
-            start,
-            goal,
-            dir,
-            distance,
-            s,
-        }
-    }
-
-    /// A zero-distance axis that stays still for `duration`.
-    pub(crate) fn still(start: T, goal: T, duration: T) -> Self {
-        let z = T::zero();
-        Self {
-            start,
-            goal,
-            dir: z,
-            distance: z,
-            s: SShape {
-                t_j: z,
-                t_a: z,
-                t_v: duration,
-                j: z,
-                a_p: z,
-                v_p: z,
-                duration,
-            },
-        }
-    }
-
-    pub(crate) fn direction(&self) -> T {
-        self.dir
+    /// The shape, in magnitudes.
+    fn s(&self) -> &SShape<T> {
+        self.0.shape()
     }
 
     /// Start position, in position units.
     #[must_use]
     pub fn start(&self) -> T {
-        self.start
+        self.0.start()
     }
 
     /// Goal position, in position units.
     #[must_use]
     pub fn goal(&self) -> T {
-        self.goal
+        self.0.goal()
     }
 
     /// `|goal - start|`, in position units.
     #[must_use]
     pub fn distance(&self) -> T {
-        self.distance
+        self.0.distance()
     }
 
     /// Duration of the motion, in s: `t_accel + t_cruise + t_decel`.
     #[must_use]
     pub fn duration(&self) -> T {
-        self.s.duration
+        self.s().duration
     }
 
     /// Duration of each of the four constant-jerk phases, in s.
     #[must_use]
     pub fn t_jerk(&self) -> T {
-        self.s.t_j
+        self.s().t_j
     }
 
     /// Duration of the whole acceleration (three phases), in s.
     #[must_use]
     pub fn t_accel(&self) -> T {
-        self.s.t_a
+        self.s().t_a
     }
 
     /// Duration of the constant-velocity phase, in s.
     #[must_use]
     pub fn t_cruise(&self) -> T {
-        self.s.t_v
+        self.s().t_v
     }
 
     /// Duration of the whole deceleration (three phases), in s; equals [`t_accel`](Self::t_accel).
     #[must_use]
     pub fn t_decel(&self) -> T {
-        self.s.t_a
+        self.s().t_a
     }
 
     /// Largest `|velocity|`, in units/s.
     #[must_use]
     pub fn peak_velocity(&self) -> T {
-        self.s.v_p
+        self.s().v_p
     }
 
     /// Largest `|acceleration|`, in units/s^2.
     #[must_use]
     pub fn peak_acceleration(&self) -> T {
-        self.s.a_p
+        self.s().a_p
     }
 
     /// `|jerk|` of the jerk phases, in units/s^3.
     #[must_use]
     pub fn peak_jerk(&self) -> T {
-        self.s.j
+        self.s().j
     }
 
     /// True when the profile has a constant-velocity phase (`t_cruise() > 0`).
     #[must_use]
     pub fn has_cruise(&self) -> bool {
-        self.dir != T::zero() && self.s.t_v > T::zero()
+        self.0.moves() && self.s().t_v > T::zero()
     }
 
     /// True when the acceleration has a constant phase (`t_accel() > 2 t_jerk()`).
     #[must_use]
     pub fn has_constant_acceleration(&self) -> bool {
-        self.dir != T::zero() && self.s.t_a > self.s.t_j + self.s.t_j
+        self.0.moves() && self.s().t_a > self.s().t_j + self.s().t_j
     }
 
     /// The state at `t` (s); conventions as [`Trapezoid::sample`](crate::Trapezoid::sample).
     #[must_use]
     pub fn sample(&self, t: T) -> State<T> {
-        if t.is_nan() || t <= T::zero() || (self.dir == T::zero() && t < self.s.duration) {
-            return State::rest(self.start);
-        }
-        if t >= self.s.duration {
-            return State::rest(self.goal);
-        }
-        let s = &self.s;
-        let (position, speed, accel) = if t < s.t_a {
-            let (p, v, a) = s.accel_half(t);
-            (self.start + self.dir * p, v, a)
-        } else if t < s.t_a + s.t_v {
-            let p = T::lit(0.5) * s.v_p * s.t_a + s.v_p * (t - s.t_a);
-            (self.start + self.dir * p, s.v_p, T::zero())
-        } else {
-            // Deceleration: the mirror image in time, written from the goal.
-            let (p, v, a) = s.accel_half(s.duration - t);
-            (self.goal - self.dir * p, v, -a)
-        };
-        State {
-            position,
-            velocity: self.dir * speed.min(s.v_p),
-            acceleration: self.dir * accel,
-        }
+        self.0.sample(t)
     }
 
     /// Jerk at `t` (s), in units/s^3: `+-j` or 0, right-continuous at the
     /// switch instants, 0 for `t <= 0` and `t >= duration()`.
     #[must_use]
     pub fn jerk(&self, t: T) -> T {
-        let s = &self.s;
-        if t.is_nan() || t <= T::zero() || t >= s.duration || self.dir == T::zero() {
-            return T::zero();
-        }
+        let s = self.s();
+        let t = match instant(t, s.duration) {
+            Instant::Inside(t) if self.0.moves() => t,
+            _ => return T::zero(),
+        };
         let decel = s.t_a + s.t_v;
         let j = if t < s.t_j {
             s.j
@@ -502,35 +440,42 @@ impl<T: Real> DoubleS<T> {
         } else {
             s.j
         };
-        self.dir * j
+        self.0.direction() * j
+    }
+}
+
+impl<T: Real> OneAxis<T> for DoubleS<T> {
+    type Shape = SShape<T>;
+    fn from_axis(axis: Axis<T, SShape<T>>) -> Self {
+        Self(axis)
     }
 }
 
 impl<T: Real> Motion<T> for DoubleS<T> {
     type Output = State<T>;
     fn duration(&self) -> T {
-        self.s.duration
+        self.s().duration
     }
     fn sample(&self, t: T) -> State<T> {
-        DoubleS::sample(self, t)
+        self.0.sample(t)
     }
 }
 
 impl<T: Real> Profile<T> for DoubleS<T> {
     fn start(&self) -> T {
-        self.start
+        self.0.start()
     }
     fn goal(&self) -> T {
-        self.goal
+        self.0.goal()
     }
     fn distance(&self) -> T {
-        self.distance
+        self.0.distance()
     }
     fn peak_velocity(&self) -> T {
-        self.s.v_p
+        self.s().v_p
     }
     fn peak_acceleration(&self) -> T {
-        self.s.a_p
+        self.s().a_p
     }
 }
 
@@ -583,7 +528,7 @@ mod tests {
             assert!(t > own.duration());
             let p = DoubleS::with_duration(0.0, d, lim, t)?;
             assert_eq!(p.duration(), t);
-            let s = p.s;
+            let s = *p.s();
             let d_back = s.v_p * (s.t_a + s.t_v);
             assert!((d_back - d).abs() < 1e-9 * d, "{d} {t}: {d_back}");
             assert!(p.peak_acceleration() <= 5.0 && p.peak_velocity() <= 10.0);

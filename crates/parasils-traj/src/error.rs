@@ -163,26 +163,26 @@ pub(crate) fn check_position<T: Real>(
     endpoint: Endpoint,
     value: T,
 ) -> Result<(), Error> {
-    if value.is_finite() {
+    if value.finite() {
         Ok(())
     } else {
         Err(Error::NonFinitePosition {
             axis,
             endpoint,
-            value: value.widen(),
+            value: value.to_f64(),
         })
     }
 }
 
 /// Checks one limit: positive and finite.
 pub(crate) fn check_limit<T: Real>(axis: usize, limit: LimitKind, value: T) -> Result<(), Error> {
-    if value.is_finite() && value > T::zero() {
+    if value.finite() && value > T::zero() {
         Ok(())
     } else {
         Err(Error::InvalidLimit {
             axis,
             limit,
-            value: value.widen(),
+            value: value.to_f64(),
         })
     }
 }
@@ -193,11 +193,11 @@ pub(crate) fn check_move<T: Real>(axis: usize, start: T, goal: T) -> Result<(T, 
     check_position(axis, Endpoint::Start, start)?;
     check_position(axis, Endpoint::Goal, goal)?;
     let delta = goal - start;
-    if !delta.is_finite() {
+    if !delta.finite() {
         return Err(Error::DistanceOverflow {
             axis,
-            start: start.widen(),
-            goal: goal.widen(),
+            start: start.to_f64(),
+            goal: goal.to_f64(),
         });
     }
     let dir = if delta > T::zero() {
@@ -214,7 +214,7 @@ pub(crate) fn check_move<T: Real>(axis: usize, start: T, goal: T) -> Result<(T, 
 pub(crate) fn out_of_range<T: Real>(axis: usize, distance: T) -> Error {
     Error::OutOfRange {
         axis,
-        distance: distance.widen(),
+        distance: distance.to_f64(),
     }
 }
 

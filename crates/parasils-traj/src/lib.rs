@@ -60,7 +60,17 @@
 //!   and acceleration limits (reachability analysis over a caller's grid);
 //! - [`sampler`]: [`Sampler`], the fixed-rate iterator;
 //! - [`profile`]: the [`Motion`] and [`Profile`] traits and [`State`];
-//! - [`error`]: [`Error`]; [`real`]: the [`Real`] float trait.
+//! - [`error`]: [`Error`]; [`real`]: the [`Real`] float trait, the
+//!   workspace's one (from `parasils-num`, also `parasils_kin::Real`).
+//!
+//! The three one-axis profiles share one crate-private vocabulary, the
+//! `axis` module: the time conventions, the check of an imposed duration,
+//! the ramp every last phase is written with from the goal, and the
+//! rest-to-rest axis (a shape, trapezoidal or double S, placed between a
+//! start and a goal) that [`Trapezoid`], [`DoubleS`] and [`Multi`]'s one
+//! builder are made of. Modules import only those before them: `real`,
+//! `error`, `profile`, `sampler`, `axis`, `trapezoid`, `double_s`, `sync`,
+//! `online`, `optimal`.
 //!
 //! # Precision
 //! The end state is exact in both float types (the stored goal is returned).
@@ -79,6 +89,7 @@
 #![no_std]
 #![deny(missing_docs)]
 
+mod axis;
 pub mod double_s;
 pub mod error;
 pub mod online;

@@ -3,60 +3,12 @@
 //! Every profile is generic over `T: Real`, implemented for [`f32`] and [`f64`]
 //! only (the trait is sealed). `f64` is the reference; `f32` is for
 //! micro-controllers, with the error budget stated in the crate docs.
+//!
+//! [`Real`] is the workspace's one float trait, defined in `parasils-num`
+//! and also re-exported as `parasils_kin::Real`: nalgebra's `RealField`
+//! (whose `sqrt`, `cbrt`, `abs`, `max`, `min` the profiles call) with the
+//! conversions ([`Real::lit`], [`Real::from_index`], [`Real::to_f64`]) and
+//! the tests of floats ([`Real::finite`], [`Real::is_normal`],
+//! [`Real::is_nan`]) the profiles need.
 
-use num_traits::Float;
-
-mod sealed {
-    /// Seals [`super::Real`]: only `f32` and `f64` implement it.
-    pub trait Sealed {}
-    impl Sealed for f32 {}
-    impl Sealed for f64 {}
-}
-
-/// A float type a profile can be computed in: [`f32`] or [`f64`].
-///
-/// The conversions below never panic and never fail: they are the `as` casts of
-/// the language, written once here so that the profiles need no `unwrap`.
-pub trait Real:
-    Float + core::fmt::Debug + core::fmt::Display + Default + Send + Sync + 'static + sealed::Sealed
-{
-    /// Converts an `f64` constant to `Self` (rounded to nearest for `f32`).
-    fn lit(x: f64) -> Self;
-    /// Converts a sample index to `Self`; exact up to 2^24 for `f32`, 2^53 for `f64`.
-    fn from_index(k: usize) -> Self;
-    /// Widens to `f64` (exact), for error reports.
-    fn widen(self) -> f64;
-}
-
-impl Real for f32 {
-    #[inline]
-    #[allow(clippy::cast_possible_truncation)]
-    fn lit(x: f64) -> Self {
-        x as f32
-    }
-    #[inline]
-    #[allow(clippy::cast_precision_loss)]
-    fn from_index(k: usize) -> Self {
-        k as f32
-    }
-    #[inline]
-    fn widen(self) -> f64 {
-        f64::from(self)
-    }
-}
-
-impl Real for f64 {
-    #[inline]
-    fn lit(x: f64) -> Self {
-        x
-    }
-    #[inline]
-    #[allow(clippy::cast_precision_loss)]
-    fn from_index(k: usize) -> Self {
-        k as f64
-    }
-    #[inline]
-    fn widen(self) -> f64 {
-        self
-    }
-}
+pub use parasils_num::Real;

@@ -58,6 +58,16 @@ pub struct Sampler<T, M> {
     count: usize,
 }
 
+/// A whole number `n >= 0` as a `usize`; `None` when it does not fit.
+fn count_of(n: f64) -> Option<usize> {
+    // `usize::MAX + 1` is a power of two, exact in `f64` (the sum rounds to
+    // it for a 64-bit `usize`), so the cast below is exact.
+    #[allow(clippy::cast_precision_loss)]
+    let end = usize::MAX as f64 + 1.0;
+    #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
+    (n >= 0.0 && n < end).then_some(n as usize)
+}
+
 impl<T: Real, M: Motion<T>> Sampler<T, M> {
     /// Samples `motion` at `rate` (Hz).
     ///
@@ -65,28 +75,27 @@ impl<T: Real, M: Motion<T>> Sampler<T, M> {
     /// [`Error::InvalidRate`] when `rate` is not positive and finite,
     /// [`Error::TooManySamples`] when the sample count does not fit `usize`.
     pub fn new(motion: M, rate: T) -> Result<Self, Error> {
-        if !(rate.is_finite() && rate > T::zero()) {
+        if !(rate.finite() && rate > T::zero()) {
             return Err(Error::InvalidRate {
-                value: rate.widen(),
+                value: rate.to_f64(),
             });
         }
         let duration = motion.duration();
         let too_many = Error::TooManySamples {
-            duration: duration.widen(),
-            rate: rate.widen(),
+            duration: duration.to_f64(),
+            rate: rate.to_f64(),
         };
         let x = duration.max(T::zero()) * rate;
-        if !x.is_finite() {
+        if !x.finite() {
             return Err(too_many);
         }
         let floor = x.floor();
-        let n = if x - floor <= x * T::epsilon() * T::lit(64.0) {
+        let n = if x - floor <= x * T::EPSILON * T::lit(64.0) {
             floor
         } else {
             floor + T::one()
         };
-        let count = n
-            .to_usize()
+        let count = count_of(n.to_f64())
             .and_then(|n| n.checked_add(1))
             .ok_or(too_many)?;
         Ok(Self {

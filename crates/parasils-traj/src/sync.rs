@@ -23,11 +23,12 @@
 //! Zero-distance axes stay still (zero velocity and acceleration) and never
 //! divide anything; axes may move in opposite directions.
 
-use crate::double_s::{DoubleS, JerkLimits, SShape};
+use crate::axis::{Axis, OneAxis, Shape};
+use crate::double_s::{DoubleS, JerkLimits};
 use crate::error::{Error, out_of_range};
 use crate::profile::{Motion, Profile, State};
 use crate::real::Real;
-use crate::trapezoid::{Limits, Shape, Trapezoid};
+use crate::trapezoid::{Limits, Trapezoid};
 
 /// How the axes of a [`Multi`] are timed together (`docs/model.md`,
 /// *Trajectories*).
@@ -79,19 +80,61 @@ fn longest<T: Real>(durations: impl Iterator<Item = (T, bool)>) -> (Option<usize
     best
 }
 
-/// `max_i d_i` and, for each limit, `min_i limit_i D / d_i` over moving axes.
-fn normalised<T: Real, const L: usize>(
-    per_axis: impl Iterator<Item = (T, [T; L])> + Clone,
-) -> (T, [T; L]) {
-    let big = per_axis.clone().fold(T::zero(), |m, (d, _)| m.max(d));
-    let mut lim = [T::infinity(); L];
-    for (d, l) in per_axis.filter(|(d, _)| *d > T::zero()) {
-        let ratio = big / d; // >= 1, may be +inf but never NaN
-        for (m, x) in lim.iter_mut().zip(l) {
-            *m = m.min(x * ratio);
+/// The straight line's distance `D = max_i d_i` and limits, each
+/// `min_i limit_i D / d_i` over the moving axes.
+fn line_limits<T: Real, S: Shape<T>>(axes: &[Axis<T, S>], limits: &[S::Limits]) -> (T, S::Limits) {
+    let big = axes.iter().fold(T::zero(), |m, p| m.max(p.distance()));
+    let mut line = S::unbounded();
+    for (p, l) in axes.iter().zip(limits) {
+        if p.distance() > T::zero() {
+            let ratio = big / p.distance(); // >= 1, may be +inf but never NaN
+            S::tighten(&mut line, l, ratio);
         }
     }
-    (big, lim)
+    (big, line)
+}
+
+/// The one construction of a [`Multi`], whatever its profile type: each
+/// axis on its own, then synchronised as `sync` asks.
+fn build<T: Real, const N: usize, P: OneAxis<T>>(
+    start: [T; N],
+    goal: [T; N],
+    limits: [<P::Shape as Shape<T>>::Limits; N],
+    sync: Synchronization,
+) -> Result<Multi<T, N, P>, Error> {
+    let mut own = [Axis::<T, P::Shape>::still(T::zero(), T::zero(), T::zero()); N];
+    for (i, (((p, s), g), l)) in own.iter_mut().zip(start).zip(goal).zip(limits).enumerate() {
+        *p = Axis::new(i, s, g, l)?;
+    }
+    let (lead, t_max) = longest(own.iter().map(|p| (p.shape().duration(), p.moves())));
+    let mut axes = own;
+    if let Some(lead_axis) = lead {
+        match sync {
+            Synchronization::None => {}
+            Synchronization::Phase => {
+                let (big, line) = line_limits(&own, &limits);
+                let shape =
+                    P::Shape::min_time(big, line).ok_or_else(|| out_of_range(lead_axis, big))?;
+                for (i, ax) in axes.iter_mut().enumerate() {
+                    *ax = ax.share(i, &shape, ax.distance() / big)?;
+                }
+            }
+            Synchronization::Time => {
+                for (i, (ax, l)) in axes.iter_mut().zip(limits).enumerate() {
+                    *ax = ax.stretched(i, l, t_max)?;
+                }
+            }
+        }
+    }
+    let duration = axes
+        .iter()
+        .fold(T::zero(), |m, p| m.max(p.shape().duration()));
+    Ok(Multi {
+        axes: axes.map(P::from_axis),
+        duration,
+        sync,
+        lead,
+    })
 }
 
 impl<T: Real, const N: usize> Multi<T, N, Trapezoid<T>> {
@@ -107,61 +150,7 @@ impl<T: Real, const N: usize> Multi<T, N, Trapezoid<T>> {
         limits: [Limits<T>; N],
         sync: Synchronization,
     ) -> Result<Self, Error> {
-        let mut own = [Trapezoid::still(T::zero(), T::zero(), T::zero()); N];
-        for (i, (((p, s), g), l)) in own.iter_mut().zip(start).zip(goal).zip(limits).enumerate() {
-            *p = Trapezoid::new_axis(i, s, g, l)?;
-        }
-        let (lead, t_max) = longest(own.iter().map(|p| (p.duration(), p.distance() > T::zero())));
-        let Some(lead_axis) = lead else {
-            // Nothing moves.
-            return Ok(Self {
-                axes: own,
-                duration: T::zero(),
-                sync,
-                lead,
-            });
-        };
-        let mut axes = own;
-        match sync {
-            Synchronization::None => {}
-            Synchronization::Phase => {
-                let (big, [v, a]) = normalised(
-                    own.iter()
-                        .zip(limits)
-                        .map(|(p, l)| (p.distance(), [l.v_max, l.a_max])),
-                );
-                let shape = Shape::min_time(big, Limits::new(v, a))
-                    .ok_or_else(|| out_of_range(lead_axis, big))?;
-                for (i, (ax, p)) in axes.iter_mut().zip(own).enumerate() {
-                    *ax = if p.distance() > T::zero() {
-                        let k = p.distance() / big;
-                        Trapezoid::from_shape(
-                            p.start(),
-                            p.goal(),
-                            p.direction(),
-                            p.distance(),
-                            shape
-                                .scaled(k)
-                                .ok_or_else(|| out_of_range(i, p.distance()))?,
-                        )
-                    } else {
-                        Trapezoid::still(p.start(), p.goal(), shape.duration)
-                    };
-                }
-            }
-            Synchronization::Time => {
-                for (i, ((ax, p), l)) in axes.iter_mut().zip(own).zip(limits).enumerate() {
-                    *ax = p.stretched(i, l, t_max)?;
-                }
-            }
-        }
-        let duration = axes.iter().fold(T::zero(), |m, p| m.max(p.duration()));
-        Ok(Self {
-            axes,
-            duration,
-            sync,
-            lead,
-        })
+        build(start, goal, limits, sync)
     }
 }
 
@@ -180,60 +169,7 @@ impl<T: Real, const N: usize> Multi<T, N, DoubleS<T>> {
         limits: [JerkLimits<T>; N],
         sync: Synchronization,
     ) -> Result<Self, Error> {
-        let mut own = [DoubleS::still(T::zero(), T::zero(), T::zero()); N];
-        for (i, (((p, s), g), l)) in own.iter_mut().zip(start).zip(goal).zip(limits).enumerate() {
-            *p = DoubleS::new_axis(i, s, g, l)?;
-        }
-        let (lead, t_max) = longest(own.iter().map(|p| (p.duration(), p.distance() > T::zero())));
-        let Some(lead_axis) = lead else {
-            return Ok(Self {
-                axes: own,
-                duration: T::zero(),
-                sync,
-                lead,
-            });
-        };
-        let mut axes = own;
-        match sync {
-            Synchronization::None => {}
-            Synchronization::Phase => {
-                let (big, [v, a, j]) = normalised(
-                    own.iter()
-                        .zip(limits)
-                        .map(|(p, l)| (p.distance(), [l.v_max, l.a_max, l.j_max])),
-                );
-                let shape = SShape::min_time(big, JerkLimits::new(v, a, j))
-                    .ok_or_else(|| out_of_range(lead_axis, big))?;
-                for (i, (ax, p)) in axes.iter_mut().zip(own).enumerate() {
-                    *ax = if p.distance() > T::zero() {
-                        let k = p.distance() / big;
-                        DoubleS::from_shape(
-                            p.start(),
-                            p.goal(),
-                            p.direction(),
-                            p.distance(),
-                            shape
-                                .scaled(k)
-                                .ok_or_else(|| out_of_range(i, p.distance()))?,
-                        )
-                    } else {
-                        DoubleS::still(p.start(), p.goal(), shape.duration)
-                    };
-                }
-            }
-            Synchronization::Time => {
-                for (i, ((ax, p), l)) in axes.iter_mut().zip(own).zip(limits).enumerate() {
-                    *ax = p.stretched(i, l, t_max)?;
-                }
-            }
-        }
-        let duration = axes.iter().fold(T::zero(), |m, p| m.max(p.duration()));
-        Ok(Self {
-            axes,
-            duration,
-            sync,
-            lead,
-        })
+        build(start, goal, limits, sync)
     }
 }
 

@@ -13,7 +13,8 @@
 //! is made as `d / v_max < v_max / a_max`, which neither overflows nor
 //! underflows where the product form would.
 
-use crate::error::{Error, LimitKind, check_limit, check_move, out_of_range};
+use crate::axis::{Axis, OneAxis, Shape, ramp};
+use crate::error::{Error, LimitKind, check_limit};
 use crate::profile::{Motion, Profile, State};
 use crate::real::Real;
 
@@ -61,23 +62,58 @@ impl<T: Real> Limits<T> {
 
 /// The timing of a trapezoid over a positive distance: peaks and phase times.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Shape<T> {
+pub(crate) struct TrapShape<T> {
     /// Peak (cruise) velocity, units/s.
-    pub(crate) v: T,
+    v: T,
     /// Acceleration magnitude, units/s^2.
-    pub(crate) a: T,
+    a: T,
     /// Acceleration time (= deceleration time), s.
-    pub(crate) t_a: T,
+    t_a: T,
     /// Cruise time, s.
-    pub(crate) t_c: T,
+    t_c: T,
     /// Total time, s.
-    pub(crate) duration: T,
+    duration: T,
 }
 
-impl<T: Real> Shape<T> {
-    /// The minimum-time shape over `d > 0` under valid limits; `None` when it
-    /// does not fit the float type.
-    pub(crate) fn min_time(d: T, limits: Limits<T>) -> Option<Self> {
+impl<T: Real> TrapShape<T> {
+    /// The shape with these peaks and phase times; `None` when one does not
+    /// fit the float type: not finite, or a peak not a normal number. A
+    /// subnormal peak holds too few significant bits for the axis to end on
+    /// its goal (a cruise velocity lowered to 7.8e-46 in `f32` rounds to
+    /// 1.4e-45, nearly twice as fast), as for a scaled shape
+    /// ([`Shape::scaled`]).
+    fn checked(v: T, a: T, t_a: T, t_c: T, duration: T) -> Option<Self> {
+        let finite = [v, a, t_a, t_c, duration].iter().all(|x| x.finite());
+        let normal = v.is_normal() && a.is_normal();
+        let positive = v > T::zero() && a > T::zero() && t_a > T::zero();
+        (finite && normal && positive).then_some(Self {
+            v,
+            a,
+            t_a,
+            t_c,
+            duration,
+        })
+    }
+}
+
+impl<T: Real> Shape<T> for TrapShape<T> {
+    type Limits = Limits<T>;
+
+    fn check_limits(limits: &Limits<T>, axis: usize) -> Result<(), Error> {
+        limits.check(axis)
+    }
+
+    fn unbounded() -> Limits<T> {
+        Limits::new(T::INFINITY, T::INFINITY)
+    }
+
+    fn tighten(line: &mut Limits<T>, limits: &Limits<T>, ratio: T) {
+        line.v_max = line.v_max.min(limits.v_max * ratio);
+        line.a_max = line.a_max.min(limits.a_max * ratio);
+    }
+
+    /// Trapezoidal when `d / v_max >= v_max / a_max`, else triangular (module docs).
+    fn min_time(d: T, limits: Limits<T>) -> Option<Self> {
         let (v_max, a_max) = (limits.v_max, limits.a_max);
         let x = d / v_max; // time to cover d at v_max
         let y = v_max / a_max; // time to reach v_max
@@ -91,16 +127,13 @@ impl<T: Real> Shape<T> {
         Self::checked(v, a_max, t_a, t_c, t_a + t_a + t_c)
     }
 
-    /// The shape over `d > 0` that keeps `a_max`, lowers the cruise velocity
-    /// and lasts exactly `duration`, which must be at least the minimum time
-    /// (`time` synchronisation, `docs/model.md`, *Trajectories*).
-    ///
-    /// `d = v (T - v / a)` gives `v = 2 d / (T + sqrt(T^2 - 4 d / a))`, the
-    /// root that leaves a non-negative cruise, written without cancellation.
-    pub(crate) fn with_duration(d: T, limits: Limits<T>, duration: T) -> Option<Self> {
+    /// `time` synchronisation (`docs/model.md`, *Trajectories*): `d = v (T -
+    /// v / a)` gives `v = 2 d / (T + sqrt(T^2 - 4 d / a))`, the root that
+    /// leaves a non-negative cruise, written without cancellation.
+    fn with_duration(&self, d: T, limits: Limits<T>, duration: T) -> Option<Self> {
         let two = T::lit(2.0);
         let r = two * (d / limits.a_max).sqrt(); // minimum time without a velocity limit
-        if !r.is_finite() {
+        if !r.finite() {
             // `d / a_max` overflows (a long distance against a small `a_max`): the cruise
             // velocity below would come from a NaN, a plan that does not
             // last `duration` nor stay on its segment. Out of range.
@@ -113,11 +146,8 @@ impl<T: Real> Shape<T> {
         Self::checked(v, limits.a_max, t_a, t_c, duration)
     }
 
-    /// This shape scaled by `k` in space (same phase times); `None` when `k`
-    /// or a scaled velocity or acceleration is not a normal number (a
-    /// subnormal one holds too few significant bits for the axis to end on
-    /// its goal: a share `k` of 9e-324 in `f64` is 2 ulps, 10 % off).
-    pub(crate) fn scaled(&self, k: T) -> Option<Self> {
+    /// A share `k` of 9e-324 in `f64` is 2 ulps, 10 % off: refused.
+    fn scaled(&self, k: T) -> Option<Self> {
         let shape = Self {
             v: self.v * k,
             a: self.a * k,
@@ -126,23 +156,35 @@ impl<T: Real> Shape<T> {
         (k.is_normal() && shape.v.is_normal() && shape.a.is_normal()).then_some(shape)
     }
 
-    /// The shape with these peaks and phase times; `None` when one does not
-    /// fit the float type: not finite, or a peak not a normal number. A
-    /// subnormal peak holds too few significant bits for the axis to end on
-    /// its goal (a cruise velocity lowered to 7.8e-46 in `f32` rounds to
-    /// 1.4e-45, nearly twice as fast), as for a scaled shape
-    /// ([`Shape::scaled`]).
-    fn checked(v: T, a: T, t_a: T, t_c: T, duration: T) -> Option<Self> {
-        let finite = [v, a, t_a, t_c, duration].iter().all(|x| x.is_finite());
-        let normal = v.is_normal() && a.is_normal();
-        let positive = v > T::zero() && a > T::zero() && t_a > T::zero();
-        (finite && normal && positive).then_some(Self {
-            v,
-            a,
-            t_a,
-            t_c,
+    fn still(duration: T) -> Self {
+        let z = T::zero();
+        Self {
+            v: z,
+            a: z,
+            t_a: z,
+            t_c: duration,
             duration,
-        })
+        }
+    }
+
+    fn duration(&self) -> T {
+        self.duration
+    }
+
+    fn t_accel(&self) -> T {
+        self.t_a
+    }
+
+    fn t_cruise(&self) -> T {
+        self.t_c
+    }
+
+    fn peak_velocity(&self) -> T {
+        self.v
+    }
+
+    fn accel_half(&self, t: T) -> (T, T, T) {
+        (ramp(self.a, t), self.a * t, self.a)
     }
 }
 
@@ -170,20 +212,7 @@ impl<T: Real> Shape<T> {
 /// # Ok::<(), parasils_traj::Error>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Trapezoid<T> {
-    start: T,
-    goal: T,
-    /// +1, -1, or 0 for a zero distance.
-    dir: T,
-    distance: T,
-    /// Peak velocity magnitude (units/s).
-    v: T,
-    /// Acceleration magnitude (units/s^2).
-    a: T,
-    t_a: T,
-    t_c: T,
-    duration: T,
-}
+pub struct Trapezoid<T>(Axis<T, TrapShape<T>>);
 
 impl<T: Real> Trapezoid<T> {
     /// The minimum-time profile from `start` to `goal` (position units) under `limits`.
@@ -192,7 +221,7 @@ impl<T: Real> Trapezoid<T> {
     /// [`Error::NonFinitePosition`], [`Error::InvalidLimit`],
     /// [`Error::DistanceOverflow`] or [`Error::OutOfRange`], with axis `0`.
     pub fn new(start: T, goal: T, limits: Limits<T>) -> Result<Self, Error> {
-        Self::new_axis(0, start, goal, limits)
+        Axis::new(0, start, goal, limits).map(Self)
     }
 
     /// The profile from `start` to `goal` that lasts `duration` (s) exactly,
@@ -216,146 +245,62 @@ impl<T: Real> Trapezoid<T> {
     /// As [`Trapezoid::new`], and [`Error::InvalidDuration`] when `duration`
     /// is not finite or shorter than the minimum time.
     pub fn with_duration(start: T, goal: T, limits: Limits<T>, duration: T) -> Result<Self, Error> {
-        let own = Self::new_axis(0, start, goal, limits)?;
-        own.stretched(0, limits, duration)
-    }
-
-    /// [`Trapezoid::new`] reporting `axis` in errors.
-    pub(crate) fn new_axis(
-        axis: usize,
-        start: T,
-        goal: T,
-        limits: Limits<T>,
-    ) -> Result<Self, Error> {
-        limits.check(axis)?;
-        let (dir, distance) = check_move(axis, start, goal)?;
-        if dir == T::zero() {
-            return Ok(Self::still(start, goal, T::zero()));
-        }
-        let shape =
-            Shape::min_time(distance, limits).ok_or_else(|| out_of_range(axis, distance))?;
-        Ok(Self::from_shape(start, goal, dir, distance, shape))
-    }
-
-    /// This minimum-time profile stretched to `duration`, keeping `a_max`.
-    pub(crate) fn stretched(
-        self,
-        axis: usize,
-        limits: Limits<T>,
-        duration: T,
-    ) -> Result<Self, Error> {
-        let tol = self.duration * T::epsilon() * T::lit(8.0);
-        if !duration.is_finite() || duration < self.duration - tol {
-            return Err(Error::InvalidDuration {
-                axis,
-                requested: duration.widen(),
-                minimum: self.duration.widen(),
-            });
-        }
-        if self.dir == T::zero() {
-            return Ok(Self::still(self.start, self.goal, duration.max(T::zero())));
-        }
-        if duration <= self.duration {
-            return Ok(self);
-        }
-        let shape = Shape::with_duration(self.distance, limits, duration)
-            .ok_or_else(|| out_of_range(axis, self.distance))?;
-        Ok(Self::from_shape(
-            self.start,
-            self.goal,
-            self.dir,
-            self.distance,
-            shape,
-        ))
-    }
-
-    /// A profile with the given shape (already scaled to this axis).
-    pub(crate) fn from_shape(start: T, goal: T, dir: T, distance: T, shape: Shape<T>) -> Self {
-        Self {
-            start,
-            goal,
-            dir,
-            distance,
-            v: shape.v,
-            a: shape.a,
-            t_a: shape.t_a,
-            t_c: shape.t_c,
-            duration: shape.duration,
-        }
-    }
-
-    /// A zero-distance axis that stays still for `duration`.
-    pub(crate) fn still(start: T, goal: T, duration: T) -> Self {
-        Self {
-            start,
-            goal,
-            dir: T::zero(),
-            distance: T::zero(),
-            v: T::zero(),
-            a: T::zero(),
-            t_a: T::zero(),
-            t_c: duration,
-            duration,
-        }
-    }
-
-    /// Direction: `+1`, `-1`, or `0` for a zero distance.
-    pub(crate) fn direction(&self) -> T {
-        self.dir
+        let own = Axis::new(0, start, goal, limits)?;
+        own.stretched(0, limits, duration).map(Self)
     }
 
     /// Start position, in position units.
     #[must_use]
     pub fn start(&self) -> T {
-        self.start
+        self.0.start()
     }
 
     /// Goal position, in position units.
     #[must_use]
     pub fn goal(&self) -> T {
-        self.goal
+        self.0.goal()
     }
 
     /// `|goal - start|`, in position units.
     #[must_use]
     pub fn distance(&self) -> T {
-        self.distance
+        self.0.distance()
     }
 
     /// Duration of the motion, in s: `t_accel + t_cruise + t_decel`.
     #[must_use]
     pub fn duration(&self) -> T {
-        self.duration
+        self.0.shape().duration
     }
 
     /// Duration of the acceleration phase, in s (0 for a zero distance).
     #[must_use]
     pub fn t_accel(&self) -> T {
-        self.t_a
+        self.0.shape().t_a
     }
 
     /// Duration of the constant-velocity phase, in s (0 when triangular).
     #[must_use]
     pub fn t_cruise(&self) -> T {
-        self.t_c
+        self.0.shape().t_c
     }
 
     /// Duration of the deceleration phase, in s (equal to [`t_accel`](Self::t_accel)).
     #[must_use]
     pub fn t_decel(&self) -> T {
-        self.t_a
+        self.0.shape().t_a
     }
 
     /// Largest `|velocity|` reached, in units/s (`v_max`, or `sqrt(d a_max)` when triangular).
     #[must_use]
     pub fn peak_velocity(&self) -> T {
-        self.v
+        self.0.shape().v
     }
 
     /// `|acceleration|` of the acceleration and deceleration phases, in units/s^2.
     #[must_use]
     pub fn peak_acceleration(&self) -> T {
-        self.a
+        self.0.shape().a
     }
 
     /// True when the profile has no constant-velocity phase (a moving axis
@@ -363,64 +308,48 @@ impl<T: Real> Trapezoid<T> {
     /// `d * a_max <= v_max^2`, the switch itself included.
     #[must_use]
     pub fn is_triangular(&self) -> bool {
-        self.dir != T::zero() && self.t_c <= T::zero()
+        self.0.moves() && self.0.shape().t_c <= T::zero()
     }
 
     /// The state at `t` (s). See the type docs for the conventions.
     #[must_use]
     pub fn sample(&self, t: T) -> State<T> {
-        if t.is_nan() || t <= T::zero() || (self.dir == T::zero() && t < self.duration) {
-            return State::rest(self.start);
-        }
-        if t >= self.duration {
-            return State::rest(self.goal);
-        }
-        let half = T::lit(0.5);
-        let (position, speed, accel) = if t < self.t_a {
-            let s = half * (self.a * t) * t;
-            (self.start + self.dir * s, self.a * t, self.a)
-        } else if t < self.t_a + self.t_c {
-            let s = half * self.v * self.t_a + self.v * (t - self.t_a);
-            (self.start + self.dir * s, self.v, T::zero())
-        } else {
-            // Deceleration, written from the goal so that it is reached exactly.
-            let tau = self.duration - t;
-            let s = half * (self.a * tau) * tau;
-            (self.goal - self.dir * s, self.a * tau, -self.a)
-        };
-        State {
-            position,
-            velocity: self.dir * speed.min(self.v),
-            acceleration: self.dir * accel,
-        }
+        self.0.sample(t)
+    }
+}
+
+impl<T: Real> OneAxis<T> for Trapezoid<T> {
+    type Shape = TrapShape<T>;
+    fn from_axis(axis: Axis<T, TrapShape<T>>) -> Self {
+        Self(axis)
     }
 }
 
 impl<T: Real> Motion<T> for Trapezoid<T> {
     type Output = State<T>;
     fn duration(&self) -> T {
-        self.duration
+        Trapezoid::duration(self)
     }
     fn sample(&self, t: T) -> State<T> {
-        Trapezoid::sample(self, t)
+        self.0.sample(t)
     }
 }
 
 impl<T: Real> Profile<T> for Trapezoid<T> {
     fn start(&self) -> T {
-        self.start
+        self.0.start()
     }
     fn goal(&self) -> T {
-        self.goal
+        self.0.goal()
     }
     fn distance(&self) -> T {
-        self.distance
+        self.0.distance()
     }
     fn peak_velocity(&self) -> T {
-        self.v
+        Trapezoid::peak_velocity(self)
     }
     fn peak_acceleration(&self) -> T {
-        self.a
+        Trapezoid::peak_acceleration(self)
     }
 }
 

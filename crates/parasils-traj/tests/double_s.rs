@@ -44,7 +44,7 @@ fn check_all<T: Real>(
     check_profile(&p, lim, h_rel)?;
     // Never shorter than the trapezoid with the same v_max and a_max.
     let trap = Trapezoid::new(start, goal, lim.limits()).map_err(fail)?;
-    let rel = c::<T>(8.0) * T::epsilon();
+    let rel = c::<T>(8.0) * T::EPSILON;
     prop_assert!(
         p.duration() >= trap.duration() * (T::one() - rel),
         "double-S {:?} shorter than trapezoid {:?}",
@@ -69,7 +69,7 @@ fn check_profile<T: Real>(
     check_limits_and_path(p, bounds, &sw, 64)?;
     check_continuity(p, &sw)?;
     check_derivatives(p, &sw, h_rel, &FRACTIONS, Some(lim.j_max))?;
-    let rel = c::<T>(16.0) * T::epsilon();
+    let rel = c::<T>(16.0) * T::EPSILON;
     prop_assert!(p.peak_jerk() <= lim.j_max * (T::one() + rel));
     prop_assert!(p.peak_acceleration() <= lim.a_max * (T::one() + rel));
     prop_assert!(p.peak_velocity() <= lim.v_max * (T::one() + rel));
@@ -86,7 +86,7 @@ fn check_profile<T: Real>(
         {
             let da = (p.sample(t + h).acceleration - p.sample(t - h).acceleration) / (h + h);
             let tol =
-                c::<T>(8.0) * T::epsilon() * (p.peak_acceleration() + p.duration() * p.peak_jerk())
+                c::<T>(8.0) * T::EPSILON * (p.peak_acceleration() + p.duration() * p.peak_jerk())
                     / h;
             prop_assert!(
                 (da - j).abs() <= tol,
@@ -99,7 +99,7 @@ fn check_profile<T: Real>(
     }
     // Distance consistency: the phases cover the distance.
     let d_back = p.peak_velocity() * (p.t_accel() + p.t_cruise());
-    prop_assert!((d_back - p.distance()).abs() <= c::<T>(64.0) * T::epsilon() * p.distance());
+    prop_assert!((d_back - p.distance()).abs() <= c::<T>(64.0) * T::EPSILON * p.distance());
     Ok(())
 }
 

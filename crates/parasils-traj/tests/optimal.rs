@@ -26,7 +26,7 @@ struct Waves<const M: usize> {
 impl<T: Real, const M: usize> Path<T, M> for Waves<M> {
     type Error = Infallible;
     fn derivatives(&self, s: T) -> Result<Derivatives<T, M>, Infallible> {
-        let s = s.widen();
+        let s = s.to_f64();
         let mut d = Derivatives::default();
         for j in 0..M {
             let phase = self.w[j] * s + self.p[j];

@@ -54,7 +54,7 @@ fn check_all<T: Real>(
     } else {
         d / lim.v_max + lim.v_max / lim.a_max
     };
-    let rel = c::<T>(8.0) * T::epsilon();
+    let rel = c::<T>(8.0) * T::EPSILON;
     prop_assert!(
         (p.duration() - expected).abs() <= rel * expected,
         "duration {:?} vs {:?}",

@@ -82,13 +82,13 @@ pub fn compared(k: usize, cycles: usize) -> bool {
 
 /// The time of cycle `k`, s.
 pub fn time<T: Real>(k: usize) -> T {
-    <T as parasils::traj::Real>::from_index(k) / <T as parasils::kin::Real>::lit(RATE_HZ)
+    T::from_index(k) / T::lit(RATE_HZ)
 }
 
 /// The controller at rest at `P0`, holding the paper's tips, with the limits
 /// [`LIMITS_DEG`] and the default supervisor.
 pub fn online<T: Real>() -> Result<OnlineController<T>, Error> {
-    let [v, a] = LIMITS_DEG.map(|x| <T as parasils::kin::Real>::lit(x.to_radians()));
+    let [v, a] = LIMITS_DEG.map(|x| T::lit(x.to_radians()));
     OnlineController::new(
         Controller::paper(),
         TipTargets::paper(),
@@ -102,7 +102,7 @@ pub fn online<T: Real>() -> Result<OnlineController<T>, Error> {
 /// rad (absolute) or `None` for the stop. Computed once, outside the loop.
 pub fn orders<T: Real>() -> [(usize, Option<[T; 2]>); 4] {
     let p0 = Pose::<f64>::paper_start();
-    let lit = |x: f64| <T as parasils::kin::Real>::lit(x);
+    let lit = |x: f64| T::lit(x);
     COMMANDS.map(|c| {
         (
             c.cycle,

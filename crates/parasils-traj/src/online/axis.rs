@@ -1,7 +1,8 @@
 //! One axis from its current state to rest at a target, and its stop (see
 //! the [module docs](super)).
 
-use crate::error::{Endpoint, Error, check_position, out_of_range};
+use crate::axis::{Instant, check_duration, instant, ramp};
+use crate::error::{Endpoint, Error, check_move, check_position, out_of_range};
 use crate::profile::{Motion, State};
 use crate::real::Real;
 use crate::trapezoid::Limits;
@@ -178,8 +179,8 @@ impl<T: Real> Problem<T> {
         let u = v0 / limits.v_max;
         // 4 eps of |p0| + |target| and of the stopping distance u^2 / 2, twice.
         let big = scale(p0.abs().max(target.abs()));
-        let slack = T::lit(4.0) * T::epsilon() * (big + big + u * u);
-        let ok = tau.is_finite() && tau > T::zero() && x.is_finite() && u.is_finite();
+        let slack = T::lit(4.0) * T::EPSILON * (big + big + u * u);
+        let ok = tau.finite() && tau > T::zero() && x.finite() && u.finite();
         ok.then_some(Self { x, u, slack, tau })
     }
 }
@@ -201,7 +202,7 @@ fn phases<T: Real>(n: Normalised<T>, limits: Limits<T>, tau: T) -> [T; 6] {
     ]
 }
 
-/// Checks a start state and a target; returns `target - p0`.
+/// Checks the limits, a start state and a target; returns `|target - p0|`.
 fn check_axis<T: Real>(
     axis: usize,
     start: State<T>,
@@ -210,28 +211,18 @@ fn check_axis<T: Real>(
 ) -> Result<T, Error> {
     limits.check(axis)?;
     check_start(axis, start)?;
-    check_position(axis, Endpoint::Goal, target)?;
-    let d = target - start.position;
-    if d.is_finite() {
-        Ok(d)
-    } else {
-        Err(Error::DistanceOverflow {
-            axis,
-            start: start.position.widen(),
-            goal: target.widen(),
-        })
-    }
+    check_move(axis, start.position, target).map(|(_, distance)| distance)
 }
 
 /// Checks the position and velocity of a start state.
 pub(super) fn check_start<T: Real>(axis: usize, start: State<T>) -> Result<(), Error> {
     check_position(axis, Endpoint::Start, start.position)?;
-    if start.velocity.is_finite() {
+    if start.velocity.finite() {
         Ok(())
     } else {
         Err(Error::NonFiniteVelocity {
             axis,
-            value: start.velocity.widen(),
+            value: start.velocity.to_f64(),
         })
     }
 }
@@ -353,7 +344,7 @@ impl<T: Real> OnlineTrapezoid<T> {
     ) -> Result<Self, Error> {
         let d = check_axis(axis, start, target, limits)?;
         let n = Problem::new(start.position, start.velocity, target, limits)
-            .ok_or_else(|| out_of_range(axis, d.abs()))?;
+            .ok_or_else(|| out_of_range(axis, d))?;
         let plan = Normalised::min_time(n);
         Self::from_phases(axis, start, target, phases(plan, limits, n.tau), None)
     }
@@ -365,14 +356,7 @@ impl<T: Real> OnlineTrapezoid<T> {
         limits: Limits<T>,
         duration: T,
     ) -> Result<Self, Error> {
-        let tol = self.duration * T::epsilon() * T::lit(8.0);
-        if !duration.is_finite() || duration < self.duration - tol {
-            return Err(Error::InvalidDuration {
-                axis,
-                requested: duration.widen(),
-                minimum: self.duration.widen(),
-            });
-        }
+        check_duration(axis, self.duration, duration)?;
         if duration <= self.duration {
             return Ok(self);
         }
@@ -398,7 +382,7 @@ impl<T: Real> OnlineTrapezoid<T> {
     pub(super) fn stopping(axis: usize, start: State<T>, a_max: T, t: T) -> Result<Self, Error> {
         let (p0, v0) = (start.position, start.velocity);
         let range = || out_of_range(axis, (v0 * t).abs());
-        if !t.is_finite() {
+        if !t.finite() {
             return Err(range());
         }
         if v0 == T::zero() {
@@ -411,7 +395,7 @@ impl<T: Real> OnlineTrapezoid<T> {
             return Err(range());
         }
         let target = p0 + T::lit(0.5) * v0 * t;
-        if !target.is_finite() {
+        if !target.finite() {
             return Err(range());
         }
         // |v0| / t <= a_max as t >= |v0| / a_max, up to rounding.
@@ -476,7 +460,7 @@ impl<T: Real> OnlineTrapezoid<T> {
             vc * t3,
         ]
         .iter()
-        .all(|x| x.is_finite());
+        .all(|x| x.finite());
         if !finite {
             return Err(out_of_range(axis, (target - p0).abs()));
         }
@@ -598,16 +582,17 @@ impl<T: Real> OnlineTrapezoid<T> {
     /// The state at `t` (s). See the [module docs](super) for the conventions.
     #[must_use]
     pub fn sample(&self, t: T) -> State<T> {
-        if t.is_nan() || t <= T::zero() {
-            return State {
-                position: self.start,
-                velocity: self.v0,
-                acceleration: T::zero(),
-            };
-        }
-        if t >= self.duration {
-            return State::rest(self.target);
-        }
+        let t = match instant(t, self.duration) {
+            Instant::Start => {
+                return State {
+                    position: self.start,
+                    velocity: self.v0,
+                    acceleration: T::zero(),
+                };
+            }
+            Instant::End => return State::rest(self.target),
+            Instant::Inside(t) => t,
+        };
         let half = T::lit(0.5);
         if t < self.t1 {
             let (lo, hi) = (self.v0.min(self.vc), self.v0.max(self.vc));
@@ -627,7 +612,7 @@ impl<T: Real> OnlineTrapezoid<T> {
             let tau = self.duration - t;
             let speed = self.vc.abs();
             State {
-                position: self.target + half * (self.a3 * tau) * tau,
+                position: self.target + ramp(self.a3, tau),
                 velocity: (-self.a3 * tau).max(-speed).min(speed),
                 acceleration: self.a3,
             }

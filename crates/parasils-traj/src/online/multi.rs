@@ -146,7 +146,7 @@ impl<T: Real, const N: usize> OnlineMulti<T, N> {
         start: [State<T>; N],
         limits: [Limits<T>; N],
     ) -> bool {
-        let eps = T::epsilon();
+        let eps = T::EPSILON;
         let delta = own.each_ref().map(|p| p.target - p.start);
         // The rounding of each axis's positions, in position units.
         let round = own
@@ -182,8 +182,8 @@ impl<T: Real, const N: usize> OnlineMulti<T, N> {
             }
         }
         // The line's limits, then each axis within its share of them.
-        let mut v = T::infinity();
-        let mut a = T::infinity();
+        let mut v = T::INFINITY;
+        let mut a = T::INFINITY;
         for (ki, li) in k.iter().zip(&limits) {
             if *ki != T::zero() {
                 v = v.min(li.v_max / ki.abs());
@@ -197,7 +197,7 @@ impl<T: Real, const N: usize> OnlineMulti<T, N> {
             let share = Limits::new(v * ki.abs(), a * ki.abs());
             let usable = [share.v_max, share.a_max]
                 .iter()
-                .all(|x| x.is_finite() && *x > T::zero());
+                .all(|x| x.finite() && *x > T::zero());
             if ki != T::zero() && usable {
                 scaled[i] = share;
                 match OnlineTrapezoid::new_axis(i, s, own[i].target, share) {

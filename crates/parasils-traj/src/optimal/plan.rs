@@ -65,16 +65,16 @@ pub fn certify<T: Real, P: Path<T, M>, const M: usize>(
         passes += 1;
         solve(limits, knots).map_err(Error::widen)?;
     };
-    let headroom = T::lit(ROUNDING_HEADROOM).max(T::epsilon() * T::lit(64.0));
+    let headroom = T::lit(ROUNDING_HEADROOM).max(T::EPSILON * T::lit(64.0));
     let stretch = (worst * (T::one() + headroom)).max(T::one());
-    if !stretch.is_finite() {
+    if !stretch.finite() {
         return Err(Error::OutOfRange { index: 0 });
     }
     if stretch > T::one() {
         let f = T::one() / (stretch * stretch);
         for k in knots.iter_mut() {
-            k.x = k.x * f;
-            k.u = k.u * f;
+            k.x *= f;
+            k.u *= f;
         }
         set_times(knots).map_err(Error::widen)?;
     }
@@ -138,7 +138,7 @@ fn interval_worst<T: Real, P: Path<T, M>, const M: usize>(
         } else {
             let s = k0.s + h * T::from_index(j) * step;
             let d = path.derivatives(s).map_err(|error| Error::Path {
-                s: s.widen(),
+                s: s.to_f64(),
                 error,
             })?;
             *evaluated += 1;

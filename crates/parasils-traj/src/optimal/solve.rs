@@ -35,7 +35,7 @@ pub(crate) struct Interval<T, const M: usize> {
 impl<T: Real, const M: usize> Interval<T, M> {
     pub(crate) fn empty() -> Self {
         Self {
-            c: [[T::infinity(); M]; 2],
+            c: [[T::INFINITY; M]; 2],
             d: [[T::zero(); M]; 2],
             len: [0; 2],
             x_hi: T::zero(),
@@ -62,7 +62,7 @@ impl<T: Real, const M: usize> Interval<T, M> {
             .zip(d1.first.iter().zip(&d1.second));
         for ((lim, (&a0, &b0)), (&a1, &b1)) in rows {
             let gamma = lim.acceleration;
-            if gamma == T::infinity() {
+            if gamma == T::INFINITY {
                 // An unlimited row bounds nothing.
                 continue;
             }
@@ -73,7 +73,7 @@ impl<T: Real, const M: usize> Interval<T, M> {
                 } else {
                     let inv = T::one() / alpha;
                     let (c, d) = (gamma * inv.abs(), -beta * inv);
-                    finite &= c.is_finite() & d.is_finite();
+                    finite &= c.finite() & d.finite();
                     let k = len[end];
                     if let (Some(cj), Some(dj)) = (self.c[end].get_mut(k), self.d[end].get_mut(k)) {
                         (*cj, *dj) = (c, d);
@@ -183,7 +183,7 @@ pub fn fill_uniform<T: Real, P: Path<T, M>, const M: usize>(
             T::from_index(k) / last
         };
         let derivatives: Derivatives<T, M> = path.derivatives(s).map_err(|error| Error::Path {
-            s: s.widen(),
+            s: s.to_f64(),
             error,
         })?;
         *knot = Knot::new(s, derivatives);
@@ -207,27 +207,27 @@ fn validate<T: Real, const M: usize>(
                 return Err(Error::InvalidLimit {
                     row,
                     kind,
-                    value: value.widen(),
+                    value: value.to_f64(),
                 });
             }
         }
     }
-    let mut previous = T::neg_infinity();
+    let mut previous = -T::INFINITY;
     for (index, k) in knots.iter().enumerate() {
-        if !(k.s.is_finite() && k.s > previous) {
+        if !(k.s.finite() && k.s > previous) {
             return Err(Error::Grid {
                 index,
-                s: k.s.widen(),
+                s: k.s.to_f64(),
             });
         }
         previous = k.s;
         let d = &k.derivatives;
         for (row, &value) in d.first.iter().chain(&d.second).enumerate() {
-            if !value.is_finite() {
+            if !value.finite() {
                 return Err(Error::NonFiniteDerivative {
                     index,
                     row: row % M.max(1),
-                    value: value.widen(),
+                    value: value.to_f64(),
                 });
             }
         }
@@ -257,7 +257,7 @@ pub fn solve<'a, T: Real, const M: usize>(
     // The velocity limit curve.
     // min_j (v_j / |q_j'|)^2 as 1 / (max_j |q_j'| / v_j)^2: one division
     // per knot (an unlimited row's 1 / v_j is 0).
-    let huge = T::max_value().sqrt();
+    let huge = T::MAX.sqrt();
     let mut inv_v = [T::zero(); M];
     for (w, l) in inv_v.iter_mut().zip(limits) {
         *w = T::one() / l.velocity;
@@ -339,7 +339,7 @@ fn forward_u<T: Real, const M: usize>(
         .zip(d1.first.iter().zip(&d1.second));
     for ((lim, (&a0, &b0)), (&a1, &b1)) in rows {
         let gamma = lim.acceleration;
-        if gamma == T::infinity() {
+        if gamma == T::INFINITY {
             continue;
         }
         for (alpha, beta) in [(a0, b0), (a1 + two_h * b1, b1)] {
@@ -353,14 +353,14 @@ fn forward_u<T: Real, const M: usize>(
                 gamma + beta * x0
             };
             let (left, right) = (n * den, num * m);
-            finite &= left.is_finite() & right.is_finite();
+            finite &= left.finite() & right.finite();
             if left < right {
                 (num, den) = (n, m);
             }
         }
     }
     let up = num / den;
-    (finite && up.is_finite()).then_some(up)
+    (finite && up.finite()).then_some(up)
 }
 
 /// The time at each knot: `dt = 2 h / (s_dot_i + s_dot_{i+1})` on each interval.
@@ -370,8 +370,8 @@ pub(crate) fn set_times<T: Real, const M: usize>(knots: &mut [Knot<T, M>]) -> Re
     for (index, k) in knots.iter_mut().enumerate() {
         if let Some((s, v)) = previous {
             let dt = (k.s - s) * T::lit(2.0) / (v + k.x.sqrt());
-            t = t + dt;
-            if !(t.is_finite() && dt > T::zero()) {
+            t += dt;
+            if !(t.finite() && dt > T::zero()) {
                 return Err(Error::OutOfRange { index });
             }
         }

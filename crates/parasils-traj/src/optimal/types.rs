@@ -32,7 +32,7 @@ impl<T: Real> RowLimits<T> {
 
     /// No limit (both `+inf`): the row is not constrained.
     pub fn unlimited() -> Self {
-        Self::new(T::infinity(), T::infinity())
+        Self::new(T::INFINITY, T::INFINITY)
     }
 }
 
@@ -60,7 +60,7 @@ impl<T: Real, const M: usize> Derivatives<T, M> {
     /// `|q_j' s_dot| <= v_j` for every row, `min_j (v_j / q_j')^2`
     /// (`+inf` when no row moves or every velocity is unlimited).
     pub fn velocity_limit(&self, limits: &[RowLimits<T>; M]) -> T {
-        let mut x = T::infinity();
+        let mut x = T::INFINITY;
         for (d, lim) in self.first.iter().zip(limits) {
             if *d != T::zero() {
                 let r = lim.velocity / d.abs();
@@ -76,11 +76,11 @@ impl<T: Real, const M: usize> Derivatives<T, M> {
     /// between two lines in `x`; the curve is where the highest lower line
     /// meets the lowest upper one, found over every pair of rows.
     pub fn acceleration_limit(&self, limits: &[RowLimits<T>; M]) -> T {
-        let mut x = T::infinity();
+        let mut x = T::INFINITY;
         // Row j's band, when q_j' != 0: u in [b x - w, b x + w].
         let bands: [Option<(T, T)>; M] = core::array::from_fn(|j| {
             let (d, dd, a) = (self.first[j], self.second[j], limits[j].acceleration);
-            (d != T::zero() && a != T::infinity()).then(|| (a / d.abs(), -dd / d))
+            (d != T::zero() && a != T::INFINITY).then(|| (a / d.abs(), -dd / d))
         });
         for ((d, dd), lim) in self.first.iter().zip(&self.second).zip(limits) {
             if *d == T::zero() && *dd != T::zero() {
@@ -155,7 +155,7 @@ impl<T: Real, const M: usize> Knot<T, M> {
             s,
             derivatives,
             x_max: T::zero(),
-            x_cap: T::infinity(),
+            x_cap: T::INFINITY,
             x: T::zero(),
             u: T::zero(),
             t: T::zero(),
@@ -320,8 +320,8 @@ impl<T: Real> fmt::Display for Phase<T> {
         write!(
             f,
             "{} s to {} s: row {} {}",
-            Num::new(self.start_t.widen()),
-            Num::new(self.end_t.widen()),
+            Num::new(self.start_t.to_f64()),
+            Num::new(self.end_t.to_f64()),
             self.row,
             match self.limit {
                 LimitKind::Velocity => "velocity",
@@ -412,7 +412,7 @@ mod tests {
                 }
                 hi - lo
             };
-            if x_a.is_finite() {
+            if x_a.finite() {
                 assert!(gap(x_a * (1.0 - 1e-9)) >= 0.0, "{d:?}");
                 assert!(gap(x_a * (1.0 + 1e-6)) < 0.0, "{d:?}");
             } else {

@@ -44,10 +44,10 @@ pub fn check_ends<T: Real, P: Profile<T>>(p: &P) -> Result<(), TestCaseError> {
     let t_end = p.duration();
     prop_assert_eq!(p.sample(T::zero()), State::rest(p.start()));
     prop_assert_eq!(p.sample(-T::one()), State::rest(p.start()));
-    prop_assert_eq!(p.sample(T::nan()), State::rest(p.start()));
+    prop_assert_eq!(p.sample(T::lit(f64::NAN)), State::rest(p.start()));
     prop_assert_eq!(p.sample(t_end), State::rest(p.goal()));
     prop_assert_eq!(p.sample(t_end + t_end + T::one()), State::rest(p.goal()));
-    prop_assert_eq!(p.sample(T::infinity()), State::rest(p.goal()));
+    prop_assert_eq!(p.sample(T::INFINITY), State::rest(p.goal()));
     Ok(())
 }
 
@@ -59,9 +59,9 @@ pub fn check_limits_and_path<T: Real, P: Profile<T>>(
     switches: &[T],
     m: usize,
 ) -> Result<(), TestCaseError> {
-    let rel = c::<T>(16.0) * T::epsilon();
+    let rel = c::<T>(16.0) * T::EPSILON;
     let big = scale(p);
-    let tol_p = c::<T>(8.0) * T::epsilon() * big;
+    let tol_p = c::<T>(8.0) * T::EPSILON * big;
     let (lo, hi) = (p.start().min(p.goal()), p.start().max(p.goal()));
     let dir = (p.goal() - p.start()).signum();
     let mut times = grid_times(p.duration(), switches, m);
@@ -117,7 +117,7 @@ fn grid_times<T: Real>(t_end: T, switches: &[T], m: usize) -> Vec<T> {
     for k in 1..m {
         v.push(t_end * T::from_index(k) / T::from_index(m));
     }
-    let nudge = t_end * T::epsilon() * c(4.0);
+    let nudge = t_end * T::EPSILON * c(4.0);
     for &s in switches {
         for t in [s - nudge, s, s + nudge] {
             if t > T::zero() && t < t_end {
@@ -135,21 +135,21 @@ pub fn check_continuity<T: Real, P: Profile<T>>(
     switches: &[T],
 ) -> Result<(), TestCaseError> {
     let big = scale(p);
-    let nudge = p.duration() * T::epsilon() * c(4.0);
+    let nudge = p.duration() * T::EPSILON * c(4.0);
     for &s in switches {
         if !(s > T::zero() && s < p.duration()) {
             continue;
         }
         let (x, y) = (p.sample(s - nudge), p.sample(s));
-        let tol = c::<T>(16.0) * T::epsilon() * big + p.peak_velocity() * nudge * c(2.0);
+        let tol = c::<T>(16.0) * T::EPSILON * big + p.peak_velocity() * nudge * c(2.0);
         prop_assert!(
             (x.position - y.position).abs() <= tol,
             "position jumps by {:?} at switch {:?}",
             y.position - x.position,
             s
         );
-        let tol_v = c::<T>(16.0) * T::epsilon() * p.peak_velocity()
-            + p.peak_acceleration() * nudge * c(2.0);
+        let tol_v =
+            c::<T>(16.0) * T::EPSILON * p.peak_velocity() + p.peak_acceleration() * nudge * c(2.0);
         prop_assert!(
             (x.velocity - y.velocity).abs() <= tol_v,
             "velocity jumps at switch {:?}",
@@ -176,7 +176,7 @@ pub fn check_derivatives<T: Real, P: Profile<T>>(
     }
     let h = t_end * h_rel;
     let big = scale(p);
-    let eps = T::epsilon();
+    let eps = T::EPSILON;
     let mut checked = 0;
     for &f in fractions {
         let t = t_end * c(f);

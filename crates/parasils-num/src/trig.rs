@@ -1,7 +1,7 @@
 //! Sine and cosine of one angle together, in the float type's own arithmetic.
 //!
-//! Every rotation of the crate starts from the sine and cosine of an angle
-//! (rad). libm computes them one at a time, and its `f32` versions compute in
+//! Every rotation of the kinematics (`parasils-kin`) starts from the sine
+//! and cosine of an angle (rad). libm computes them one at a time, and its `f32` versions compute in
 //! `f64`, which a Cortex-M4F (single-precision FPU) emulates in software, at
 //! a cost many times that of the `f32` arithmetic (see `BENCHMARKS.md`).
 //! Here both come out of one range reduction and two polynomials, `f32` in
