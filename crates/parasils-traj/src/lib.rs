@@ -103,6 +103,10 @@ pub mod trapezoid;
 pub use double_s::{DoubleS, JerkLimits};
 pub use error::{Endpoint, Error, LimitKind};
 pub use online::{OnlineMulti, OnlineTrapezoid};
+pub use optimal::{
+    Certificate, Derivatives, Error as OptimalError, Knot, Path, Phase, Phases, Planned, RowLimits,
+    Schedule,
+};
 pub use profile::{Motion, Profile, State};
 pub use real::Real;
 pub use sampler::{Sample, Sampler};
