@@ -44,7 +44,6 @@ pub mod model;
 pub mod params;
 pub mod plan;
 pub mod report;
-pub mod rng;
 
 pub use data::{Measurement, Sigma};
 pub use error::CalibError;

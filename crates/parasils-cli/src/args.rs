@@ -8,7 +8,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use parasils::paper;
 use parasils_calib::FitOptions;
 use parasils_calib::plan::PlanOptions;
-use parasils_sim::reach::ReachOptions;
+use parasils_reach::ReachOptions;
 use parasils_sim::scenario::{Retarget, Timing};
 use parasils_sim::{Format, Scenario};
 use parasils_sim::{procedure, robot_file};

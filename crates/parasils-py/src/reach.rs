@@ -2,7 +2,7 @@
 
 use numpy::IntoPyArray;
 use numpy::ndarray::Array2;
-use parasils_sim::reach::{Constraint, ReachError, ReachMap, ReachOptions};
+use parasils_reach::{Constraint, ReachError, ReachMap, ReachOptions};
 use parasils_sim::{Scenario, SimulationError};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -93,7 +93,7 @@ pub(crate) fn reach_map<'py>(
         .map_err(|e| reach_error(py, &e))?;
     let shape = (map.theta.count, map.psi.count);
     let dict = PyDict::new(py);
-    let axis = |a: &parasils_sim::reach::Axis| {
+    let axis = |a: &parasils_reach::Axis| {
         (0..a.count)
             .map(|i| a.value_deg(i).to_radians())
             .collect::<Vec<_>>()

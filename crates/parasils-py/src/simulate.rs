@@ -11,8 +11,8 @@ use core::convert::Infallible;
 use std::path::{Path, PathBuf};
 
 use numpy::IntoPyArray;
+use parasils_io::AtTime;
 use parasils_kin::RobotGeometry;
-use parasils_sim::numbers::AtTime;
 use parasils_sim::procedure;
 use parasils_sim::scenario::{Retarget, Timing};
 use parasils_sim::{

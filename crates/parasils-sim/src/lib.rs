@@ -58,12 +58,14 @@
 //! | [`columns`] | the one table of output columns |
 //! | [`sink`] | [`Sink`] and [`Tee`] |
 //! | [`csv`], [`mcap`], [`summary`], `plot` | the sinks |
-//! | [`output`] | [`OutputFile`]: CSV or MCAP written atomically |
+//! | [`output`] | [`OutputFile`]: CSV or MCAP written atomically (with `parasils_io`'s [`AtomicFile`](parasils_io::AtomicFile)) |
 //! | [`robot_file`] | the robot's geometry as TOML |
-//! | [`reach`] | reach maps: the orientations reachable with both tips held |
-//! | [`numbers`] | numbers in messages, readable whatever their size |
 //!
-//! Imports go one way: `numbers`, `motion` < `scenario` < `record` <
+//! The plumbing (files written atomically, numbers in messages, the plot
+//! kit) is `parasils-io`'s; the reach maps are a study of their own, in
+//! `parasils-reach`.
+//!
+//! Imports go one way: `motion` < `scenario` < `record` <
 //! `columns`, `sink` < `engine` < the sinks < `output`; `robot_file` stands
 //! alone, and `procedure` reads files into a `scenario` with it.
 //!
@@ -83,12 +85,10 @@ pub mod csv;
 pub mod engine;
 pub mod mcap;
 pub mod motion;
-pub mod numbers;
 pub mod output;
 #[cfg(feature = "plot")]
 pub mod plot;
 pub mod procedure;
-pub mod reach;
 pub mod record;
 pub mod robot_file;
 pub mod scenario;

@@ -6,8 +6,8 @@ use parasils::kin::{
     ControlStep, Controller, Error, Interval, Joint, Margin, PlatformState, Pose, Side, TipTargets,
 };
 
-use crate::engine::SimulationError;
-use crate::scenario::Scenario;
+use parasils_sim::Scenario;
+use parasils_sim::SimulationError;
 
 /// The constraint that makes an orientation infeasible, or [`Constraint::Ok`].
 ///
@@ -211,7 +211,7 @@ impl core::fmt::Display for Constraint {
 pub struct Verdict {
     /// The first constraint the controller found violated, or `Ok`.
     pub limiting: Constraint,
-    /// The normalised margin (see the [module docs](crate::reach), *Margin*):
+    /// The normalised margin (see the [module docs](crate), *Margin*):
     /// on a feasible orientation the smallest over every constraint, on an
     /// infeasible one the violated constraint's (negative).
     pub margin: f64,

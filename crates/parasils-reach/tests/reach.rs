@@ -7,7 +7,7 @@ use parasils::kin::{
     AssemblyMode, Controller, Error, Instrument, ParallelRobot, PlatformState, Pose, RobotGeometry,
     TipTargets,
 };
-use parasils_sim::reach::{Constraint, ReachMap, ReachOptions, TOLERANCE_RAD};
+use parasils_reach::{Constraint, ReachMap, ReachOptions, TOLERANCE_RAD};
 use parasils_sim::{Scenario, Simulation, SimulationError};
 
 /// A small, fast generator of numbers in `[0, 1)` (xorshift64*).
