@@ -8,7 +8,7 @@
 use std::path::Path;
 
 use parasils_kin::Error;
-use parasils_kin::error::{Joint, Margin, ParallelSingularity};
+use parasils_kin::error::{InstrumentSingularity, Joint, ParallelSingularity};
 use parasils_sim::robot_file::RobotFileError as FileError;
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
@@ -213,10 +213,10 @@ fn joint_name(j: Joint) -> &'static str {
     }
 }
 
-fn margin_name(m: Margin) -> &'static str {
+fn margin_name(m: InstrumentSingularity) -> &'static str {
     match m {
-        Margin::CosQs2 => "cos_qs2",
-        Margin::Qs3 => "qs3",
+        InstrumentSingularity::CosQs2 => "cos_qs2",
+        InstrumentSingularity::Qs3 => "qs3",
     }
 }
 

@@ -3,7 +3,8 @@
 //! margin.
 
 use parasils::kin::{
-    ControlStep, Controller, Error, Interval, Joint, Margin, PlatformState, Pose, Side, TipTargets,
+    ControlStep, Controller, Error, InstrumentSingularity, Interval, Joint, PlatformState, Pose,
+    Side, TipTargets,
 };
 
 use parasils_sim::Scenario;
@@ -185,12 +186,12 @@ impl Constraint {
             Error::OutOfReach { side, .. } => Constraint::OutOfReach(side),
             Error::Singular {
                 side,
-                margin: Margin::CosQs2,
+                margin: InstrumentSingularity::CosQs2,
                 ..
             } => Constraint::CosQs2Singular(side),
             Error::Singular {
                 side,
-                margin: Margin::Qs3,
+                margin: InstrumentSingularity::Qs3,
                 ..
             } => Constraint::Qs3Singular(side),
             Error::JointLimit { side, joint, .. } => Constraint::JointLimit(side, joint),
@@ -443,14 +444,14 @@ impl Checker {
                 (1.0 - sin_qs2) - th
             }
             Error::Singular {
-                margin: Margin::CosQs2,
+                margin: InstrumentSingularity::CosQs2,
                 value,
                 threshold,
                 ..
             } => value - threshold,
             Error::Singular {
                 side,
-                margin: Margin::Qs3,
+                margin: InstrumentSingularity::Qs3,
                 value,
                 threshold,
             } => (value - threshold) / self.qs3_scale(side),
