@@ -410,6 +410,38 @@ pub(crate) fn trajectory(py: Python<'_>, error: &parasils_traj::Error) -> PyErr 
     build().unwrap_or_else(|e| e)
 }
 
+/// Resolves an argument renamed with its unit: `new` (the new name's value,
+/// `new_default` when not given) or, when `old` (the old name's value,
+/// already converted to the new unit) is given, that one with a
+/// `DeprecationWarning`. Both given: `TypeError`.
+pub(crate) fn renamed_argument<T: PartialEq>(
+    py: Python<'_>,
+    method: &str,
+    (old_name, old): (&str, Option<T>),
+    (new_name, new, new_default): (&str, T, T),
+) -> PyResult<T> {
+    let Some(old) = old else {
+        return Ok(new);
+    };
+    if new != new_default {
+        return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+            "{method}() got both {new_name} and its deprecated name {old_name}"
+        )));
+    }
+    let message = std::ffi::CString::new(format!(
+        "{method}({old_name}=...) is deprecated: use {new_name}=..., in the unit its name \
+         says, as the command line's; {old_name} will be removed in the next release"
+    ))
+    .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    PyErr::warn(
+        py,
+        &py.get_type::<pyo3::exceptions::PyDeprecationWarning>(),
+        &message,
+        1,
+    )?;
+    Ok(old)
+}
+
 /// An `OSError` (its subclass chosen by `errno`, e.g. `FileNotFoundError`)
 /// naming `path`.
 pub(crate) fn os_error(error: &std::io::Error, path: &Path) -> PyErr {
