@@ -9,7 +9,7 @@
 //! |---|---|
 //! | [`numbers`] | numbers in messages, readable whatever their size: [`Shortest`] (every digit a value needs to read back the same), [`Fixed`] (a set count of decimals), [`AtTime`] (`at t = 1.234 s: `) |
 //! | [`rng`] | [`Rng`]: SplitMix64, the same numbers from the same seed on every platform |
-//! | [`file`] | [`AtomicFile`]: a temporary file beside the target, renamed on success; stale temporary files of dead processes removed; a writer's size estimate checked against the free space and a 10 GB cap ([`file::check_bytes`]) |
+//! | [`file`](mod@file) | [`AtomicFile`]: a temporary file beside the target, renamed on success; stale temporary files of dead processes removed; a writer's size estimate checked against the free space and a 10 GB cap ([`file::check_bytes`]) |
 //! | `plot` | the plot kit (feature `plot`): the embedded font, the image formats, SVG or PNG from any `Figure`, legend rows, the palette |
 //!
 //! ```

@@ -80,7 +80,7 @@ impl fmt::Display for Joint {
 }
 
 /// The singularity of an instrument module whose margin fell below its
-/// threshold ([`Error::NearSingularity`]). Not the supervisor's
+/// threshold ([`Error::Singular`]). Not the supervisor's
 /// `parasils::supervisor::Margin`, which names each of the margins a cycle
 /// reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -92,8 +92,8 @@ pub enum InstrumentSingularity {
     Qs3,
 }
 
-/// The old name of [`InstrumentSingularity`], which the facade's
-/// `parasils::supervisor::Margin` also bore with another meaning.
+/// The old name of [`InstrumentSingularity`]. `Margin` now means only the
+/// supervisor's margins (`parasils::supervisor::Margin`).
 #[deprecated(since = "0.1.0", note = "renamed `InstrumentSingularity`")]
 pub type Margin = InstrumentSingularity;
 

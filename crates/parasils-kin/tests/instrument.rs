@@ -540,3 +540,12 @@ mod bad_inputs {
         ));
     }
 }
+
+/// The deprecated name still names the same type, with the same text.
+#[test]
+#[allow(deprecated)]
+fn the_old_name_of_instrument_singularity_is_an_alias() {
+    let old: parasils_kin::Margin = InstrumentSingularity::CosQs2;
+    assert_eq!(old, InstrumentSingularity::CosQs2);
+    assert_eq!(parasils_kin::Margin::Qs3.to_string(), "qs3 (mm)");
+}
