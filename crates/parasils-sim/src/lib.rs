@@ -98,7 +98,9 @@ pub mod supervisor;
 pub mod timing;
 
 pub use engine::{RunError, Simulation, SimulationError};
-pub use output::{Format, OutputError, OutputFile};
+pub use output::{Flushed, Format, OutputError, OutputFile};
+#[cfg(feature = "plot")]
+pub use plot::PlotSink;
 pub use record::{InstrumentRecord, Module1Record, Record};
 pub use scenario::Scenario;
 pub use sink::{BoxError, Sink, Tee};
