@@ -30,10 +30,10 @@ use std::path::{Path, PathBuf};
 /// Each message is complete on its own (the file, and the operating
 /// system's words): the underlying errors are in the text, not chained as
 /// `source()`, so that a report of the chain does not repeat them.
-/// [`FileError::io_error`] gives the I/O error underneath, if any.
+/// [`WriteError::io_error`] gives the I/O error underneath, if any.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
-pub enum FileError {
+pub enum WriteError {
     /// The target is a folder.
     #[error("{} is a folder: give a file name", path.display())]
     IsFolder {
@@ -88,15 +88,15 @@ pub enum FileError {
     },
 }
 
-impl FileError {
+impl WriteError {
     /// The I/O error underneath, if any (to tell a missing folder from a
     /// full disk).
     pub fn io_error(&self) -> Option<&std::io::Error> {
         match self {
-            FileError::Create { error, .. } | FileError::Io { error, .. } => Some(error),
-            FileError::IsFolder { .. } | FileError::NoSpace { .. } | FileError::OverCap { .. } => {
-                None
-            }
+            WriteError::Create { error, .. } | WriteError::Io { error, .. } => Some(error),
+            WriteError::IsFolder { .. }
+            | WriteError::NoSpace { .. }
+            | WriteError::OverCap { .. } => None,
         }
     }
 
@@ -104,11 +104,11 @@ impl FileError {
     /// written in.
     pub fn path(&self) -> &Path {
         match self {
-            FileError::IsFolder { path }
-            | FileError::NoSpace { path, .. }
-            | FileError::OverCap { path, .. }
-            | FileError::Io { path, .. } => path,
-            FileError::Create { dir, .. } => dir,
+            WriteError::IsFolder { path }
+            | WriteError::NoSpace { path, .. }
+            | WriteError::OverCap { path, .. }
+            | WriteError::Io { path, .. } => path,
+            WriteError::Create { dir, .. } => dir,
         }
     }
 }
@@ -153,17 +153,17 @@ pub fn free_bytes(dir: &Path) -> Option<u64> {
 /// above the real one.
 ///
 /// # Errors
-/// [`FileError::NoSpace`] and [`FileError::OverCap`].
+/// [`WriteError::NoSpace`] and [`WriteError::OverCap`].
 pub fn check_bytes(
     path: &Path,
     samples: usize,
     estimate: u64,
     force: bool,
-) -> Result<u64, FileError> {
+) -> Result<u64, WriteError> {
     if let Some(free) = free_bytes(folder(path))
         && estimate > free
     {
-        return Err(FileError::NoSpace {
+        return Err(WriteError::NoSpace {
             path: path.to_owned(),
             samples,
             estimate,
@@ -172,7 +172,7 @@ pub fn check_bytes(
     }
     let cap = cap_bytes();
     if !force && estimate > cap {
-        return Err(FileError::OverCap {
+        return Err(WriteError::OverCap {
             path: path.to_owned(),
             samples,
             estimate,
@@ -210,10 +210,10 @@ impl core::fmt::Display for Bytes {
 /// size of the second kind only.
 ///
 /// # Errors
-/// [`FileError::IsFolder`] when the target is a folder.
-pub fn written_directly(path: &Path) -> Result<bool, FileError> {
+/// [`WriteError::IsFolder`] when the target is a folder.
+pub fn written_directly(path: &Path) -> Result<bool, WriteError> {
     match std::fs::metadata(path) {
-        Ok(m) if m.is_dir() => Err(FileError::IsFolder {
+        Ok(m) if m.is_dir() => Err(WriteError::IsFolder {
             path: path.to_owned(),
         }),
         Ok(m) => Ok(!m.is_file()),
@@ -307,8 +307,8 @@ pub fn remove_stale(dir: &Path) -> Vec<PathBuf> {
 /// dead processes in that folder are removed first ([`remove_stale`]).
 ///
 /// # Errors
-/// [`FileError::Create`] when the folder cannot be written in.
-pub fn temp_beside(path: &Path) -> Result<tempfile::NamedTempFile, FileError> {
+/// [`WriteError::Create`] when the folder cannot be written in.
+pub fn temp_beside(path: &Path) -> Result<tempfile::NamedTempFile, WriteError> {
     let dir = folder(path);
     remove_stale(dir);
     // The target's name, shortened to keep the whole name within the
@@ -332,7 +332,7 @@ pub fn temp_beside(path: &Path) -> Result<tempfile::NamedTempFile, FileError> {
         use std::os::unix::fs::PermissionsExt;
         builder.permissions(std::fs::Permissions::from_mode(0o644));
     }
-    builder.tempfile_in(dir).map_err(|e| FileError::Create {
+    builder.tempfile_in(dir).map_err(|e| WriteError::Create {
         dir: dir.to_owned(),
         error: innermost(e),
     })
@@ -362,9 +362,9 @@ fn innermost(e: std::io::Error) -> std::io::Error {
 /// Renames the temporary file `tmp` to `path`.
 ///
 /// # Errors
-/// [`FileError::Io`] when the rename fails.
-pub fn persist(tmp: tempfile::NamedTempFile, path: &Path) -> Result<(), FileError> {
-    tmp.persist(path).map_err(|e| FileError::Io {
+/// [`WriteError::Io`] when the rename fails.
+pub fn persist(tmp: tempfile::NamedTempFile, path: &Path) -> Result<(), WriteError> {
+    tmp.persist(path).map_err(|e| WriteError::Io {
         path: path.to_owned(),
         error: e.error,
     })?;
@@ -387,11 +387,11 @@ impl AtomicFile {
     /// write the content to.
     ///
     /// # Errors
-    /// [`FileError::IsFolder`] when the target is a folder,
-    /// [`FileError::Create`] when the folder cannot be written in,
-    /// [`FileError::Io`] when the file cannot be opened.
-    pub fn create(path: &Path) -> Result<(Self, File), FileError> {
-        let io = |error| FileError::Io {
+    /// [`WriteError::IsFolder`] when the target is a folder,
+    /// [`WriteError::Create`] when the folder cannot be written in,
+    /// [`WriteError::Io`] when the file cannot be opened.
+    pub fn create(path: &Path) -> Result<(Self, File), WriteError> {
+        let io = |error| WriteError::Io {
             path: path.to_owned(),
             error,
         };
@@ -430,8 +430,8 @@ impl AtomicFile {
     /// and flushed everything); returns the path.
     ///
     /// # Errors
-    /// [`FileError::Io`] when the rename fails.
-    pub fn persist(self) -> Result<PathBuf, FileError> {
+    /// [`WriteError::Io`] when the rename fails.
+    pub fn persist(self) -> Result<PathBuf, WriteError> {
         if let Some(tmp) = self.tmp {
             persist(tmp, &self.path)?;
         }
@@ -478,7 +478,7 @@ mod tests {
     fn folders_are_refused_and_devices_written_directly() {
         let dir = tempfile::tempdir().expect("tempdir");
         let e = AtomicFile::create(dir.path()).expect_err("a folder");
-        assert!(matches!(e, FileError::IsFolder { .. }), "{e}");
+        assert!(matches!(e, WriteError::IsFolder { .. }), "{e}");
         assert!(e.to_string().ends_with("is a folder: give a file name"));
         assert!(!written_directly(&dir.path().join("new.csv")).expect("absent"));
         #[cfg(unix)]
@@ -545,7 +545,7 @@ mod tests {
         // More than any disk has free: no space, whatever `force` says.
         if free_bytes(dir.path()).is_some() {
             let e = check_bytes(&path, 7, u64::MAX, true).expect_err("no space");
-            assert!(matches!(e, FileError::NoSpace { samples: 7, .. }), "{e}");
+            assert!(matches!(e, WriteError::NoSpace { samples: 7, .. }), "{e}");
         }
     }
 

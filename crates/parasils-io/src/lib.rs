@@ -37,7 +37,7 @@ pub mod numbers;
 pub mod plot;
 pub mod rng;
 
-pub use file::{AtomicFile, Bytes, FileError};
+pub use file::{AtomicFile, Bytes, WriteError};
 pub use numbers::{AtTime, Fixed, Shortest};
 #[cfg(feature = "plot")]
 pub use plot::{Figure, ImageFormat, PlotError};

@@ -7,8 +7,7 @@ use parasils::kin::{
     Side, TipTargets,
 };
 
-use parasils_sim::Scenario;
-use parasils_sim::SimulationError;
+use parasils_sim::{Scenario, SimulationError};
 
 /// The constraint that makes an orientation infeasible, or [`Constraint::Ok`].
 ///

@@ -4,11 +4,12 @@
 
 use std::collections::VecDeque;
 
+use parasils_sim::Scenario;
+
 use crate::boundary;
 use crate::check::Checker;
 use crate::map::{Axis, Boundary, Cell, MAX_CELLS, ReachError, ReachMap, ReachOptions};
 use crate::threads::{parallel_map, threads};
-use parasils_sim::Scenario;
 
 impl ReachMap {
     /// The map of `scenario`'s start pose, tips and robot (its reorientation,

@@ -5,9 +5,10 @@
 
 use std::collections::HashMap;
 
-use crate::check::Constraint;
 use parasils_io::Shortest;
 use parasils_sim::SimulationError;
+
+use crate::check::Constraint;
 
 /// The most cells a map may have (a 0.01 deg grid of 100 x 100 deg).
 pub const MAX_CELLS: usize = 100_000_000;

@@ -4,14 +4,14 @@
 
 use std::path::Path;
 
+use parasils_io::Shortest;
+use parasils_io::plot::{FONT, Figure, ImageFormat, PlotError, render_figure};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
 use crate::check::Constraint;
 use crate::map::ReachMap;
-use parasils_io::Shortest;
-use parasils_io::plot::{FONT, Figure, ImageFormat, PlotError, render_figure};
 
 /// The image size, pixels.
 const SIZE: (u32, u32) = (1250, 950);

@@ -4,9 +4,10 @@
 use core::fmt::Write;
 use std::collections::BTreeMap;
 
+use parasils_io::{Fixed, Shortest};
+
 use crate::check::Constraint;
 use crate::map::ReachMap;
-use parasils_io::{Fixed, Shortest};
 
 /// The reachable region's extent along one axis through the start: how far
 /// the camera turns about that axis alone before the first infeasible cell,

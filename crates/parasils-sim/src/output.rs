@@ -15,7 +15,7 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use parasils_io::AtomicFile;
-use parasils_io::file::{Bytes, FileError, check_bytes, written_directly};
+use parasils_io::file::{Bytes, WriteError, check_bytes, written_directly};
 
 use crate::csv::CsvSink;
 use crate::mcap::{McapError, McapSink};
@@ -50,7 +50,7 @@ impl Format {
 }
 
 /// What can go wrong with an output file: the file's own errors
-/// ([`FileError`], variant for variant: [`From<FileError>`]) and the
+/// ([`WriteError`], variant for variant: [`From<WriteError>`]) and the
 /// writers'.
 ///
 /// Each message is complete on its own (the file, and the operating
@@ -173,11 +173,11 @@ impl OutputError {
     }
 }
 
-impl From<FileError> for OutputError {
-    fn from(e: FileError) -> Self {
+impl From<WriteError> for OutputError {
+    fn from(e: WriteError) -> Self {
         match e {
-            FileError::IsFolder { path } => OutputError::IsFolder { path },
-            FileError::NoSpace {
+            WriteError::IsFolder { path } => OutputError::IsFolder { path },
+            WriteError::NoSpace {
                 path,
                 samples,
                 estimate,
@@ -188,7 +188,7 @@ impl From<FileError> for OutputError {
                 estimate,
                 free,
             },
-            FileError::OverCap {
+            WriteError::OverCap {
                 path,
                 samples,
                 estimate,
@@ -199,9 +199,9 @@ impl From<FileError> for OutputError {
                 estimate,
                 cap,
             },
-            FileError::Create { dir, error } => OutputError::Create { dir, error },
-            FileError::Io { path, error } => OutputError::Io { path, error },
-            // `FileError` is non-exhaustive: a variant added later keeps its
+            WriteError::Create { dir, error } => OutputError::Create { dir, error },
+            WriteError::Io { path, error } => OutputError::Io { path, error },
+            // `WriteError` is non-exhaustive: a variant added later keeps its
             // message.
             e => OutputError::Io {
                 path: e.path().to_owned(),

@@ -7,7 +7,7 @@ use std::io::{BufWriter, Write};
 use std::path::Path;
 use std::sync::Arc;
 
-use parasils_io::file::{AtomicFile, FileError, check_bytes, written_directly};
+use parasils_io::file::{AtomicFile, WriteError, check_bytes, written_directly};
 use parquet::data_type::{BoolType, DoubleType, Int64Type};
 use parquet::file::properties::WriterProperties;
 use parquet::file::writer::SerializedFileWriter;
@@ -72,9 +72,9 @@ pub fn estimate_bytes(format: Format, rows: u64) -> u64 {
 /// checked. Returns the estimate.
 ///
 /// # Errors
-/// [`FileError::IsFolder`], [`FileError::NoSpace`],
-/// [`FileError::OverCap`].
-pub fn check_size(path: &Path, format: Format, rows: u64, force: bool) -> Result<u64, FileError> {
+/// [`WriteError::IsFolder`], [`WriteError::NoSpace`],
+/// [`WriteError::OverCap`].
+pub fn check_size(path: &Path, format: Format, rows: u64, force: bool) -> Result<u64, WriteError> {
     let estimate = estimate_bytes(format, rows);
     if written_directly(path)? {
         return Ok(estimate);
@@ -90,11 +90,11 @@ pub fn check_size(path: &Path, format: Format, rows: u64, force: bool) -> Result
 /// Writes `results` to `path` in `format`, atomically ([`AtomicFile`]).
 ///
 /// # Errors
-/// [`FileError`]: the target is a folder, its folder cannot be written in,
+/// [`WriteError`]: the target is a folder, its folder cannot be written in,
 /// or a write fails.
-pub fn write(results: &Results, path: &Path, format: Format) -> Result<(), FileError> {
+pub fn write(results: &Results, path: &Path, format: Format) -> Result<(), WriteError> {
     let (atomic, file) = AtomicFile::create(path)?;
-    let io = |error: std::io::Error| FileError::Io {
+    let io = |error: std::io::Error| WriteError::Io {
         path: path.to_owned(),
         error,
     };
