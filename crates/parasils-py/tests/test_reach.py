@@ -48,10 +48,14 @@ def test_the_tips_and_the_grid_are_checked():
 
 def test_the_grid_is_in_the_command_line_s_degrees():
     sig = inspect.signature(parasils.Robot.reach_map)
-    assert sig.parameters["psi_range_deg"].default == (-45.0, 45.0)
-    assert sig.parameters["theta_range_deg"].default == (-45.0, 45.0)
+    for name in ("psi_range_deg", "theta_range_deg", "step_deg", "line"):
+        assert sig.parameters[name].kind is inspect.Parameter.KEYWORD_ONLY, name
     assert sig.parameters["step_deg"].default == 0.5
     robot = parasils.Robot()
+    # The default ranges: -45 to 45 deg, as `parasils reach`'s.
+    m = robot.reach_map(P0, step_deg=15.0, line=False)
+    np.testing.assert_allclose(m["dpsi"], np.radians(np.arange(-45.0, 46.0, 15.0)), atol=1e-12)
+    np.testing.assert_allclose(m["dtheta"], np.radians(np.arange(-45.0, 46.0, 15.0)), atol=1e-12)
     m = robot.reach_map(P0, psi_range_deg=(-10.0, 20.0), theta_range_deg=(-5.0, 30.0), step_deg=5.0)
     # (20 - -10) / 5 + 1 columns, (30 - -5) / 5 + 1 rows, in rad.
     assert m["dpsi"].shape == (7,) and m["dtheta"].shape == (8,)
