@@ -77,16 +77,16 @@ def main() -> None:
     args = ap.parse_args()
     robot = parasils.Robot()
     step = args.step_deg
-    m = robot.reach_map(P0, step=np.radians(step), line=False)
+    m = robot.reach_map(P0, step_deg=step, line=False)
     cells = m["feasible"].size
     ours = m["feasible"]
     base = numpy_style(robot, step)
     print(f"grid {m['dtheta'].size} x {m['dpsi'].size} = {cells} cells, step {step} deg")
     print(f"feasible: reach_map {int(ours.sum())}, batch API {int(base.sum())} (no parallel margin)")
     rows = [
-        ("reach_map(line=False)", lambda: robot.reach_map(P0, step=np.radians(step), line=False)),
+        ("reach_map(line=False)", lambda: robot.reach_map(P0, step_deg=step, line=False)),
         ("batch API, NumPy-style", lambda: numpy_style(robot, step)),
-        ("reach_map(line=True)", lambda: robot.reach_map(P0, step=np.radians(step))),
+        ("reach_map(line=True)", lambda: robot.reach_map(P0, step_deg=step)),
     ]
     for name, f in rows:
         t = median_time(f, args.repeat)

@@ -4,8 +4,8 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use parasils_calib::plan::{PlanOptions, plan};
-use parasils_calib::rng::Rng;
 use parasils_calib::{FitOptions, Measurement, ParameterMap, Sigma, calibrate};
+use parasils_io::Rng;
 use parasils_kin::{ParallelGeometry, ParallelRobot, Pose};
 
 fn data() -> (ParallelGeometry<f64>, Vec<Measurement>) {

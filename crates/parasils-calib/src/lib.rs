@@ -45,7 +45,6 @@ pub mod model;
 pub mod params;
 pub mod plan;
 pub mod report;
-pub mod rng;
 
 pub use data::{Measurement, Sigma};
 pub use error::CalibError;
@@ -55,4 +54,3 @@ pub use model::{Model, OutOfReach, PoseEval, PoseMmDeg};
 pub use params::{PARAMETERS, Parameter, ParameterMap};
 pub use plan::{Plan, PlanOptions, PlanReport};
 pub use report::{FixedParameter, Identified, Observability, Outcome, Report, Worst};
-pub use rng::Rng;

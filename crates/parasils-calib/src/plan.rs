@@ -16,6 +16,7 @@
 //! same size drawn from the same candidates.
 
 use nalgebra::{DMatrix, SymmetricEigen};
+use parasils_io::Rng;
 use parasils_kin::presets::START_POSE_MM_DEG;
 use parasils_kin::{Actuators, ParallelGeometry, ParallelRobot, Pose};
 use serde::Serialize;
@@ -26,7 +27,6 @@ use crate::identify;
 use crate::model::{Model, PoseEval, PoseMmDeg};
 use crate::params::{PARAMETERS, ParameterMap};
 use crate::report::Observability;
-use crate::rng::Rng;
 
 /// The planner's options.
 #[derive(Debug, Clone, Copy, PartialEq)]

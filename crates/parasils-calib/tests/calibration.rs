@@ -7,10 +7,10 @@ use parasils_calib::error::CalibError;
 use parasils_calib::fit::STRUCTURAL_DEFICIENCY;
 use parasils_calib::model::{Model, PoseMmDeg};
 use parasils_calib::plan::{PlanOptions, plan};
-use parasils_calib::rng::Rng;
 use parasils_calib::{
     FitOptions, Measurement, PARAMETERS, Parameter, ParameterMap, Sigma, calibrate,
 };
+use parasils_io::Rng;
 use parasils_kin::{ParallelGeometry, ParallelRobot, Pose};
 
 const NOISE: Sigma = Sigma {

@@ -8,7 +8,8 @@ use anyhow::{Context, Result, bail};
 use parasils_calib::data::{self, Measurement};
 use parasils_calib::plan::{PlanOptions, plan};
 use parasils_calib::{FitOptions, Sigma, calibrate};
-use parasils_sim::{output, robot_file};
+use parasils_io::file::{persist, temp_beside};
+use parasils_sim::robot_file;
 
 use crate::args::CalibrateArgs;
 use crate::stdout;
@@ -129,7 +130,7 @@ fn plan_command(
 /// it, then renames both: a failure leaves neither behind.
 fn write_all(path: &Path, text: &str, report: Option<(&PathBuf, String)>) -> Result<()> {
     let write = |target: &Path, text: &str| -> Result<tempfile::NamedTempFile> {
-        let mut tmp = output::temp_beside(target)?;
+        let mut tmp = temp_beside(target)?;
         tmp.write_all(text.as_bytes())
             .and_then(|()| tmp.flush())
             .with_context(|| format!("writing {}", target.display()))?;
@@ -140,9 +141,9 @@ fn write_all(path: &Path, text: &str, report: Option<(&PathBuf, String)>) -> Res
         Some((p, json)) => Some((p, write(p, &json)?)),
         None => None,
     };
-    output::persist(main, path)?;
+    persist(main, path)?;
     if let Some((p, tmp)) = report {
-        output::persist(tmp, p)?;
+        persist(tmp, p)?;
     }
     Ok(())
 }

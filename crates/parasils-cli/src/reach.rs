@@ -4,10 +4,9 @@
 use std::io::{BufWriter, Write};
 
 use anyhow::{Context, Result, bail};
-use parasils_sim::output;
-use parasils_sim::plot::ImageFormat;
-use parasils_sim::reach::summary::ReachSummary;
-use parasils_sim::reach::{self, ReachMap};
+use parasils_io::ImageFormat;
+use parasils_io::file::{persist, temp_beside};
+use parasils_reach::{ReachMap, ReachSummary};
 
 use crate::args::ReachArgs;
 use crate::stdout;
@@ -43,20 +42,20 @@ pub fn reach(args: &ReachArgs) -> Result<()> {
     };
     if path.as_os_str() == "-" {
         let mut out = BufWriter::new(stdout::stdout());
-        reach::csv::write(&map, &mut out)?;
+        parasils_reach::csv::write(&map, &mut out)?;
         return Ok(());
     }
     // Written beside the target and renamed on success: a failure leaves
     // nothing behind.
-    let tmp = output::temp_beside(path)?;
+    let tmp = temp_beside(path)?;
     match target {
         Target::Csv => {
             let mut out = BufWriter::new(tmp.as_file());
-            reach::csv::write(&map, &mut out)
+            parasils_reach::csv::write(&map, &mut out)
                 .with_context(|| format!("writing {}", path.display()))?;
         }
-        Target::Image(format) => reach::plot::render(&map, tmp.path(), format)?,
+        Target::Image(format) => parasils_reach::plot::render(&map, tmp.path(), format)?,
     }
-    output::persist(tmp, path)?;
+    persist(tmp, path)?;
     Ok(())
 }

@@ -10,8 +10,8 @@ use core::convert::Infallible;
 use std::io::{BufWriter, IsTerminal, Write};
 
 use anyhow::{Context, Result, bail};
+use parasils_io::Fixed;
 use parasils_sim::csv::CsvSink;
-use parasils_sim::numbers::Fixed;
 use parasils_sim::output::{self, OutputFile};
 use parasils_sim::plot::PlotSink;
 use parasils_sim::summary::{CheckReport, Summary};
@@ -181,7 +181,7 @@ pub fn simulate(args: &SimulateArgs) -> Result<()> {
     let file = file.map(OutputFile::flush).transpose()?;
     let mut plot_tmp = None;
     if let (Some(p), Some(path)) = (plot, &args.plot) {
-        let tmp = output::temp_beside(path)?;
+        let tmp = parasils_io::file::temp_beside(path)?;
         p.finish(tmp.path(), path)?;
         plot_tmp = Some((tmp, path));
     }
@@ -193,7 +193,7 @@ pub fn simulate(args: &SimulateArgs) -> Result<()> {
         return Err(Interrupted { signal, removed }.into());
     }
     if let Some((tmp, path)) = plot_tmp {
-        output::persist(tmp, path)?;
+        parasils_io::file::persist(tmp, path)?;
     }
     if let Some(f) = file {
         let path = f.persist()?;

@@ -7,8 +7,8 @@ use std::io::{IsTerminal, Write};
 use std::path::Path;
 
 use anyhow::{Context, Result, bail};
-use parasils_sim::output;
-use parasils_sim::plot::ImageFormat;
+use parasils_io::ImageFormat;
+use parasils_io::file::{persist, temp_beside};
 use parasils_tolerance::output::Format;
 use parasils_tolerance::{Report, Spec, Study, Trace};
 
@@ -59,7 +59,7 @@ pub fn tolerance(args: &ToleranceArgs) -> Result<()> {
     }
     if let (Some(path), Some(format)) = (&args.output, format) {
         parasils_tolerance::output::check_size(path, format, args.samples, args.force)
-            .map_err(force_hint)?;
+            .map_err(|e| force_hint(e.into()))?;
     }
     if !(args.rate > 0.0 && args.rate.is_finite()) {
         bail!("--rate must be a positive number of Hz, got {}", args.rate);
@@ -134,9 +134,9 @@ pub fn tolerance(args: &ToleranceArgs) -> Result<()> {
 
 /// The picture, written beside its target and renamed on success.
 fn render(report: &Report, note: &str, path: &Path, format: ImageFormat) -> Result<()> {
-    let tmp = output::temp_beside(path)?;
+    let tmp = temp_beside(path)?;
     parasils_tolerance::plot::render(report, note, tmp.path(), format)?;
-    output::persist(tmp, path)?;
+    persist(tmp, path)?;
     Ok(())
 }
 

@@ -79,21 +79,29 @@ impl fmt::Display for Joint {
     }
 }
 
-/// The singularity margin of an instrument module that was violated.
+/// The singularity of an instrument module whose margin fell below its
+/// threshold ([`Error::Singular`]). Not the supervisor's
+/// `parasils::supervisor::Margin`, which names each of the margins a cycle
+/// reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub enum Margin {
+pub enum InstrumentSingularity {
     /// `|cos qs2|` (dimensionless): the tool on the reach boundary.
     CosQs2,
     /// `qs3` (mm): the tip at the RCM.
     Qs3,
 }
 
-impl fmt::Display for Margin {
+/// The old name of [`InstrumentSingularity`]. `Margin` now means only the
+/// supervisor's margins (`parasils::supervisor::Margin`).
+#[deprecated(since = "0.1.0", note = "renamed `InstrumentSingularity`")]
+pub type Margin = InstrumentSingularity;
+
+impl fmt::Display for InstrumentSingularity {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
-            Margin::CosQs2 => "|cos qs2|",
-            Margin::Qs3 => "qs3 (mm)",
+            InstrumentSingularity::CosQs2 => "|cos qs2|",
+            InstrumentSingularity::Qs3 => "qs3 (mm)",
         })
     }
 }
@@ -144,7 +152,7 @@ pub enum Error {
         /// Which module.
         side: Side,
         /// Which margin.
-        margin: Margin,
+        margin: InstrumentSingularity,
         /// Its value (dimensionless for `|cos qs2|`, mm for `qs3`).
         value: f64,
         /// The threshold it fell below.

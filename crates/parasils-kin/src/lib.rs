@@ -109,7 +109,9 @@ pub use controller::{
     step_positions, step_rates,
 };
 pub use endoscope::EndoscopeGeometry;
-pub use error::{Error, Joint, Margin, ParallelSingularity};
+#[allow(deprecated)]
+pub use error::Margin;
+pub use error::{Error, InstrumentSingularity, Joint, ParallelSingularity};
 pub use frame::{PlatformFrame, PlatformState, Pose, PoseRate};
 pub use instrument::{
     AssemblyMode, Instrument, InstrumentGeometry, InstrumentMargins, InstrumentSolution,

@@ -3,7 +3,7 @@
 //! differences, mirror symmetry, and every error path.
 
 use nalgebra::{Matrix3, Vector3};
-use parasils_kin::error::{Error, Joint, Margin};
+use parasils_kin::error::{Error, InstrumentSingularity, Joint};
 use parasils_kin::instrument::{InstrumentGeometry, JointLimits};
 use parasils_kin::{
     AssemblyMode, Instrument, Joints, PlatformFrame, PlatformState, Pose, PoseRate, Real, Side,
@@ -444,7 +444,7 @@ mod bad_inputs {
         match left().ik(&pose, &rcm, AssemblyMode::A) {
             Err(Error::Singular {
                 side: Side::Left,
-                margin: Margin::Qs3,
+                margin: InstrumentSingularity::Qs3,
                 value,
                 threshold,
             }) => {
@@ -479,7 +479,7 @@ mod bad_inputs {
             let p = m.fk_local(&q);
             match m.ik_local(&p, AssemblyMode::A) {
                 Err(Error::Singular {
-                    margin: Margin::CosQs2,
+                    margin: InstrumentSingularity::CosQs2,
                     value,
                     ..
                 }) => assert!(value < 1e-6, "qs2 = {qs2}: {value}"),
@@ -539,4 +539,13 @@ mod bad_inputs {
             Err(Error::InvalidParameter { .. })
         ));
     }
+}
+
+/// The deprecated name still names the same type, with the same text.
+#[test]
+#[allow(deprecated)]
+fn the_old_name_of_instrument_singularity_is_an_alias() {
+    let old: parasils_kin::Margin = InstrumentSingularity::CosQs2;
+    assert_eq!(old, InstrumentSingularity::CosQs2);
+    assert_eq!(parasils_kin::Margin::Qs3.to_string(), "qs3 (mm)");
 }

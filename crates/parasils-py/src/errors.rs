@@ -8,7 +8,7 @@
 use std::path::Path;
 
 use parasils_kin::Error;
-use parasils_kin::error::{Joint, Margin, ParallelSingularity};
+use parasils_kin::error::{InstrumentSingularity, Joint, ParallelSingularity};
 use parasils_sim::robot_file::RobotFileError as FileError;
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
@@ -213,10 +213,10 @@ fn joint_name(j: Joint) -> &'static str {
     }
 }
 
-fn margin_name(m: Margin) -> &'static str {
+fn margin_name(m: InstrumentSingularity) -> &'static str {
     match m {
-        Margin::CosQs2 => "cos_qs2",
-        Margin::Qs3 => "qs3",
+        InstrumentSingularity::CosQs2 => "cos_qs2",
+        InstrumentSingularity::Qs3 => "qs3",
     }
 }
 
@@ -408,6 +408,38 @@ pub(crate) fn trajectory(py: Python<'_>, error: &parasils_traj::Error) -> PyErr 
         Ok(PyErr::from_value(value_obj))
     };
     build().unwrap_or_else(|e| e)
+}
+
+/// Resolves an argument renamed with its unit: `new` (the new name's value,
+/// `new_default` when not given) or, when `old` (the old name's value,
+/// already converted to the new unit) is given, that one with a
+/// `DeprecationWarning`. Both given: `TypeError`.
+pub(crate) fn renamed_argument<T: PartialEq>(
+    py: Python<'_>,
+    method: &str,
+    (old_name, old): (&str, Option<T>),
+    (new_name, new, new_default): (&str, T, T),
+) -> PyResult<T> {
+    let Some(old) = old else {
+        return Ok(new);
+    };
+    if new != new_default {
+        return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+            "{method}() got both {new_name} and its deprecated name {old_name}"
+        )));
+    }
+    let message = std::ffi::CString::new(format!(
+        "{method}({old_name}=...) is deprecated: use {new_name}=..., in the unit its name \
+         says, as the command line's; {old_name} will be removed in the next release"
+    ))
+    .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    PyErr::warn(
+        py,
+        &py.get_type::<pyo3::exceptions::PyDeprecationWarning>(),
+        &message,
+        1,
+    )?;
+    Ok(old)
 }
 
 /// An `OSError` (its subclass chosen by `errno`, e.g. `FileNotFoundError`)

@@ -1,8 +1,8 @@
-//! `Robot.reach_map`: the simulation library's reach map as NumPy arrays.
+//! `Robot.reach_map`: the reach map (`parasils-reach`) as NumPy arrays.
 
 use numpy::IntoPyArray;
 use numpy::ndarray::Array2;
-use parasils_sim::reach::{Constraint, ReachError, ReachMap, ReachOptions};
+use parasils_reach::{Constraint, ReachError, ReachMap, ReachOptions};
 use parasils_sim::{Scenario, SimulationError};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -37,16 +37,69 @@ fn grid<'py, T: numpy::Element>(
         .into_any())
 }
 
+/// A range of increments, (min, max).
+type Range = (f64, f64);
+
+/// The grid a reach map is asked for, in the command line's degrees.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Grid {
+    psi_range_deg: Range,
+    theta_range_deg: Range,
+    step_deg: f64,
+}
+
+impl Grid {
+    /// The defaults of `Robot.reach_map`, the library's (`ReachOptions`).
+    fn defaults() -> Self {
+        let o = ReachOptions::default();
+        Self {
+            psi_range_deg: (o.psi_range_deg[0], o.psi_range_deg[1]),
+            theta_range_deg: (o.theta_range_deg[0], o.theta_range_deg[1]),
+            step_deg: o.step_deg,
+        }
+    }
+
+    /// The grid from `Robot.reach_map`'s arguments: the deprecated ones in
+    /// rad (`psi_range`, `theta_range`, `step`; each warns), then those in
+    /// deg.
+    pub(crate) fn of(
+        py: Python<'_>,
+        (psi_range, theta_range, step): (Option<Range>, Option<Range>, Option<f64>),
+        (psi_range_deg, theta_range_deg, step_deg): (Range, Range, f64),
+    ) -> PyResult<Self> {
+        let method = "Robot.reach_map";
+        let d = Self::defaults();
+        let deg = |(a, b): (f64, f64)| (a.to_degrees(), b.to_degrees());
+        Ok(Self {
+            psi_range_deg: errors::renamed_argument(
+                py,
+                method,
+                ("psi_range", psi_range.map(deg)),
+                ("psi_range_deg", psi_range_deg, d.psi_range_deg),
+            )?,
+            theta_range_deg: errors::renamed_argument(
+                py,
+                method,
+                ("theta_range", theta_range.map(deg)),
+                ("theta_range_deg", theta_range_deg, d.theta_range_deg),
+            )?,
+            step_deg: errors::renamed_argument(
+                py,
+                method,
+                ("step", step.map(f64::to_degrees)),
+                ("step_deg", step_deg, d.step_deg),
+            )?,
+        })
+    }
+}
+
 /// `robot.reach_map(...)`: see the method's docs in `robot.rs`.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn reach_map<'py>(
     py: Python<'py>,
     geometry: &RobotGeometry<f64>,
     pose: ArrayArg<'py>,
     tips: Option<ArrayArg<'py>>,
-    psi_range: (f64, f64),
-    theta_range: (f64, f64),
-    step: f64,
+    grid_deg: Grid,
     line: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let pose_rows = Rows::new(&pose, "pose", 6)?;
@@ -82,9 +135,9 @@ pub(crate) fn reach_map<'py>(
         ..paper
     };
     let options = ReachOptions {
-        psi_range_deg: [psi_range.0.to_degrees(), psi_range.1.to_degrees()],
-        theta_range_deg: [theta_range.0.to_degrees(), theta_range.1.to_degrees()],
-        step_deg: step.to_degrees(),
+        psi_range_deg: [grid_deg.psi_range_deg.0, grid_deg.psi_range_deg.1],
+        theta_range_deg: [grid_deg.theta_range_deg.0, grid_deg.theta_range_deg.1],
+        step_deg: grid_deg.step_deg,
         line,
         threads: crate::batch::threads()?,
     };
@@ -93,7 +146,7 @@ pub(crate) fn reach_map<'py>(
         .map_err(|e| reach_error(py, &e))?;
     let shape = (map.theta.count, map.psi.count);
     let dict = PyDict::new(py);
-    let axis = |a: &parasils_sim::reach::Axis| {
+    let axis = |a: &parasils_reach::Axis| {
         (0..a.count)
             .map(|i| a.value_deg(i).to_radians())
             .collect::<Vec<_>>()

@@ -211,9 +211,12 @@ impl Robot {
     /// pose: the start pose (x, y, z mm, psi, theta, phi rad), shape (6,).
     /// tips: the left and right tips held still, mm, fixed frame, shape
     /// (2, 3); default the paper's left tip and its mirror image at `pose`.
-    /// psi_range, theta_range: (min, max) of the increments, rad; each must
-    /// contain 0. step: the grid step, rad (cells at whole multiples of it).
-    /// line: whether to check the straight reorientation to each cell.
+    /// psi_range_deg, theta_range_deg: (min, max) of the increments, deg,
+    /// as `parasils reach --psi-range`; each must contain 0. step_deg: the
+    /// grid step, deg (cells at whole multiples of it). line: whether to
+    /// check the straight reorientation to each cell.
+    /// Deprecated: psi_range, theta_range, step, the same in rad (a
+    /// DeprecationWarning; removed in the next release).
     ///
     /// Returns a dict: "dpsi" (C,) and "dtheta" (R,) rad; "feasible",
     /// "reachable", "line" (bool, (R, C); "line" None without it);
@@ -227,28 +230,27 @@ impl Robot {
     ///
     /// Raises ValueError for a bad grid, KinematicsError for a bad robot or
     /// a non-finite pose or tip.
-    #[pyo3(signature = (pose, tips = None, psi_range = (-core::f64::consts::FRAC_PI_4, core::f64::consts::FRAC_PI_4), theta_range = (-core::f64::consts::FRAC_PI_4, core::f64::consts::FRAC_PI_4), step = 0.5f64.to_radians(), *, line = true))]
+    #[pyo3(signature = (pose, tips = None, psi_range = None, theta_range = None, step = None, *, psi_range_deg = (-45.0, 45.0), theta_range_deg = (-45.0, 45.0), step_deg = 0.5, line = true))]
     #[allow(clippy::too_many_arguments)]
     fn reach_map<'py>(
         &self,
         py: Python<'py>,
         pose: ArrayArg<'py>,
         tips: Option<ArrayArg<'py>>,
-        psi_range: (f64, f64),
-        theta_range: (f64, f64),
-        step: f64,
+        psi_range: Option<(f64, f64)>,
+        theta_range: Option<(f64, f64)>,
+        step: Option<f64>,
+        psi_range_deg: (f64, f64),
+        theta_range_deg: (f64, f64),
+        step_deg: f64,
         line: bool,
     ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
-        crate::reach::reach_map(
+        let grid = crate::reach::Grid::of(
             py,
-            self.geometry(),
-            pose,
-            tips,
-            psi_range,
-            theta_range,
-            step,
-            line,
-        )
+            (psi_range, theta_range, step),
+            (psi_range_deg, theta_range_deg, step_deg),
+        )?;
+        crate::reach::reach_map(py, self.geometry(), pose, tips, grid, line)
     }
 
     /// Motion type 4 as a path: from `pose`, psi and theta turn by `dpsi`
@@ -282,15 +284,18 @@ impl Robot {
     /// the actuators' limits (velocity_max, acceleration_max: shape (12,),
     /// mm/s or rad/s, mm/s^2 or rad/s^2, in reorientation_path's order;
     /// None: this robot's own, from its robot file or the assumed defaults) and, when given, each Euler angle's
-    /// omega_max (rad/s) and eps_max (rad/s^2). knots: grid points on s;
-    /// checks: check points per grid interval.
+    /// omega_max_deg_s (deg/s) and eps_max_deg_s2 (deg/s^2), as `parasils
+    /// simulate --omega-max --eps-max`. knots: grid points on s; checks:
+    /// check points per grid interval.
+    /// Deprecated: omega_max (rad/s) and eps_max (rad/s^2) (a
+    /// DeprecationWarning; removed in the next release).
     ///
     /// Returns a dict: "duration_s"; "phases", a list of dicts ("start_s",
     /// "end_s", "binding" such as "module 1 q6", "limit" ("velocity" or
     /// "acceleration"), "usage"); the schedule at the knots: "s", "t_s",
     /// "s_dot" (1/s), "s_ddot" (1/s^2, on the interval starting there);
     /// "worst_before_check", "passes", "stretch" (the check between knots).
-    #[pyo3(signature = (pose, tips, dpsi, dtheta, *, velocity_max = None, acceleration_max = None, omega_max = None, eps_max = None, knots = 1000, checks = 10))]
+    #[pyo3(signature = (pose, tips, dpsi, dtheta, *, velocity_max = None, acceleration_max = None, omega_max_deg_s = None, eps_max_deg_s2 = None, knots = 1000, checks = 10, omega_max = None, eps_max = None))]
     #[allow(clippy::too_many_arguments)]
     fn optimal_reorientation<'py>(
         &self,
@@ -301,11 +306,31 @@ impl Robot {
         dtheta: f64,
         velocity_max: Option<ArrayArg<'py>>,
         acceleration_max: Option<ArrayArg<'py>>,
-        omega_max: Option<f64>,
-        eps_max: Option<f64>,
+        omega_max_deg_s: Option<f64>,
+        eps_max_deg_s2: Option<f64>,
         knots: usize,
         checks: usize,
+        omega_max: Option<f64>,
+        eps_max: Option<f64>,
     ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        // In the library's rad/s and rad/s^2.
+        let method = "Robot.optimal_reorientation";
+        let omega_max = crate::errors::renamed_argument(
+            py,
+            method,
+            ("omega_max", omega_max.map(Some)),
+            (
+                "omega_max_deg_s",
+                omega_max_deg_s.map(f64::to_radians),
+                None,
+            ),
+        )?;
+        let eps_max = crate::errors::renamed_argument(
+            py,
+            method,
+            ("eps_max", eps_max.map(Some)),
+            ("eps_max_deg_s2", eps_max_deg_s2.map(f64::to_radians), None),
+        )?;
         crate::path::optimal_reorientation(
             py,
             &self.controller,

@@ -12,8 +12,8 @@ use core::convert::Infallible;
 use std::path::PathBuf;
 
 use numpy::IntoPyArray;
+use parasils_io::AtTime;
 use parasils_sim::input::{self, ProcedureSource, RobotSource};
-use parasils_sim::numbers::AtTime;
 use parasils_sim::procedure;
 use parasils_sim::scenario::Retarget;
 use parasils_sim::{

@@ -13,7 +13,7 @@
 use std::path::{Path, PathBuf};
 
 use numpy::{IntoPyArray, PyReadonlyArray1};
-use parasils_sim::numbers::AtTime;
+use parasils_io::AtTime;
 use parasils_sim::{Scenario, SimulationError, procedure, robot_file};
 use parasils_tolerance::{Results, Spec, Study, Trace};
 use pyo3::exceptions::{PyOSError, PyTypeError, PyValueError};

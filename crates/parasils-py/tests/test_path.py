@@ -79,12 +79,35 @@ def test_angular_limits_bind_when_given():
         DTHETA,
         velocity_max=unlimited,
         acceleration_max=unlimited,
-        omega_max=math.radians(10.0),
-        eps_max=math.radians(5.0),
+        omega_max_deg_s=10.0,
+        eps_max_deg_s2=5.0,
     )
     # theta's own trapezoid: 4.5 s, within the grid's resolution.
     assert 4.5 * (1 - 1e-12) <= r["duration_s"] <= 4.5 * (1 + 2e-3)
     assert {p["binding"] for p in r["phases"]} == {"theta"}
+
+
+def test_angular_limits_in_rad_under_their_old_names_warn_and_agree():
+    robot = parasils.Robot()
+    unlimited = np.full(12, np.inf)
+    common = dict(velocity_max=unlimited, acceleration_max=unlimited)
+    new = robot.optimal_reorientation(P0, None, DPSI, DTHETA, omega_max_deg_s=10.0, eps_max_deg_s2=5.0, **common)
+    with pytest.warns(DeprecationWarning, match=r"optimal_reorientation\(omega_max=...\) is deprecated: use omega_max_deg_s"):
+        with pytest.warns(DeprecationWarning, match="use eps_max_deg_s2"):
+            old = robot.optimal_reorientation(
+                P0, None, DPSI, DTHETA, omega_max=math.radians(10.0), eps_max=math.radians(5.0), **common
+            )
+    assert old["duration_s"] == new["duration_s"]
+    for key in ("s", "t_s", "s_dot", "s_ddot"):
+        np.testing.assert_array_equal(old[key], new[key], err_msg=key)
+    # One limit alone binds as well: 10 deg/s caps theta's 25 deg turn from
+    # below at 2.5 s, whatever the name.
+    with pytest.warns(DeprecationWarning):
+        old = robot.optimal_reorientation(P0, None, DPSI, DTHETA, omega_max=math.radians(10.0), **common)
+    new = robot.optimal_reorientation(P0, None, DPSI, DTHETA, omega_max_deg_s=10.0, **common)
+    assert old["duration_s"] == new["duration_s"] >= 2.5
+    with pytest.raises(TypeError, match="both eps_max_deg_s2 and its deprecated name eps_max"):
+        robot.optimal_reorientation(P0, None, DPSI, DTHETA, eps_max=0.1, eps_max_deg_s2=5.0)
 
 
 def test_optimal_timing_uses_the_robot_files_limits(tmp_path):

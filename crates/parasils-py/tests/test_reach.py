@@ -1,5 +1,9 @@
 """Robot.reach_map: the simulation library's reach map as NumPy arrays."""
 
+import inspect
+import math
+import warnings
+
 import numpy as np
 import pytest
 
@@ -9,8 +13,7 @@ from conftest import P0
 
 def test_the_paper_map_has_its_grid_flags_codes_and_boundary():
     robot = parasils.Robot()
-    step = np.radians(5.0)
-    m = robot.reach_map(P0, step=step)
+    m = robot.reach_map(P0, step_deg=5.0)
     assert m["dpsi"].shape == (19,) and m["dtheta"].shape == (19,)
     np.testing.assert_allclose(m["dpsi"], np.radians(np.arange(-45.0, 46.0, 5.0)), atol=1e-12)
     for key in ("feasible", "reachable", "line"):
@@ -38,6 +41,61 @@ def test_the_tips_and_the_grid_are_checked():
     with pytest.raises(ValueError, match="tips must have shape"):
         robot.reach_map(P0, tips=np.zeros(3))
     with pytest.raises(ValueError, match="contain 0"):
-        robot.reach_map(P0, psi_range=(0.1, 0.2))
-    m = robot.reach_map(P0, step=np.radians(15.0), line=False)
+        robot.reach_map(P0, psi_range_deg=(5.0, 10.0))
+    m = robot.reach_map(P0, step_deg=15.0, line=False)
     assert m["line"] is None
+
+
+def test_the_grid_is_in_the_command_line_s_degrees():
+    sig = inspect.signature(parasils.Robot.reach_map)
+    for name in ("psi_range_deg", "theta_range_deg", "step_deg", "line"):
+        assert sig.parameters[name].kind is inspect.Parameter.KEYWORD_ONLY, name
+    assert sig.parameters["step_deg"].default == 0.5
+    robot = parasils.Robot()
+    # The default ranges: -45 to 45 deg, as `parasils reach`'s.
+    m = robot.reach_map(P0, step_deg=15.0, line=False)
+    np.testing.assert_allclose(m["dpsi"], np.radians(np.arange(-45.0, 46.0, 15.0)), atol=1e-12)
+    np.testing.assert_allclose(m["dtheta"], np.radians(np.arange(-45.0, 46.0, 15.0)), atol=1e-12)
+    m = robot.reach_map(P0, psi_range_deg=(-10.0, 20.0), theta_range_deg=(-5.0, 30.0), step_deg=5.0)
+    # (20 - -10) / 5 + 1 columns, (30 - -5) / 5 + 1 rows, in rad.
+    assert m["dpsi"].shape == (7,) and m["dtheta"].shape == (8,)
+    np.testing.assert_allclose(m["dpsi"], np.radians(np.arange(-10.0, 21.0, 5.0)), atol=1e-12)
+    np.testing.assert_allclose(m["dtheta"], np.radians(np.arange(-5.0, 31.0, 5.0)), atol=1e-12)
+
+
+def rad(deg):
+    """deg in rad, the neighbour that the library's `to_degrees` (x * (180 /
+    pi)) turns back into deg exactly, when there is one."""
+    r = math.radians(deg)
+    for x in (r, np.nextafter(r, np.inf), np.nextafter(r, -np.inf)):
+        if x * (180.0 / math.pi) == deg:
+            return float(x)
+    return r
+
+
+def test_the_old_names_in_rad_warn_and_give_the_same_map():
+    robot = parasils.Robot()
+    new = robot.reach_map(P0, psi_range_deg=(-10.0, 20.0), theta_range_deg=(-5.0, 30.0), step_deg=5.0)
+    psi, theta, step = (rad(-10.0), rad(20.0)), (rad(-5.0), rad(30.0)), rad(5.0)
+    for old_name, kwargs in [
+        ("psi_range", dict(psi_range=psi, theta_range_deg=(-5.0, 30.0), step_deg=5.0)),
+        ("theta_range", dict(psi_range_deg=(-10.0, 20.0), theta_range=theta, step_deg=5.0)),
+        ("step", dict(psi_range_deg=(-10.0, 20.0), theta_range_deg=(-5.0, 30.0), step=step)),
+    ]:
+        with pytest.warns(DeprecationWarning, match=f"reach_map\\({old_name}=...\\) is deprecated: use {old_name}_deg"):
+            old = robot.reach_map(P0, **kwargs)
+        for key in ("feasible", "reachable", "line", "limiting", "boundary_limiting"):
+            np.testing.assert_array_equal(old[key], new[key], err_msg=f"{old_name}: {key}")
+        for key in ("dpsi", "dtheta", "margin", "boundary_points"):
+            np.testing.assert_allclose(old[key], new[key], rtol=0, atol=1e-12, err_msg=f"{old_name}: {key}")
+    # Positionally, as before the rename: rad, with the warning.
+    with pytest.warns(DeprecationWarning):
+        old = robot.reach_map(P0, None, psi, theta, step)
+    np.testing.assert_array_equal(old["limiting"], new["limiting"])
+    np.testing.assert_allclose(old["margin"], new["margin"], rtol=0, atol=1e-12)
+    with pytest.raises(TypeError, match="both step_deg and its deprecated name step"):
+        robot.reach_map(P0, step=0.1, step_deg=5.0)
+    # The new names alone: no warning.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        robot.reach_map(P0, step_deg=15.0, line=False)

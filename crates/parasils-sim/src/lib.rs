@@ -59,13 +59,15 @@
 //! | [`columns`] | the one table of output columns |
 //! | [`sink`] | [`Sink`] and [`Tee`] |
 //! | [`csv`], [`mcap`], [`summary`], `plot` | the sinks |
-//! | [`output`] | [`OutputFile`]: CSV or MCAP written atomically |
+//! | [`output`] | [`OutputFile`]: CSV or MCAP written atomically (with `parasils_io`'s [`AtomicFile`](parasils_io::AtomicFile)) |
 //! | [`robot`] | [`Robot`]: a robot file's whole content (geometry and supervisor thresholds), read once |
 //! | [`robot_file`] | the robot's geometry as TOML |
-//! | [`reach`] | reach maps: the orientations reachable with both tips held |
-//! | [`numbers`] | numbers in messages, readable whatever their size |
 //!
-//! Imports go one way: `numbers`, `motion` < `scenario` < `record` <
+//! The plumbing (files written atomically, numbers in messages, the plot
+//! kit) is `parasils-io`'s; the reach maps are a study of their own, in
+//! `parasils-reach`.
+//!
+//! Imports go one way: `motion` < `scenario` < `record` <
 //! `columns`, `sink` < `engine` < the sinks < `output`; `robot_file` stands
 //! alone, and `procedure` reads files into a `scenario` with it.
 //!
@@ -86,12 +88,10 @@ pub mod engine;
 pub mod input;
 pub mod mcap;
 pub mod motion;
-pub mod numbers;
 pub mod output;
 #[cfg(feature = "plot")]
 pub mod plot;
 pub mod procedure;
-pub mod reach;
 pub mod record;
 pub mod robot;
 pub mod robot_file;
@@ -103,7 +103,9 @@ pub mod timing;
 
 pub use engine::{RunError, Simulation, SimulationError};
 pub use input::{Input, InputError};
-pub use output::{Format, OutputError, OutputFile};
+pub use output::{Flushed, Format, OutputError, OutputFile};
+#[cfg(feature = "plot")]
+pub use plot::PlotSink;
 pub use record::{InstrumentRecord, Module1Record, Record};
 pub use robot::Robot;
 pub use scenario::Scenario;

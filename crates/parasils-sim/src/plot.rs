@@ -4,11 +4,13 @@
 //! [`PlotSink`] keeps a decimated copy of the run (at most
 //! [`MAX_POINTS`] points per series, plus the last sample), so memory stays
 //! flat however long the run; [`PlotSink::finish`] renders three stacked
-//! panels to SVG or PNG. Text is laid out (and, for PNG, drawn) with the
-//! DejaVu Sans font embedded in the binary: no system font is needed.
+//! panels to SVG or PNG with the workspace's plot kit (`parasils_io::plot`:
+//! the embedded font, the legend rows, the palette).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
+use parasils_io::plot::{FONT, Figure, PALETTE, legend_row, range, render_figure};
+pub use parasils_io::plot::{ImageFormat, PlotError};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
@@ -22,60 +24,6 @@ pub const MAX_POINTS: usize = 2000;
 
 /// The image size, pixels.
 const SIZE: (u32, u32) = (1200, 1500);
-/// The font family name the embedded font is registered under (by
-/// [`render_figure`]).
-pub const FONT: &str = "sans-serif";
-
-/// What can go wrong while plotting.
-#[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
-pub enum PlotError {
-    /// The file name's extension is neither `.svg` nor `.png`.
-    #[error("cannot tell the image format of {}: use a .svg or .png extension", path.display())]
-    UnknownFormat {
-        /// The file name.
-        path: PathBuf,
-    },
-    /// No sample was pushed: there is nothing to plot.
-    #[error("no sample to plot")]
-    NoSamples,
-    /// The embedded font could not be loaded.
-    #[error("the embedded font could not be loaded")]
-    Font,
-    /// Drawing or writing the image failed (for instance, an I/O error).
-    #[error("plotting to {}: {message}", path.display())]
-    Render {
-        /// The file written.
-        path: PathBuf,
-        /// The drawing library's message.
-        message: String,
-    },
-}
-
-/// An image format.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ImageFormat {
-    /// Scalable vector graphics (text as text).
-    Svg,
-    /// A bitmap (text rasterised with the embedded font).
-    Png,
-}
-
-impl ImageFormat {
-    /// The format named by a path's extension (`.svg` or `.png`, any case).
-    ///
-    /// # Errors
-    /// [`PlotError::UnknownFormat`] for any other extension, or none.
-    pub fn from_path(path: &Path) -> Result<Self, PlotError> {
-        match path.extension().and_then(|e| e.to_str()) {
-            Some(e) if e.eq_ignore_ascii_case("svg") => Ok(Self::Svg),
-            Some(e) if e.eq_ignore_ascii_case("png") => Ok(Self::Png),
-            _ => Err(PlotError::UnknownFormat {
-                path: path.to_owned(),
-            }),
-        }
-    }
-}
 
 /// What the figures need of one sample, in display units.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -203,7 +151,13 @@ impl PlotSink {
         } else {
             SIZE
         };
-        render_figure(self, out, format, size, png::Compression::Best)
+        render_figure(
+            self,
+            out,
+            format,
+            size,
+            parasils_io::plot::Compression::Best,
+        )
     }
 
     /// The kept points, the last one included.
@@ -379,27 +333,6 @@ impl PlotSink {
     }
 }
 
-/// A row of legend entries (a short line in the colour, the label) along
-/// the top of `area`; returns the area below it.
-fn legend_row<'a, DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    entries: impl Iterator<Item = (&'a str, RGBColor)>,
-) -> Result<DrawingArea<DB, Shift>, DrawingAreaErrorKind<DB::ErrorType>> {
-    let (strip, below) = area.split_vertically(26);
-    let legend_font = TextStyle::from((FONT, 15).into_font());
-    let mut x = 90;
-    for (label, color) in entries {
-        strip.draw(&PathElement::new(
-            [(x, 12), (x + 26, 12)],
-            color.stroke_width(3),
-        ))?;
-        strip.draw(&Text::new(label, (x + 32, 4), legend_font.clone()))?;
-        let (w, _) = strip.estimate_text_size(label, &legend_font)?;
-        x += 32 + i32::try_from(w).unwrap_or(100) + 28;
-    }
-    Ok(below)
-}
-
 /// The phase plane of a time-optimal law: `s_dot` against `s` under the
 /// velocity and acceleration limit curves and the controllable set's upper
 /// end, each phase marked with what limits it.
@@ -480,16 +413,6 @@ fn phase_plane_panel<DB: DrawingBackend>(
     Ok(())
 }
 
-/// Distinct colours (Tableau 10).
-const PALETTE: [RGBColor; 6] = [
-    RGBColor(31, 119, 180),
-    RGBColor(255, 127, 14),
-    RGBColor(44, 160, 44),
-    RGBColor(214, 39, 40),
-    RGBColor(148, 103, 189),
-    RGBColor(140, 86, 75),
-];
-
 /// One curve: its legend label, colour and value.
 struct Series {
     label: String,
@@ -507,95 +430,10 @@ impl Series {
     }
 }
 
-/// A picture drawn with this module's font and file handling
-/// ([`PlotSink`]'s figures, the reach map, a tolerance study's histogram):
-/// what [`render_figure`] needs of it.
-pub trait Figure {
-    /// Draws the picture on `root`.
-    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String>;
-}
-
 impl Figure for PlotSink {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
         PlotSink::draw(self, root)
     }
-}
-
-/// Renders `figure`, `size` pixels, to `out` as SVG or PNG (encoded with
-/// `compression`), its text in the embedded DejaVu Sans.
-///
-/// # Errors
-/// [`PlotError::Font`], [`PlotError::Render`] (I/O included).
-pub fn render_figure(
-    figure: &impl Figure,
-    out: &Path,
-    format: ImageFormat,
-    size: (u32, u32),
-    compression: png::Compression,
-) -> Result<(), PlotError> {
-    plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular())
-        .map_err(|_| PlotError::Font)?;
-    plotters::style::register_font(FONT, FontStyle::Bold, dejavu::sans::bold())
-        .map_err(|_| PlotError::Font)?;
-    let fail = |message: String| PlotError::Render {
-        path: out.to_owned(),
-        message,
-    };
-    match format {
-        ImageFormat::Svg => {
-            let root = SVGBackend::new(out, size).into_drawing_area();
-            figure.draw(&root).map_err(fail)?;
-            root.present().map_err(|e| fail(e.to_string()))
-        }
-        ImageFormat::Png => {
-            // Drawn in memory and encoded here: plotters would pick the
-            // format from `out`'s extension, which a temporary file lacks.
-            let (w, h) = size;
-            let mut rgb = vec![0u8; 3 * w as usize * h as usize];
-            {
-                let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
-                figure.draw(&root).map_err(fail)?;
-                root.present().map_err(|e| fail(e.to_string()))?;
-            }
-            write_png(out, &rgb, size, compression).map_err(|e| fail(e.to_string()))
-        }
-    }
-}
-
-/// Encodes an RGB buffer as a PNG file.
-fn write_png(
-    out: &Path,
-    rgb: &[u8],
-    (w, h): (u32, u32),
-    compression: png::Compression,
-) -> Result<(), png::EncodingError> {
-    let file = std::io::BufWriter::new(std::fs::File::create(out)?);
-    let mut encoder = png::Encoder::new(file, w, h);
-    encoder.set_color(png::ColorType::Rgb);
-    encoder.set_depth(png::BitDepth::Eight);
-    encoder.set_compression(compression);
-    let mut writer = encoder.write_header()?;
-    writer.write_image_data(rgb)?;
-    writer.finish()
-}
-
-/// A plotting range around `values`, with a 5 % margin (and a unit one when
-/// they are all equal).
-fn range(values: impl Iterator<Item = f64>) -> core::ops::Range<f64> {
-    let (lo, hi) = values
-        .filter(|v| v.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-            (lo.min(v), hi.max(v))
-        });
-    if lo > hi {
-        return -1.0..1.0;
-    }
-    let pad = if hi - lo > 1e-9 * hi.abs().max(1.0) {
-        0.05 * (hi - lo)
-    } else {
-        1.0
-    };
-    (lo - pad)..(hi + pad)
 }
 
 impl Sink for PlotSink {

@@ -51,9 +51,9 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use crate::motion::{MotionGoal, MotionLimits, MotionSpec, MotionType, Port};
-use crate::numbers::Num;
 use crate::robot_file::{self, RobotFileError};
 use crate::scenario::Scenario;
+use parasils_io::Shortest;
 
 /// What went wrong with a procedure.
 #[derive(Debug, thiserror::Error)]
@@ -275,7 +275,11 @@ impl Errors<'_> {
         v: [f64; N],
     ) -> Result<[f64; N], ProcedureError> {
         match v.iter().find(|x| !x.is_finite()) {
-            Some(x) => Err(self.at(motion, key, format!("{} is not a finite number", Num(*x)))),
+            Some(x) => Err(self.at(
+                motion,
+                key,
+                format!("{} is not a finite number", Shortest(*x)),
+            )),
             None => Ok(v),
         }
     }
@@ -290,7 +294,11 @@ impl Errors<'_> {
         match v {
             None => Ok(default),
             Some(x) if x.is_finite() && x > 0.0 => Ok(x),
-            Some(x) => Err(self.at(Some(m), key, format!("{} is not a positive number", Num(x)))),
+            Some(x) => Err(self.at(
+                Some(m),
+                key,
+                format!("{} is not a positive number", Shortest(x)),
+            )),
         }
     }
 }
@@ -509,7 +517,7 @@ fn motion(errors: &Errors<'_>, k: usize, m: MotionFile) -> Result<MotionSpec, Pr
             return Err(errors.at(
                 at,
                 "until_s",
-                format!("{} is not a positive number of seconds", Num(t)),
+                format!("{} is not a positive number of seconds", Shortest(t)),
             ));
         }
     };

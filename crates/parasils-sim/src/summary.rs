@@ -15,11 +15,11 @@ use parasils::kin::{ACTUATOR_COUNT, Actuator, ActuatorLimits};
 use crate::engine::procedure::ProcedureCheck;
 use crate::engine::{Scheduled, Simulation};
 use crate::motion::MotionName;
-use crate::numbers::Fixed;
 use crate::record::Record;
 use crate::scenario::CommandKind;
 use crate::sink::Sink;
 use crate::timing::{OptimalMotion, PhaseSummary};
+use parasils_io::Fixed;
 
 /// Running extremes of every CSV column ([`columns::CSV`]), and the
 /// commands as they took effect.
@@ -349,11 +349,11 @@ impl fmt::Display for MotionTable<'_> {
                     "\n  {}: {} below {} {} from t = {} to {} s (smallest {})",
                     name.as_deref().unwrap_or("?"),
                     w.margin.name(),
-                    crate::numbers::Num(w.threshold),
+                    parasils_io::Shortest(w.threshold),
                     w.margin.unit(),
                     Fixed(w.from_s, 3),
                     Fixed(w.until_s, 3),
-                    crate::numbers::Num(w.smallest),
+                    parasils_io::Shortest(w.smallest),
                 )?;
             }
             Ok(())
@@ -386,7 +386,7 @@ impl fmt::Display for CheckReport<'_> {
             self.check.motions.len(),
             Fixed(self.sim.duration(), 3),
             self.sim.sample_count(),
-            crate::numbers::Num(self.sim.scenario().rate_hz),
+            parasils_io::Shortest(self.sim.scenario().rate_hz),
             self.check.warnings.len()
         )?;
         if self.sim.module1_assumed() {

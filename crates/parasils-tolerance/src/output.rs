@@ -7,8 +7,7 @@ use std::io::{BufWriter, Write};
 use std::path::Path;
 use std::sync::Arc;
 
-use parasils_sim::OutputError;
-use parasils_sim::output::{check_bytes, persist, temp_beside};
+use parasils_io::file::{AtomicFile, WriteError, check_bytes, written_directly};
 use parquet::data_type::{BoolType, DoubleType, Int64Type};
 use parquet::file::properties::WriterProperties;
 use parquet::file::writer::SerializedFileWriter;
@@ -68,19 +67,18 @@ pub fn estimate_bytes(format: Format, rows: u64) -> u64 {
 
 /// Checks, before a study runs, that its file of `rows` rows fits: within
 /// the free space of the target's file system, and within the output cap
-/// (the simulation's, 10 GB by default) unless `force`
-/// ([`check_bytes`]). Returns the estimate.
+/// (10 GB by default, as every output of the workspace) unless `force`
+/// ([`check_bytes`]). A target written directly (a FIFO, a device) is not
+/// checked. Returns the estimate.
 ///
 /// # Errors
-/// [`OutputError::IsFolder`], [`OutputError::NoSpace`],
-/// [`OutputError::OverCap`].
-pub fn check_size(path: &Path, format: Format, rows: u64, force: bool) -> Result<u64, OutputError> {
-    if path.is_dir() {
-        return Err(OutputError::IsFolder {
-            path: path.to_owned(),
-        });
-    }
+/// [`WriteError::IsFolder`], [`WriteError::NoSpace`],
+/// [`WriteError::OverCap`].
+pub fn check_size(path: &Path, format: Format, rows: u64, force: bool) -> Result<u64, WriteError> {
     let estimate = estimate_bytes(format, rows);
+    if written_directly(path)? {
+        return Ok(estimate);
+    }
     check_bytes(
         path,
         usize::try_from(rows).unwrap_or(usize::MAX),
@@ -89,22 +87,18 @@ pub fn check_size(path: &Path, format: Format, rows: u64, force: bool) -> Result
     )
 }
 
-/// Writes `results` to `path` in `format`, atomically.
+/// Writes `results` to `path` in `format`, atomically ([`AtomicFile`]).
 ///
 /// # Errors
-/// [`OutputError`]: the folder cannot be written in, or a write fails.
-pub fn write(results: &Results, path: &Path, format: Format) -> Result<(), OutputError> {
-    if path.is_dir() {
-        return Err(OutputError::IsFolder {
-            path: path.to_owned(),
-        });
-    }
-    let tmp = temp_beside(path)?;
-    let io = |error: std::io::Error| OutputError::Io {
+/// [`WriteError`]: the target is a folder, its folder cannot be written in,
+/// or a write fails.
+pub fn write(results: &Results, path: &Path, format: Format) -> Result<(), WriteError> {
+    let (atomic, file) = AtomicFile::create(path)?;
+    let io = |error: std::io::Error| WriteError::Io {
         path: path.to_owned(),
         error,
     };
-    let file = tmp.as_file().try_clone().map_err(io)?;
+    let sync = file.try_clone().map_err(io)?;
     match format {
         Format::Csv => {
             let mut w = BufWriter::new(file);
@@ -114,8 +108,11 @@ pub fn write(results: &Results, path: &Path, format: Format) -> Result<(), Outpu
         Format::Parquet => write_parquet(results, file)
             .map_err(|e| io(std::io::Error::other(format!("the Parquet writer: {e}"))))?,
     }
-    tmp.as_file().sync_all().map_err(io)?;
-    persist(tmp, path)
+    if atomic.is_replaced() {
+        sync.sync_all().map_err(io)?;
+    }
+    atomic.persist()?;
+    Ok(())
 }
 
 /// The results as CSV text into `w`: shortest round-trip decimals.

@@ -28,8 +28,8 @@
 
 use nalgebra::Vector3;
 use parasils_calib::params::{NODES_START, PER_GUIDE};
-use parasils_calib::rng::Rng;
 use parasils_calib::{PARAMETERS, ParameterMap};
+use parasils_io::Rng;
 use parasils_kin::RobotGeometry;
 
 use crate::spec::{Distribution, Family, Spec};

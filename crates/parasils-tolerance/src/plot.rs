@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use parasils_sim::plot::{FONT, Figure, ImageFormat, PlotError, render_figure};
+use parasils_io::plot::{FONT, Figure, ImageFormat, PlotError, render_figure};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
@@ -38,7 +38,7 @@ pub fn render(
         out,
         format,
         SIZE,
-        png::Compression::Fast,
+        parasils_io::plot::Compression::Fast,
     )
 }
 

@@ -9,7 +9,7 @@ use super::types::{
     AssemblyMode, InstrumentMargins, InstrumentSolution, JointMotion, Joints, TipMotion,
 };
 use crate::check::{check_results, check_vector};
-use crate::error::{Error, Margin};
+use crate::error::{Error, InstrumentSingularity};
 use crate::frame::{PlatformFrame, PlatformState, Pose};
 use crate::real::Real;
 use crate::side::Side;
@@ -246,7 +246,7 @@ impl<T: Real> Instrument<T> {
         if !(qs3 >= th.qs3) {
             return Err(Error::Singular {
                 side: self.geometry.side,
-                margin: Margin::Qs3,
+                margin: InstrumentSingularity::Qs3,
                 value: qs3.to_f64(),
                 threshold: th.qs3.to_f64(),
             });
@@ -254,7 +254,7 @@ impl<T: Real> Instrument<T> {
         if !(cos_qs2.abs() >= th.cos_qs2) {
             return Err(Error::Singular {
                 side: self.geometry.side,
-                margin: Margin::CosQs2,
+                margin: InstrumentSingularity::CosQs2,
                 value: cos_qs2.abs().to_f64(),
                 threshold: th.cos_qs2.to_f64(),
             });
@@ -298,7 +298,7 @@ impl<T: Real> Instrument<T> {
         if !(qs3 >= th.qs3) {
             return Err(Error::Singular {
                 side: self.geometry.side,
-                margin: Margin::Qs3,
+                margin: InstrumentSingularity::Qs3,
                 value: qs3.to_f64(),
                 threshold: th.qs3.to_f64(),
             });

@@ -57,16 +57,22 @@ class Robot:
         self,
         pose: npt.ArrayLike,
         tips: Optional[npt.ArrayLike] = None,
-        psi_range: Tuple[float, float] = (-0.7853981633974483, 0.7853981633974483),
-        theta_range: Tuple[float, float] = (-0.7853981633974483, 0.7853981633974483),
-        step: float = 0.008726646259971648,
+        psi_range: Optional[Tuple[float, float]] = None,
+        theta_range: Optional[Tuple[float, float]] = None,
+        step: Optional[float] = None,
         *,
+        psi_range_deg: Tuple[float, float] = (-45.0, 45.0),
+        theta_range_deg: Tuple[float, float] = (-45.0, 45.0),
+        step_deg: float = 0.5,
         line: bool = True,
     ) -> Dict[str, Any]:
-        """The reach map from `pose` (mm, rad) with both tips (2, 3) held:
-        "dpsi", "dtheta" (rad), "feasible", "reachable", "line", "limiting"
-        (indices into "codes"), "margin", "boundary_points" (rad),
-        "boundary_limiting", "boundary" (polylines), "module1_assumed"."""
+        """The reach map from `pose` (mm, rad) with both tips (2, 3) held, on
+        the grid psi_range_deg x theta_range_deg by step_deg (deg, as
+        `parasils reach`): "dpsi", "dtheta" (rad), "feasible", "reachable",
+        "line", "limiting" (indices into "codes"), "margin",
+        "boundary_points" (rad), "boundary_limiting", "boundary"
+        (polylines), "module1_assumed". psi_range, theta_range, step: the
+        deprecated names, in rad (a DeprecationWarning)."""
     def reorientation_path(
         self,
         pose: _Array,
@@ -91,15 +97,19 @@ class Robot:
         *,
         velocity_max: Optional[_Array] = None,
         acceleration_max: Optional[_Array] = None,
-        omega_max: Optional[float] = None,
-        eps_max: Optional[float] = None,
+        omega_max_deg_s: Optional[float] = None,
+        eps_max_deg_s2: Optional[float] = None,
         knots: int = 1000,
         checks: int = 10,
+        omega_max: Optional[float] = None,
+        eps_max: Optional[float] = None,
     ) -> Dict[str, Any]:
         """The fastest rest-to-rest timing of reorientation_path's turn within
         the actuators' limits ((12,) each, mm or rad per s and s^2; None: this
-        robot's own, from its robot file or the assumed defaults) and, when given, each Euler angle's omega_max
-        (rad/s) and eps_max (rad/s^2): "duration_s", "phases" (dicts with
+        robot's own, from its robot file or the assumed defaults) and, when given, each Euler angle's
+        omega_max_deg_s (deg/s) and eps_max_deg_s2 (deg/s^2), as `parasils
+        simulate --omega-max --eps-max` (omega_max, eps_max: the deprecated
+        names, in rad/s and rad/s^2, a DeprecationWarning): "duration_s", "phases" (dicts with
         "start_s", "end_s", "binding", "limit", "usage"), the schedule at the
         knots "s", "t_s", "s_dot", "s_ddot", and the check's
         "worst_before_check", "passes", "stretch"."""

@@ -39,10 +39,10 @@ use crate::scenario::Timing;
 use crate::timing::{OptimalReorientation, TimingError, TimingOptions};
 
 use crate::motion::MotionName;
-use crate::numbers::{AtTime, Fixed, Num};
 use crate::record::{InstrumentRecord, Module1Record, Record};
 use crate::scenario::{Command, CommandKind, Scenario};
 use crate::sink::Sink;
+use parasils_io::{AtTime, Fixed, Shortest};
 
 /// What can stop a simulation.
 ///
@@ -181,7 +181,7 @@ pub enum CommandError {
     #[error("retargets and stops apply to a single reorientation, not to a procedure's motions")]
     InProcedure,
     /// A time or an angle is NaN or infinite.
-    #[error("{command}: {what} = {} is not a finite number", Num(*value))]
+    #[error("{command}: {what} = {} is not a finite number", Shortest(*value))]
     NonFinite {
         /// The command.
         command: CommandName,
@@ -191,7 +191,7 @@ pub enum CommandError {
         value: f64,
     },
     /// A time is negative.
-    #[error("{command}: t = {} s is before the start (t = 0)", Num(*t))]
+    #[error("{command}: t = {} s is before the start (t = 0)", Shortest(*t))]
     BeforeStart {
         /// The command.
         command: CommandName,
@@ -201,8 +201,8 @@ pub enum CommandError {
     /// The retargets are not given in time order.
     #[error(
         "{command} at t = {} s comes before {previous} at t = {} s: give the retargets in time order",
-        Num(*t),
-        Num(*previous_t)
+        Shortest(*t),
+        Shortest(*previous_t)
     )]
     OutOfOrder {
         /// The retarget out of order.
@@ -218,10 +218,10 @@ pub enum CommandError {
     /// be active, and the output could not show it.
     #[error(
         "{command} at t = {} s takes effect at the same sample as {previous} at t = {} s (t = {} s at {} Hz): give each command a sample of its own",
-        Num(*t),
-        Num(*previous_t),
-        Num(*sample_t),
-        Num(*rate)
+        Shortest(*t),
+        Shortest(*previous_t),
+        Shortest(*sample_t),
+        Shortest(*rate)
     )]
     SameSample {
         /// The later command.

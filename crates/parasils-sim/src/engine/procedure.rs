@@ -18,11 +18,11 @@ use parasils::{Reorientation, Supervisor};
 
 use super::SimulationError;
 use crate::motion::{MotionGoal, MotionLimits, MotionName, MotionSpec};
-use crate::numbers::Num;
 use crate::record::Record;
 use crate::scenario::Scenario;
 use crate::scenario::Timing;
 use crate::timing::{MotionPath, OptimalMotion, TimingError, TimingOptions};
+use parasils_io::Shortest;
 
 /// One motion placed on the procedure's time line.
 #[derive(Debug, Clone)]
@@ -186,8 +186,8 @@ impl ProcedurePlan {
                     &name,
                     format!(
                         "until_s = {} s cuts the motion short (it lasts {} s): the time-optimal timing plans motions from rest to rest",
-                        Num(length),
-                        Num(duration)
+                        Shortest(length),
+                        Shortest(duration)
                     ),
                 ));
             }
@@ -196,8 +196,8 @@ impl ProcedurePlan {
                     &name,
                     format!(
                         "until_s = {} s cuts the last motion short (it lasts {} s): add the motion that follows, or a stop",
-                        Num(length),
-                        Num(duration)
+                        Shortest(length),
+                        Shortest(duration)
                     ),
                 ));
             }

@@ -1,6 +1,6 @@
 //! What can go wrong while writing an MCAP file.
 
-use crate::numbers::Num;
+use parasils_io::Shortest;
 
 /// What can go wrong while writing an MCAP file.
 ///
@@ -25,7 +25,7 @@ pub enum McapError {
     Json(serde_json::Error),
     /// A value is NaN or infinite: JSON has no such number, and the schema
     /// asks for one.
-    #[error("{field} = {} on {topic} at t = {} s: JSON numbers must be finite", Num(*value), Num(*t))]
+    #[error("{field} = {} on {topic} at t = {} s: JSON numbers must be finite", Shortest(*value), Shortest(*t))]
     NonFinite {
         /// The channel.
         topic: &'static str,
@@ -38,14 +38,14 @@ pub enum McapError {
     },
     /// A record's time is negative, non-finite or too large for a `u64` of
     /// nanoseconds.
-    #[error("sample time t = {} s cannot be a log time (finite, >= 0, < 1.8e10 s)", Num(*t))]
+    #[error("sample time t = {} s cannot be a log time (finite, >= 0, < 1.8e10 s)", Shortest(*t))]
     InvalidTime {
         /// The record's time, s.
         t: f64,
     },
     /// A record's time is not after the previous record's, to the
     /// nanosecond: log times must increase strictly on each channel.
-    #[error("sample time t = {} s is not after the previous sample's, {} s (to the ns)", Num(*t), Num(*previous))]
+    #[error("sample time t = {} s is not after the previous sample's, {} s (to the ns)", Shortest(*t), Shortest(*previous))]
     TimeNotIncreasing {
         /// The record's time, s.
         t: f64,
@@ -53,7 +53,7 @@ pub enum McapError {
         previous: f64,
     },
     /// An option is out of range.
-    #[error("MCAP option {what} = {} is invalid", Num(*value))]
+    #[error("MCAP option {what} = {} is invalid", Shortest(*value))]
     InvalidOption {
         /// The option.
         what: &'static str,

@@ -4,8 +4,8 @@
 use core::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use parasils_reach::{ReachMap, ReachOptions};
 use parasils_sim::Scenario;
-use parasils_sim::reach::{ReachMap, ReachOptions};
 
 fn default_map(c: &mut Criterion) {
     let scenario = Scenario::paper();

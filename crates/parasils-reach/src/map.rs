@@ -1,13 +1,14 @@
 //! The map's data: what it covers ([`ReachOptions`], [`Axis`]), its cells
 //! ([`Cell`]) and the refined boundary ([`Boundary`]), gathered in
-//! [`ReachMap`]. [`grid`](super::grid) fills them, [`boundary`](super::boundary)
+//! [`ReachMap`]. [`grid`](crate::grid) fills them, [`boundary`](crate::boundary)
 //! refines the boundary.
 
 use std::collections::HashMap;
 
-use super::check::Constraint;
-use crate::engine::SimulationError;
-use crate::numbers::Num;
+use parasils_io::Shortest;
+use parasils_sim::SimulationError;
+
+use crate::check::Constraint;
 
 /// The most cells a map may have (a 0.01 deg grid of 100 x 100 deg).
 pub const MAX_CELLS: usize = 100_000_000;
@@ -47,7 +48,7 @@ impl Default for ReachOptions {
 #[non_exhaustive]
 pub enum ReachError {
     /// The step is not a positive finite number.
-    #[error("reach map: the step {} deg must be a positive finite number", Num(*step))]
+    #[error("reach map: the step {} deg must be a positive finite number", Shortest(*step))]
     Step {
         /// The step, deg.
         step: f64,
@@ -55,8 +56,8 @@ pub enum ReachError {
     /// A range is not finite, or does not contain 0 (the start).
     #[error(
         "reach map: the {axis} range [{}, {}] deg must be finite and contain 0 (the start)",
-        Num(*min),
-        Num(*max)
+        Shortest(*min),
+        Shortest(*max)
     )]
     Range {
         /// `"psi"` or `"theta"`.
@@ -197,7 +198,7 @@ pub struct BoundaryPoint {
     /// The feasible end of the final bracket, `[dpsi, dtheta]`, rad from the
     /// start.
     pub inside: [f64; 2],
-    /// The infeasible end, at most [`TOLERANCE_RAD`](super::TOLERANCE_RAD) from `inside`.
+    /// The infeasible end, at most [`TOLERANCE_RAD`](crate::TOLERANCE_RAD) from `inside`.
     pub outside: [f64; 2],
     /// The constraint violated at `outside`.
     pub limiting: Constraint,

@@ -3,8 +3,8 @@
 
 use core::sync::atomic::{AtomicUsize, Ordering};
 
-use super::check::Checker;
-use super::map::ReachOptions;
+use crate::check::Checker;
+use crate::map::ReachOptions;
 
 /// The threads to use for `options`.
 pub(super) fn threads(options: &ReachOptions) -> usize {

@@ -69,7 +69,7 @@
 //!
 //! ```
 //! use parasils_sim::Scenario;
-//! use parasils_sim::reach::{ReachMap, ReachOptions};
+//! use parasils_reach::{ReachMap, ReachOptions};
 //!
 //! let options = ReachOptions {
 //!     psi_range_deg: [-5.0, 20.0],
@@ -81,8 +81,28 @@
 //! // The paper's target, 15 and 25 deg from the start: straight there.
 //! let c = map.psi.index(3).and_then(|c| map.theta.index(5).map(|r| map.index(c, r)));
 //! assert!(c.is_some_and(|c| map.cells[c].line == Some(true)));
-//! # Ok::<(), parasils_sim::reach::ReachError>(())
+//! # Ok::<(), parasils_reach::ReachError>(())
 //! ```
+//!
+//! # Modules
+//! In import order (a module uses only those above it):
+//!
+//! | module | concept |
+//! |---|---|
+//! | `check` | the per-cell check: [`Checker`] (the controller's own step at rest), [`Constraint`] (what failed, as a stable code), [`Verdict`] (feasible, limiting, normalised margin) |
+//! | `map` | the map's data: [`ReachOptions`], [`Axis`], [`Cell`], [`Boundary`], [`ReachMap`], [`ReachError`] |
+//! | `threads` | rows, rays and edges shared among threads, each with a fresh controller |
+//! | `boundary` | the boundary refined by bisection ([`bisect`]) and joined by marching squares |
+//! | `line` | the straight lines from the start |
+//! | `grid` | [`ReachMap::compute`]: the cells, the reachable region, then the lines and the boundary |
+//! | [`csv`] | the map as CSV, one row per cell |
+//! | [`summary`] | [`ReachSummary`]: the extents, the counts by constraint, the text |
+//! | `plot` | the map as a picture (feature `plot`) |
+//!
+//! # Features
+//! - `plot`: the map as SVG or PNG (`plot::render`), with `parasils-io`'s
+//!   plot kit. Off by default: the `parasils` command turns it on, the
+//!   Python bindings leave it off.
 
 mod boundary;
 mod check;
@@ -100,3 +120,4 @@ pub use check::{Checker, Constraint, Verdict};
 pub use map::{
     Axis, Boundary, BoundaryPoint, Cell, MAX_CELLS, Polyline, ReachError, ReachMap, ReachOptions,
 };
+pub use summary::{AxisExtent, ReachSummary};

@@ -1,14 +1,15 @@
 //! The grid of `(dpsi, dtheta)` increments, each cell checked, and the
 //! reachable region; the straight lines from the start are
-//! [`line`](super::line)'s.
+//! [`line`](crate::line)'s.
 
 use std::collections::VecDeque;
 
-use super::boundary;
-use super::check::Checker;
-use super::map::{Axis, Boundary, Cell, MAX_CELLS, ReachError, ReachMap, ReachOptions};
-use super::threads::{parallel_map, threads};
-use crate::scenario::Scenario;
+use parasils_sim::Scenario;
+
+use crate::boundary;
+use crate::check::Checker;
+use crate::map::{Axis, Boundary, Cell, MAX_CELLS, ReachError, ReachMap, ReachOptions};
+use crate::threads::{parallel_map, threads};
 
 impl ReachMap {
     /// The map of `scenario`'s start pose, tips and robot (its reorientation,

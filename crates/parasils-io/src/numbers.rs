@@ -1,6 +1,13 @@
-//! Numbers in messages and in the summary, readable whatever their size:
-//! plain decimals for ordinary values, exponent form for huge or tiny ones
+//! Numbers in messages and summaries, readable whatever their size: plain
+//! decimals for ordinary values, exponent form for huge or tiny ones
 //! (`1e308`, not three hundred digits).
+//!
+//! [`Shortest`] writes every digit a value needs to read back the same
+//! (`0.30000000000000004`): a user's own input quoted in an error. It is not
+//! `parasils_num::Num`, which rounds to six significant digits for the
+//! kinematics' and the profiles' messages. [`Fixed`] writes a set count of
+//! decimals (tables, summaries); [`AtTime`] the prefix of an error at a
+//! sample's time.
 
 use core::fmt;
 
@@ -19,17 +26,17 @@ fn plain(v: f64) -> bool {
 /// `-15`, `2.5e-7`, `1e308`, `NaN`, `inf`.
 ///
 /// ```
-/// use parasils_sim::numbers::Num;
+/// use parasils_io::Shortest;
 ///
-/// assert_eq!(Num(-15.0).to_string(), "-15");
-/// assert_eq!(Num(0.1 + 0.2).to_string(), "0.30000000000000004");
-/// assert_eq!(Num(1e308).to_string(), "1e308");
-/// assert_eq!(Num(-2.5e-7).to_string(), "-2.5e-7");
+/// assert_eq!(Shortest(-15.0).to_string(), "-15");
+/// assert_eq!(Shortest(0.1 + 0.2).to_string(), "0.30000000000000004");
+/// assert_eq!(Shortest(1e308).to_string(), "1e308");
+/// assert_eq!(Shortest(-2.5e-7).to_string(), "-2.5e-7");
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Num(pub f64);
+pub struct Shortest(pub f64);
 
-impl fmt::Display for Num {
+impl fmt::Display for Shortest {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let v = self.0;
         let text = if !v.is_finite() || plain(v) {
@@ -47,7 +54,7 @@ impl fmt::Display for Num {
 /// alignment of the format apply (`{:>9}`).
 ///
 /// ```
-/// use parasils_sim::numbers::Fixed;
+/// use parasils_io::Fixed;
 ///
 /// assert_eq!(format!("{:>9}", Fixed(-15.0, 4)), " -15.0000");
 /// assert_eq!(Fixed(4.5, 3).to_string(), "4.500");
@@ -111,9 +118,9 @@ mod tests {
             (f64::NAN, "NaN"),
             (f64::NEG_INFINITY, "-inf"),
         ] {
-            assert_eq!(Num(v).to_string(), want);
+            assert_eq!(Shortest(v).to_string(), want);
         }
-        assert_eq!(format!("{:>6}", Num(4.5)), "   4.5");
+        assert_eq!(format!("{:>6}", Shortest(4.5)), "   4.5");
     }
 
     #[test]

@@ -4,13 +4,14 @@
 
 use std::path::Path;
 
+use parasils_io::Shortest;
+use parasils_io::plot::{FONT, Figure, ImageFormat, PlotError, render_figure};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
-use super::check::Constraint;
-use super::map::ReachMap;
-use crate::plot::{FONT, Figure, ImageFormat, PlotError, render_figure};
+use crate::check::Constraint;
+use crate::map::ReachMap;
 
 /// The image size, pixels.
 const SIZE: (u32, u32) = (1250, 950);
@@ -65,7 +66,13 @@ fn faded(c: RGBColor) -> RGBColor {
 /// # Errors
 /// [`PlotError::Font`], [`PlotError::Render`] (I/O included).
 pub fn render(map: &ReachMap, out: &Path, format: ImageFormat) -> Result<(), PlotError> {
-    render_figure(&Map(map), out, format, SIZE, png::Compression::Fast)
+    render_figure(
+        &Map(map),
+        out,
+        format,
+        SIZE,
+        parasils_io::plot::Compression::Fast,
+    )
 }
 
 /// The map as a [`Figure`].
@@ -276,16 +283,13 @@ fn draw_legend<DB: DrawingBackend>(
     y += 40;
     let note = format!(
         "start: psi {} deg, theta {} deg",
-        crate::numbers::Num(map.start_deg[0]),
-        crate::numbers::Num(map.start_deg[1])
+        Shortest(map.start_deg[0]),
+        Shortest(map.start_deg[1])
     );
     area.draw(&Text::new(note, (10, y), text.clone()))?;
     y += 22;
     area.draw(&Text::new(
-        format!(
-            "grid step {} deg",
-            crate::numbers::Num(map.options.step_deg)
-        ),
+        format!("grid step {} deg", Shortest(map.options.step_deg)),
         (10, y),
         text,
     ))?;

@@ -1,7 +1,7 @@
-//! A small seeded random generator (SplitMix64) for the pose planner's
-//! candidates and the synthetic data of tests and benchmarks: the same seed
-//! gives the same numbers on every platform and with every dependency
-//! version.
+//! A small seeded random generator (SplitMix64) for the calibration's pose
+//! planner, the tolerance study's perturbed robots and the synthetic data of
+//! tests and benchmarks: the same seed gives the same numbers on every
+//! platform and with every dependency version.
 
 /// SplitMix64: 64 bits of state, every seed valid.
 #[derive(Debug, Clone)]

@@ -7,7 +7,7 @@ use parasils::kin::{
     AssemblyMode, Controller, Error, Instrument, ParallelRobot, PlatformState, Pose, RobotGeometry,
     TipTargets,
 };
-use parasils_sim::reach::{Constraint, ReachMap, ReachOptions, TOLERANCE_RAD};
+use parasils_reach::{Constraint, ReachMap, ReachOptions, TOLERANCE_RAD};
 use parasils_sim::{Scenario, Simulation, SimulationError};
 
 /// A small, fast generator of numbers in `[0, 1)` (xorshift64*).
@@ -131,8 +131,10 @@ fn code(e: &Error) -> String {
         Error::ParallelSingular { .. } => "module1.parallel_singular".into(),
         Error::OutOfReach { side, .. } => format!("{}.out_of_reach", side.name()),
         Error::Singular { side, margin, .. } => match margin {
-            parasils::kin::Margin::CosQs2 => format!("{}.cos_qs2.singular", side.name()),
-            parasils::kin::Margin::Qs3 => format!("{}.qs3.singular", side.name()),
+            parasils::kin::InstrumentSingularity::CosQs2 => {
+                format!("{}.cos_qs2.singular", side.name())
+            }
+            parasils::kin::InstrumentSingularity::Qs3 => format!("{}.qs3.singular", side.name()),
         },
         Error::JointLimit { side, joint, .. } => format!("{}.{joint}.limit", side.name()),
         other => panic!("unexpected error {other}"),

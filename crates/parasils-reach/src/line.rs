@@ -1,4 +1,4 @@
-//! The straight lines from the start ([`Cell::line`](super::Cell::line)).
+//! The straight lines from the start ([`Cell::line`](crate::Cell::line)).
 //!
 //! # What is checked
 //! The cell `K (a, b)` (in steps from the start, `(a, b)` with no common
@@ -41,9 +41,9 @@
 //! grid's, under a third of the bound, and the tests compare whole maps
 //! with every point evaluated.
 
-use super::check::Checker;
-use super::map::ReachMap;
-use super::threads::parallel_map_items;
+use crate::check::Checker;
+use crate::map::{Cell, ReachMap};
+use crate::threads::parallel_map_items;
 
 /// The factor between the largest rate of change of the margin measured on
 /// the grid and the bound the lines use.
@@ -105,7 +105,7 @@ impl Bounds {
                 if !(here.feasible && here.margin.is_finite()) {
                     continue;
                 }
-                let diff = |other: Option<&super::Cell>| {
+                let diff = |other: Option<&Cell>| {
                     other
                         .filter(|o| o.feasible && o.margin.is_finite())
                         .map_or(0.0, |o| o.margin - here.margin)

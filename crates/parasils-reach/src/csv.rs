@@ -2,7 +2,7 @@
 
 use std::io::Write;
 
-use super::map::ReachMap;
+use crate::map::ReachMap;
 
 /// The columns, in order.
 pub const HEADER: [&str; 9] = [

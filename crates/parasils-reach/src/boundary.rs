@@ -4,9 +4,9 @@
 
 use std::collections::HashMap;
 
-use super::check::Checker;
-use super::map::{Boundary, BoundaryPoint, Polyline, ReachMap};
-use super::threads::parallel_map;
+use crate::check::Checker;
+use crate::map::{Boundary, BoundaryPoint, Polyline, ReachMap};
+use crate::threads::parallel_map;
 
 /// The bisection's tolerance: the bracket around a boundary point is at most
 /// this wide, rad.

@@ -4,9 +4,10 @@
 use core::fmt::Write;
 use std::collections::BTreeMap;
 
-use super::check::Constraint;
-use super::map::ReachMap;
-use crate::numbers::{Fixed, Num};
+use parasils_io::{Fixed, Shortest};
+
+use crate::check::Constraint;
+use crate::map::ReachMap;
 
 /// The reachable region's extent along one axis through the start: how far
 /// the camera turns about that axis alone before the first infeasible cell,
@@ -81,13 +82,13 @@ impl ReachSummary {
         let _ = writeln!(
             s,
             "reach map: dpsi {} to {} deg, dtheta {} to {} deg, step {} deg, from psi = {} deg, theta = {} deg",
-            Num(map.psi.value_deg(0)),
-            Num(map.psi.value_deg(map.psi.count - 1)),
-            Num(map.theta.value_deg(0)),
-            Num(map.theta.value_deg(map.theta.count - 1)),
-            Num(o.step_deg),
-            Num(map.start_deg[0]),
-            Num(map.start_deg[1]),
+            Shortest(map.psi.value_deg(0)),
+            Shortest(map.psi.value_deg(map.psi.count - 1)),
+            Shortest(map.theta.value_deg(0)),
+            Shortest(map.theta.value_deg(map.theta.count - 1)),
+            Shortest(o.step_deg),
+            Shortest(map.start_deg[0]),
+            Shortest(map.start_deg[1]),
         );
         let _ = write!(
             s,
@@ -110,10 +111,10 @@ impl ReachSummary {
                 let _ = writeln!(
                     s,
                     "reachable region: dpsi {} to {} deg, dtheta {} to {} deg (grid cells)",
-                    Num(p[0]),
-                    Num(p[1]),
-                    Num(t[0]),
-                    Num(t[1])
+                    Shortest(p[0]),
+                    Shortest(p[1]),
+                    Shortest(t[0]),
+                    Shortest(t[1])
                 );
             }
         }

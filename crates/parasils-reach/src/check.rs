@@ -3,11 +3,11 @@
 //! margin.
 
 use parasils::kin::{
-    ControlStep, Controller, Error, Interval, Joint, Margin, PlatformState, Pose, Side, TipTargets,
+    ControlStep, Controller, Error, InstrumentSingularity, Interval, Joint, PlatformState, Pose,
+    Side, TipTargets,
 };
 
-use crate::engine::SimulationError;
-use crate::scenario::Scenario;
+use parasils_sim::{Scenario, SimulationError};
 
 /// The constraint that makes an orientation infeasible, or [`Constraint::Ok`].
 ///
@@ -185,12 +185,12 @@ impl Constraint {
             Error::OutOfReach { side, .. } => Constraint::OutOfReach(side),
             Error::Singular {
                 side,
-                margin: Margin::CosQs2,
+                margin: InstrumentSingularity::CosQs2,
                 ..
             } => Constraint::CosQs2Singular(side),
             Error::Singular {
                 side,
-                margin: Margin::Qs3,
+                margin: InstrumentSingularity::Qs3,
                 ..
             } => Constraint::Qs3Singular(side),
             Error::JointLimit { side, joint, .. } => Constraint::JointLimit(side, joint),
@@ -211,7 +211,7 @@ impl core::fmt::Display for Constraint {
 pub struct Verdict {
     /// The first constraint the controller found violated, or `Ok`.
     pub limiting: Constraint,
-    /// The normalised margin (see the [module docs](crate::reach), *Margin*):
+    /// The normalised margin (see the [module docs](crate), *Margin*):
     /// on a feasible orientation the smallest over every constraint, on an
     /// infeasible one the violated constraint's (negative).
     pub margin: f64,
@@ -443,14 +443,14 @@ impl Checker {
                 (1.0 - sin_qs2) - th
             }
             Error::Singular {
-                margin: Margin::CosQs2,
+                margin: InstrumentSingularity::CosQs2,
                 value,
                 threshold,
                 ..
             } => value - threshold,
             Error::Singular {
                 side,
-                margin: Margin::Qs3,
+                margin: InstrumentSingularity::Qs3,
                 value,
                 threshold,
             } => (value - threshold) / self.qs3_scale(side),
