@@ -67,8 +67,11 @@ fn the_demo_runs_and_its_csv_has_the_procedure_columns() {
         .collect();
     assert_eq!(depth.iter().copied().fold(0.0, f64::max), 60.0);
     assert_eq!(depth[depth.len() - 1], 0.0);
-    // The summary line names the samples and the duration.
-    assert!(text(out.stderr).contains("(20.232 s)"));
+    // The summary line names the samples and the duration: at 100 Hz each
+    // motion stretched to whole 10 ms periods (the left tip's 2.2321 s to
+    // 2.24 s) and the next one a period after it: 3 + 4 + 2.24 + 4.5 + 2.5
+    // + 4 + 5 x 0.01 s (20.232 s before).
+    assert!(text(out.stderr).contains("2030 samples (20.290 s)"));
 }
 
 #[test]
@@ -78,7 +81,7 @@ fn check_prints_the_verdict_and_a_table_and_writes_nothing() {
     assert!(out.status.success(), "{}", text(out.stderr));
     let stdout = text(out.stdout);
     assert!(
-        stdout.starts_with("procedure OK: 6 motions, 20.232 s, 20234 samples at 1000 Hz"),
+        stdout.starts_with("procedure OK: 6 motions, 20.238 s, 20239 samples at 1000 Hz"),
         "{stdout}"
     );
     let rows: Vec<&str> = stdout

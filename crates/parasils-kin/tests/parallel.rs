@@ -549,12 +549,13 @@ mod controller {
     /// the same bit for bit.
     #[test]
     fn tracked_margin_along_the_paper_motion() {
-        let mut controller = Controller::<f64>::paper();
+        let controller = Controller::<f64>::paper();
+        let mut tracker = MarginTracker::new();
         let tips = TipTargets::paper();
         let mut worst = 0f64;
         for k in 0..=4500 {
             let st = reorientation::<f64>(k as f64 * 1e-3);
-            let out = controller.step(&st, &tips).expect("regular");
+            let out = controller.step(&st, &tips, &mut tracker).expect("regular");
             let exact = controller.module1.solve_state(&st).expect("regular");
             let rel = (out.module1.margins.parallel - exact.margins.parallel).abs()
                 / exact.margins.parallel;
@@ -567,10 +568,10 @@ mod controller {
         }
         println!("tracked margin, f64: largest relative difference {worst:.2e}");
         assert!(worst < 1e-14, "{worst:e}");
-        assert_eq!(controller.margin_tracker().counts(), (4501, 1));
+        assert_eq!(tracker.counts(), (4501, 1));
         // The direction is a unit right singular vector: |J x| = margin.
         let st = reorientation::<f64>(4.5);
-        let x = controller.margin_tracker().weakest().expect("tracked");
+        let x = tracker.weakest().expect("tracked");
         let j = controller.module1.jacobian(&st.pose).expect("reachable");
         let jx = j * Vector6::from(x);
         let m = controller
@@ -586,14 +587,15 @@ mod controller {
     /// `f32` tolerance, without falling back more than a few times.
     #[test]
     fn tracked_margin_along_the_paper_motion_f32() {
-        let mut controller = Controller::<f32>::paper();
+        let controller = Controller::<f32>::paper();
+        let mut tracker = MarginTracker::new();
         let exact = ParallelRobot::<f64>::assumed();
         let tips = TipTargets::paper();
         let mut worst = 0f64;
         for k in 0..=4500 {
             let t = k as f64 * 1e-3;
             let out = controller
-                .step(&reorientation::<f32>(t), &tips)
+                .step(&reorientation::<f32>(t), &tips, &mut tracker)
                 .expect("regular");
             let m = exact
                 .margins(&reorientation::<f64>(t).pose)
@@ -601,7 +603,7 @@ mod controller {
                 .parallel;
             worst = worst.max((f64::from(out.module1.margins.parallel) - m).abs() / m);
         }
-        let (n, full) = controller.margin_tracker().counts();
+        let (n, full) = tracker.counts();
         println!(
             "tracked margin, f32: largest relative difference {worst:.2e}, {full} of {n} full"
         );
@@ -683,9 +685,11 @@ mod controller {
 
     #[test]
     fn step_includes_module_1() {
-        let mut controller = Controller::<f64>::paper();
+        let controller = Controller::<f64>::paper();
         let st = reorientation::<f64>(2.0);
-        let out = controller.step(&st, &TipTargets::paper()).expect("regular");
+        let out = controller
+            .step(&st, &TipTargets::paper(), &mut MarginTracker::new())
+            .expect("regular");
         let alone = controller.module1.solve_state(&st).expect("regular");
         assert_eq!(out.module1, alone);
         assert!(out.module1.q_dot.amax() > 1.0, "moving");
@@ -701,11 +705,11 @@ mod controller {
 
     #[test]
     fn step_refuses_a_pose_out_of_module_1_reach() {
-        let mut controller = Controller::<f64>::paper();
+        let controller = Controller::<f64>::paper();
         let st =
             PlatformState::at_rest(Pose::from_mm_deg(15.0, -450.0, -500.0, -15.0, 10.0, -60.0));
         assert!(matches!(
-            controller.step(&st, &TipTargets::paper()),
+            controller.step(&st, &TipTargets::paper(), &mut MarginTracker::new()),
             Err(Error::LegOutOfReach { .. })
         ));
     }

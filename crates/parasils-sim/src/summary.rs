@@ -297,7 +297,8 @@ impl fmt::Display for Usage<'_> {
     }
 }
 
-/// A procedure's motions as a table (type, name, start, duration, peak
+/// A procedure's motions as a table (type, name, start, duration on the
+/// time line, the law's planned and stretched durations, peak
 /// rates, smallest margins, largest tip error), then every supervisor
 /// warning with its motion and times.
 struct MotionTable<'a>(&'a ProcedureCheck);
@@ -307,7 +308,7 @@ impl fmt::Display for MotionTable<'_> {
         use parasils::supervisor::Margin;
         writeln!(
             f,
-            "motion type        name                         start_s duration_s q_rate_mm_s qs12_rate_deg_s qs3_rate_mm_s min_cos_qs2 min_serial min_parallel min_stroke_mm tip_err_mm"
+            "motion type        name                         start_s duration_s planned_s stretched_s q_rate_mm_s qs12_rate_deg_s qs3_rate_mm_s min_cos_qs2 min_serial min_parallel min_stroke_mm tip_err_mm"
         )?;
         for m in &self.0.motions {
             let s = &m.smallest;
@@ -321,13 +322,15 @@ impl fmt::Display for MotionTable<'_> {
                 .collect();
             writeln!(
                 f,
-                "{:>6} {}:{:<10} {:<28} {:>7} {:>10} {:>11} {:>15} {:>13} {:>11} {:>10} {:>12} {:>13} {:>10.3e}",
+                "{:>6} {}:{:<10} {:<28} {:>7} {:>10} {:>9} {:>11} {:>11} {:>15} {:>13} {:>11} {:>10} {:>12} {:>13} {:>10.3e}",
                 m.name.index,
                 m.name.motion_type.number(),
                 m.name.type_name(),
                 name,
                 Fixed(m.start_s, 3),
                 Fixed(m.duration_s, 3),
+                Fixed(m.planned_s, 4),
+                Fixed(m.stretched_s, 4),
                 Fixed(m.peak_module1_mm_s, 3),
                 Fixed(m.peak_joint_rad_s.to_degrees(), 3),
                 Fixed(m.peak_qs3_mm_s, 3),
@@ -413,17 +416,36 @@ type NamedPhase = (Option<MotionName>, PhaseSummary);
 /// a procedure, every motion's, on the procedure's time line.
 fn optimal_phases(sim: &Simulation) -> Vec<NamedPhase> {
     if let Some(law) = sim.optimal() {
-        return law.phases().into_iter().map(|p| (None, p)).collect();
+        // The law's times, stretched onto the control cycle (`T' / T`).
+        let stretch = if law.duration() > 0.0 {
+            sim.duration() / law.duration()
+        } else {
+            1.0
+        };
+        return law
+            .phases()
+            .into_iter()
+            .map(|p| {
+                let phase = PhaseSummary {
+                    start_s: p.start_s * stretch,
+                    end_s: p.end_s * stretch,
+                    ..p
+                };
+                (None, phase)
+            })
+            .collect();
     }
     let Some(plan) = sim.procedure() else {
         return Vec::new();
     };
     let mut out = Vec::new();
     for m in &plan.motions {
+        // The law's times, stretched onto the control cycle.
+        let r = m.stretch.ratio();
         for p in m.optimal.iter().flat_map(OptimalMotion::phases) {
             let phase = PhaseSummary {
-                start_s: p.start_s + m.start_s,
-                end_s: p.end_s + m.start_s,
+                start_s: p.start_s / r + m.start_s,
+                end_s: p.end_s / r + m.start_s,
                 ..p
             };
             out.push((Some(m.name.clone()), phase));
