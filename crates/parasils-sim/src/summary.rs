@@ -54,6 +54,9 @@ pub struct Summary {
     usage: [[f64; ACTUATOR_COUNT]; 2],
     /// The time-optimal law's phases, for a run timed with it.
     phases: Vec<NamedPhase>,
+    /// A single planned turn's law duration before it was stretched onto
+    /// the control cycle, s, when the stretch changed it.
+    planned_s: Option<f64>,
 }
 
 impl Default for Summary {
@@ -105,6 +108,7 @@ impl Summary {
             limits: ActuatorLimits::assumed(),
             usage: [[0.0; ACTUATOR_COUNT]; 2],
             phases: Vec::new(),
+            planned_s: None,
         }
     }
 
@@ -121,6 +125,7 @@ impl Summary {
         s.procedure = sim.procedure_check().cloned();
         s.limits = sim.controller().limits;
         s.phases = optimal_phases(sim);
+        s.planned_s = planned_turn(sim).filter(|&t| t != sim.duration());
         s
     }
 
@@ -171,7 +176,7 @@ impl fmt::Display for Summary {
         let r = |c: &Column| self.range(c).unwrap_or((f64::NAN, f64::NAN));
         let p = |c: &Column| Fixed(self.peak(c).unwrap_or(f64::NAN), 4);
         let (t0, t1) = r(&columns::T_S);
-        writeln!(
+        write!(
             f,
             "duration {} s, {} samples ({} to {} s)",
             Fixed(t1 - t0, 3),
@@ -179,6 +184,14 @@ impl fmt::Display for Summary {
             Fixed(t0, 3),
             Fixed(t1, 3)
         )?;
+        match self.planned_s {
+            Some(planned) => writeln!(
+                f,
+                "; the law's {} s stretched to whole periods",
+                Fixed(planned, 4)
+            )?,
+            None => writeln!(f)?,
+        }
         writeln!(f, "platform")?;
         for (a, angle, rate, acc) in [
             (
@@ -406,6 +419,27 @@ impl fmt::Display for CheckReport<'_> {
         }
         Ok(())
     }
+}
+
+/// The law's own duration of `sim`'s single planned turn (trapezoid or
+/// time-optimal), before its stretch onto the control cycle; `None` for a
+/// procedure or a run with commands.
+fn planned_turn(sim: &Simulation) -> Option<f64> {
+    let scenario = sim.scenario();
+    if sim.procedure().is_some() || scenario.has_commands() {
+        return None;
+    }
+    if let Some(law) = sim.optimal() {
+        return Some(law.duration());
+    }
+    parasils::Reorientation::new(
+        scenario.start(),
+        scenario.goal_rad(),
+        [scenario.limits(); 2],
+        scenario.sync,
+    )
+    .ok()
+    .map(|r| r.duration())
 }
 
 /// A phase of a time-optimal law, with the motion it belongs to in a
