@@ -353,3 +353,69 @@ where
         self.motion.sample(tau).time_scaled(self.stretch.ratio)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{Stretch, TimeScaled};
+    use crate::traj::{Error, State};
+
+    #[test]
+    fn periods_follow_the_sampler_s_rule() {
+        // 1.2345 s at 1 kHz: 1235 periods, r = 1.2345 / 1.235.
+        let s = Stretch::new(1.2345_f64, 1000.0).expect("valid");
+        assert_eq!(s.periods(), 1235);
+        assert_eq!(s.duration(), 1.235);
+        assert!((s.ratio() - 1.2345 / 1.235).abs() < 1e-15);
+        // The law's time at the last sample is its duration itself.
+        assert_eq!(s.law_time(1235), 1.2345);
+        assert_eq!(s.law_time(0), 0.0);
+        // 4.5 s: whole already, not scaled at all.
+        let s = Stretch::new(4.5_f64, 1000.0).expect("valid");
+        assert_eq!((s.periods(), s.ratio()), (4500, 1.0));
+        // Within 64 epsilons above a whole number: that number, unscaled.
+        let s = Stretch::new(3.0_f64 * (1.0 + 8.0 * f64::EPSILON), 1000.0).expect("valid");
+        assert_eq!((s.periods(), s.ratio()), (3000, 1.0));
+        // No time: one sample.
+        let s = Stretch::new(0.0_f64, 1000.0).expect("valid");
+        assert_eq!((s.periods(), s.ratio(), s.duration()), (0, 1.0, 0.0));
+        // f32 as well: 0.0125 s at 1 kHz, 13 periods.
+        let s = Stretch::new(0.0125_f32, 1000.0).expect("valid");
+        assert_eq!(s.periods(), 13);
+        assert!((s.ratio() - 12.5 / 13.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn padded_keeps_the_law_and_rests_after_it() {
+        let s = Stretch::padded(1.2345_f64, 1000.0).expect("valid");
+        assert_eq!((s.periods(), s.ratio()), (1235, 1.0));
+        assert_eq!(s.law_time(1234), 1.234);
+        assert_eq!(s.law_time(1235), 1.2345);
+    }
+
+    #[test]
+    fn invalid_rates_and_durations_are_errors() {
+        for rate in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert!(matches!(
+                Stretch::new(1.0, rate),
+                Err(Error::InvalidRate { .. })
+            ));
+        }
+        for t in [-1.0, f64::NAN, f64::INFINITY, 1e300] {
+            assert!(matches!(
+                Stretch::new(t, 1e10),
+                Err(Error::TooManySamples { .. })
+            ));
+        }
+    }
+
+    #[test]
+    fn a_time_scaling_scales_rates_by_r_and_accelerations_by_r_squared() {
+        let s = State {
+            position: 2.0_f64,
+            velocity: 3.0,
+            acceleration: -4.0,
+        }
+        .time_scaled(0.5);
+        assert_eq!((s.position, s.velocity, s.acceleration), (2.0, 1.5, -1.0));
+    }
+}
