@@ -20,13 +20,18 @@ use common::paper_step_inputs;
 use parasils::Real;
 
 fn bench_step<T: Real>(c: &mut Criterion, name: &str) {
-    let (mut controller, tips, states) = paper_step_inputs::<T>();
+    let common::StepInputs {
+        controller,
+        mut tracker,
+        tips,
+        states,
+    } = paper_step_inputs::<T>();
     let mut k = 0;
     c.bench_function(&format!("controller/step/{name}"), |b| {
         b.iter(|| {
             // t = 1 s and t = 0.999 s in turn: every margin from the last one's direction.
             k = (k + 1) % 2;
-            controller.step(black_box(&states[k]), black_box(&tips))
+            controller.step(black_box(&states[k]), black_box(&tips), &mut tracker)
         })
     });
 }
@@ -53,7 +58,12 @@ fn bench_online<T: Real>(c: &mut Criterion, name: &str) {
 }
 
 fn bench_parts<T: Real>(c: &mut Criterion, name: &str) {
-    let (controller, tips, states) = paper_step_inputs::<T>();
+    let common::StepInputs {
+        controller,
+        mut tracker,
+        tips,
+        states,
+    } = paper_step_inputs::<T>();
     let state = states[1];
     let frame = state.frame().expect("finite");
     c.bench_function(&format!("controller/part/frame/{name}"), |b| {
@@ -63,7 +73,6 @@ fn bench_parts<T: Real>(c: &mut Criterion, name: &str) {
         b.iter(|| controller.module1.solve(black_box(&frame)))
     });
     let frames = states.map(|s| s.frame().expect("finite"));
-    let mut tracker = *controller.margin_tracker();
     let mut k = 0;
     c.bench_function(
         &format!("controller/part/module1_solve_tracking/{name}"),

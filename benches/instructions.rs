@@ -83,20 +83,22 @@ const KERNELS: [(&str, &str); 14] = [
 
 #[inline(never)]
 fn kernel_step_f64(
-    c: &mut Controller<f64>,
+    c: &Controller<f64>,
     s: &PlatformState<f64>,
     t: &TipTargets<f64>,
+    tracker: &mut MarginTracker<f64>,
 ) -> Option<ControlStep<f64>> {
-    c.step(s, t).ok()
+    c.step(s, t, tracker).ok()
 }
 
 #[inline(never)]
 fn kernel_step_f32(
-    c: &mut Controller<f32>,
+    c: &Controller<f32>,
     s: &PlatformState<f32>,
     t: &TipTargets<f32>,
+    tracker: &mut MarginTracker<f32>,
 ) -> Option<ControlStep<f32>> {
-    c.step(s, t).ok()
+    c.step(s, t, tracker).ok()
 }
 
 #[inline(never)]
@@ -187,12 +189,22 @@ fn kernel_reorientation_state_f64(m: &Reorientation<f64>, t: f64) -> PlatformSta
 
 /// Runs kernel `name` `n` times.
 fn run(name: &str, n: usize) {
-    let (mut c, tips, states) = paper_step_inputs::<f64>();
-    let (mut c32, tips32, states32) = paper_step_inputs::<f32>();
+    let common::StepInputs {
+        controller: c,
+        tracker: mut tracker64,
+        tips,
+        states,
+    } = paper_step_inputs::<f64>();
+    let common::StepInputs {
+        controller: c32,
+        tracker: mut tracker32,
+        tips: tips32,
+        states: states32,
+    } = paper_step_inputs::<f32>();
     let state = states[1];
     let frame = state.frame().expect("finite");
     let frames = states.map(|s| s.frame().expect("finite"));
-    let mut tracker = *c.margin_tracker();
+    let mut tracker = tracker64;
     let tip = TipMotion::still(tips.left);
     let local = c
         .left
@@ -211,14 +223,16 @@ fn run(name: &str, n: usize) {
         let k = (i + 1) % 2;
         match name {
             "step_f64" => drop(black_box(kernel_step_f64(
-                black_box(&mut c),
+                black_box(&c),
                 black_box(&states[k]),
                 black_box(&tips),
+                black_box(&mut tracker64),
             ))),
             "step_f32" => drop(black_box(kernel_step_f32(
-                black_box(&mut c32),
+                black_box(&c32),
                 black_box(&states32[k]),
                 black_box(&tips32),
+                black_box(&mut tracker32),
             ))),
             "module1_solve_tracking_f64" => drop(black_box(kernel_module1_solve_tracking_f64(
                 black_box(&c),

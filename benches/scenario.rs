@@ -18,7 +18,7 @@ use std::io::Cursor;
 
 use criterion::Criterion;
 use parasils::Real;
-use parasils::kin::{Controller, TipTargets};
+use parasils::kin::{Controller, MarginTracker, TipTargets};
 use parasils_sim::csv::CsvSink;
 use parasils_sim::mcap::McapSink;
 use parasils_sim::{Record, Scenario, Simulation, Sink};
@@ -42,10 +42,13 @@ fn bench_loop<T: Real>(c: &mut Criterion, name: &str) {
     let lit = T::lit;
     c.bench_function(&format!("scenario/loop/{name}"), |b| {
         b.iter(|| {
-            let mut controller = Controller::<T>::paper();
+            let controller = Controller::<T>::paper();
+            let mut tracker = MarginTracker::new();
             let mut n = 0usize;
             for s in black_box(motion).sampler(lit(1000.0)).expect("rate") {
-                let out = controller.step(&s.state, &tips).expect("regular");
+                let out = controller
+                    .step(&s.state, &tips, &mut tracker)
+                    .expect("regular");
                 black_box(&out);
                 n += 1;
             }

@@ -16,6 +16,7 @@
 pub use parasils_kin as kin;
 pub use parasils_traj as traj;
 
+pub mod cycle;
 mod error;
 pub mod margin;
 pub mod motions;
@@ -25,6 +26,7 @@ pub mod path;
 pub mod reorientation;
 pub mod supervisor;
 
+pub use cycle::{OnCycle, Stretch, TimeScaled};
 pub use error::Error;
 pub use online::{MotionKind, OnlineController, Setpoint};
 pub use reorientation::Reorientation;

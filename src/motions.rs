@@ -19,11 +19,11 @@
 //! allocation-free and generic over `f32`/`f64`.
 //!
 //! ```
-//! use parasils::kin::{Controller, Joints, Pose};
+//! use parasils::kin::{Controller, Joints, MarginTracker, Pose};
 //! use parasils::motions::{Insertion, Motion, Port, RobotState};
 //! use parasils::traj::Limits;
 //!
-//! let mut controller = Controller::<f64>::paper();
+//! let controller = Controller::<f64>::paper();
 //! let start = RobotState {
 //!     pose: Pose::paper_start(),
 //!     joints: [Joints::from_deg_mm(3.0, -10.0, 120.0), Joints::from_deg_mm(-3.0, 10.0, 120.0)],
@@ -32,7 +32,7 @@
 //! // The left instrument 30 mm deeper, at most 20 mm/s and 20 mm/s^2.
 //! let insert = Motion::Insert(Insertion::new(&start, Port::Left, 30.0, Limits::new(20.0, 20.0))?);
 //! let end = insert.sample(insert.duration());
-//! let out = controller.step_commanded(&end.platform, &end.left, &end.right)?;
+//! let out = controller.step_commanded(&end.platform, &end.left, &end.right, &mut MarginTracker::new())?;
 //! assert_eq!(out.left.q.qs3, 150.0);
 //! assert_eq!(out.left.q.qs1, start.joints[0].qs1);
 //! # Ok::<(), parasils::Error>(())
@@ -413,6 +413,8 @@ pub struct Manipulation<T: Real> {
     from: [Vector3<T>; 2],
     /// Each tip's displacement, mm (zero for a tip held).
     delta: [Vector3<T>; 2],
+    /// Each tip's target, mm (`from` for a tip held): where it ends, exactly.
+    to: [Vector3<T>; 2],
     /// Each tip's path length, mm.
     length: [T; 2],
     /// From rest: the arc lengths, from 0 to `length`; from a moving state:
@@ -433,13 +435,15 @@ impl<T: Real> Manipulation<T> {
         to: [Option<Vector3<T>>; 2],
         limits: Limits<T>,
     ) -> Result<Self, crate::traj::Error> {
-        let delta = [0, 1].map(|i| to[i].map_or_else(Vector3::zeros, |p| p - from[i]));
+        let to = [0, 1].map(|i| to[i].unwrap_or(from[i]));
+        let delta = [to[0] - from[0], to[1] - from[1]];
         let length = delta.map(|d| d.norm());
         let profile = Multi::new([T::zero(); 2], length, [limits; 2], Synchronization::Phase)?;
         Ok(Self {
             start: *start,
             from,
             delta,
+            to,
             length,
             profile: Planned::Rest(profile),
         })
@@ -495,11 +499,13 @@ impl<T: Real> Manipulation<T> {
             Vector3::from_fn(|k, _| s.get(3 * i + k).map_or(T::zero(), |a| a.position))
         };
         let from = [at(&tips, 0), at(&tips, 1)];
-        let delta = [at(&end, 0) - from[0], at(&end, 1) - from[1]];
+        let to = [at(&end, 0), at(&end, 1)];
+        let delta = [to[0] - from[0], to[1] - from[1]];
         Ok(Self {
             start: *start,
             from,
             delta,
+            to,
             length: delta.map(|d| d.norm()),
             profile: Planned::Online(profile),
         })
@@ -537,11 +543,15 @@ impl<T: Real> Manipulation<T> {
 
     /// Tip `i`'s position, velocity and acceleration at arc-length state
     /// `s`: `from + delta (s / length)`, on the segment whatever the
-    /// rounding of `s`.
+    /// rounding of `s`, and the target itself at the end (`s = length`).
     fn tip(&self, i: usize, s: &State<T>) -> TipMotion<T> {
-        let (from, delta, length) = match (self.from.get(i), self.delta.get(i), self.length.get(i))
-        {
-            (Some(f), Some(d), Some(l)) => (*f, *d, *l),
+        let (from, delta, to, length) = match (
+            self.from.get(i),
+            self.delta.get(i),
+            self.to.get(i),
+            self.length.get(i),
+        ) {
+            (Some(f), Some(d), Some(to), Some(l)) => (*f, *d, *to, *l),
             _ => return TipMotion::still(Vector3::zeros()),
         };
         if !(length > T::zero()) {
@@ -549,7 +559,11 @@ impl<T: Real> Manipulation<T> {
         }
         let u = delta / length;
         TipMotion {
-            position: from + delta * (s.position / length),
+            position: if s.position >= length {
+                to
+            } else {
+                from + delta * (s.position / length)
+            },
             velocity: u * s.velocity,
             acceleration: u * s.acceleration,
         }

@@ -108,7 +108,7 @@
 
 use crate::Real;
 use crate::error::Error;
-use crate::kin::{ControlStep, Controller, PlatformState, Pose, TipTargets};
+use crate::kin::{ControlStep, Controller, MarginTracker, PlatformState, Pose, TipTargets};
 use crate::reorientation::turned;
 use crate::supervisor::{MarginSet, Margins, Supervisor};
 use crate::traj::{Limits, OnlineMulti, State, Synchronization};
@@ -164,6 +164,8 @@ pub struct Setpoint<T: Real> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OnlineController<T: Real> {
     controller: Controller<T>,
+    /// Module 1's weakest direction from the previous cycle.
+    tracker: MarginTracker<T>,
     tips: TipTargets<T>,
     /// `P` and `phi` (fixed), and the `(psi, theta)` of the start.
     pose: Pose<T>,
@@ -196,7 +198,7 @@ impl<T: Real> OnlineController<T> {
     /// for invalid limits or a non-finite angle; [`Error::Kinematics`] when
     /// `pose` cannot be solved.
     pub fn new(
-        mut controller: Controller<T>,
+        controller: Controller<T>,
         tips: TipTargets<T>,
         pose: Pose<T>,
         limits: [Limits<T>; 2],
@@ -210,9 +212,11 @@ impl<T: Real> OnlineController<T> {
             limits,
             Synchronization::Phase,
         )?;
-        controller.step(&PlatformState::at_rest(pose), &tips)?;
+        let mut tracker = MarginTracker::new();
+        controller.step(&PlatformState::at_rest(pose), &tips, &mut tracker)?;
         Ok(Self {
             controller,
+            tracker,
             tips,
             pose,
             limits,
@@ -287,7 +291,9 @@ impl<T: Real> OnlineController<T> {
         self.check_time(t)?;
         let angles = self.angles_at(t);
         let state = self.platform(angles);
-        let step = self.controller.step(&state, &self.tips)?;
+        let step = self
+            .controller
+            .step(&state, &self.tips, &mut self.tracker)?;
         let margins = Margins::of(&step);
         if let Some((t_prev, m_prev)) = self.previous
             && t > t_prev
@@ -373,9 +379,16 @@ impl<T: Real> OnlineController<T> {
         self.motion.synchronization()
     }
 
-    /// The kinematics (with module 1's margin tracker).
+    /// The kinematics.
     pub fn controller(&self) -> &Controller<T> {
         &self.controller
+    }
+
+    /// Module 1's weakest direction from the previous cycle, and how many
+    /// margins took the full decomposition (see
+    /// [`MarginTracker`]).
+    pub fn margin_tracker(&self) -> &MarginTracker<T> {
+        &self.tracker
     }
 
     /// The tips held still, mm, fixed frame.

@@ -4,11 +4,15 @@
 //! still, both tips held.
 //!
 //! Along the path, each actuator is a function `q(s)`. Its derivatives come
-//! from the controller's own closed-form rates: the platform state at `s`
-//! with `s_dot = 1`, `s_ddot = 0` (Euler rates `(dpsi, dtheta)`, no Euler
-//! acceleration) gives actuator velocities `q'(s)` and accelerations
-//! `q''(s)`, since `q_dot = q' s_dot` and `q_ddot = q' s_ddot + q'' s_dot^2`.
-//! No finite difference, no spline.
+//! from the controller's own cycle ([`Controller::step_commanded`], the same
+//! call a control loop makes, with a fresh margin tracker): the platform
+//! state at `s` with `s_dot = 1`, `s_ddot = 0` (Euler rates
+//! `(dpsi, dtheta)`, no Euler acceleration) gives actuator velocities
+//! `q'(s)` and accelerations `q''(s)`, since `q_dot = q' s_dot` and
+//! `q_ddot = q' s_ddot + q'' s_dot^2`. No finite difference, no spline, and
+//! no second copy of the cycle: a point of the path is what the controller
+//! accepts (strokes, joint limits, singularity thresholds, the parallel
+//! margin included).
 //!
 //! The path has [`PATH_ROWS`] rows for the solver
 //! ([`parasils_traj::optimal`]): the twelve actuators in the order of
@@ -39,8 +43,9 @@
 use crate::Real;
 use crate::kin::nalgebra::Vector3;
 use crate::kin::{
-    ACTUATOR_COUNT, ActuatorLimits, AssemblyMode, Controller, Instrument, JointMotion, Joints,
-    ModuleCommand, ParallelRobot, PlatformState, Pose, PoseRate, TipMotion, TipTargets,
+    ACTUATOR_COUNT, ActuatorLimits, ControlStep, Controller, JointMotion, Joints, MarginTracker,
+    ModuleCommand, PlatformState, Pose, PoseRate, TipMotion, TipTargets, step_positions,
+    step_rates,
 };
 use crate::motions::{MotionSample, MotionType, Port, RobotState};
 use crate::reorientation::turned;
@@ -63,13 +68,35 @@ pub struct PathPoint<T> {
     pub q_ss: [T; ACTUATOR_COUNT],
 }
 
+impl<T: Real> PathPoint<T> {
+    /// The actuators of the controller's step at `s` moving with `s_dot = 1`,
+    /// `s_ddot = 0`: their rates are `q'(s)`, their accelerations `q''(s)`.
+    fn of(step: &ControlStep<T>) -> Self {
+        let (q_s, q_ss) = step_rates(step);
+        Self {
+            q: step_positions(step),
+            q_s,
+            q_ss,
+        }
+    }
+
+    /// As the solver takes them: the twelve actuators' `q'`, `q''`, and the
+    /// motion's own two rows' `q'` (linear in `s`: no `q''`).
+    fn derivatives(&self, own: [T; 2]) -> Derivatives<T, PATH_ROWS> {
+        let mut first = [T::zero(); PATH_ROWS];
+        let mut second = [T::zero(); PATH_ROWS];
+        first[..ACTUATOR_COUNT].copy_from_slice(&self.q_s);
+        second[..ACTUATOR_COUNT].copy_from_slice(&self.q_ss);
+        let [.., a, b] = &mut first;
+        (*a, *b) = (own[0], own[1]);
+        Derivatives { first, second }
+    }
+}
+
 /// Motion type 4's straight turn as a path `s in [0, 1]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ReorientationPath<T: Real> {
-    module1: ParallelRobot<T>,
-    left: Instrument<T>,
-    right: Instrument<T>,
-    modes: [AssemblyMode; 2],
+    controller: Controller<T>,
     start: Pose<T>,
     increment: [T; 2],
     tips: TipTargets<T>,
@@ -85,10 +112,7 @@ impl<T: Real> ReorientationPath<T> {
         tips: TipTargets<T>,
     ) -> Self {
         Self {
-            module1: controller.module1,
-            left: controller.left,
-            right: controller.right,
-            modes: controller.modes,
+            controller: *controller,
             start,
             increment,
             tips,
@@ -132,25 +156,10 @@ impl<T: Real> ReorientationPath<T> {
     /// out of reach, an instrument singularity, a non-finite number.
     pub fn point(&self, s: T) -> Result<PathPoint<T>, crate::kin::Error> {
         let state = self.state(s, T::one(), T::zero());
-        let frame = state.frame()?;
-        let q1 = self.module1.ik(&state.pose)?;
-        let (v1, a1) = self.module1.rates(&frame, &q1)?;
-        let l = self
-            .left
-            .solve(&frame, &TipMotion::still(self.tips.left), self.modes[0])?;
-        let r = self
-            .right
-            .solve(&frame, &TipMotion::still(self.tips.right), self.modes[1])?;
-        let pack = |m: [T; 6], a: [T; 3], b: [T; 3]| {
-            [
-                m[0], m[1], m[2], m[3], m[4], m[5], a[0], a[1], a[2], b[0], b[1], b[2],
-            ]
-        };
-        Ok(PathPoint {
-            q: pack(q1.0, l.q.to_array(), r.q.to_array()),
-            q_s: pack(v1.0, l.q_dot.to_array(), r.q_dot.to_array()),
-            q_ss: pack(a1.0, l.q_ddot.to_array(), r.q_ddot.to_array()),
-        })
+        let step = self
+            .controller
+            .step(&state, &self.tips, &mut MarginTracker::new())?;
+        Ok(PathPoint::of(&step))
     }
 }
 
@@ -158,19 +167,7 @@ impl<T: Real> Path<T, PATH_ROWS> for ReorientationPath<T> {
     type Error = crate::kin::Error;
 
     fn derivatives(&self, s: T) -> Result<Derivatives<T, PATH_ROWS>, crate::kin::Error> {
-        let p = self.point(s)?;
-        let mut first = [T::zero(); PATH_ROWS];
-        let mut second = [T::zero(); PATH_ROWS];
-        for (dst, &src) in first.iter_mut().zip(&p.q_s) {
-            *dst = src;
-        }
-        for (dst, &src) in second.iter_mut().zip(&p.q_ss) {
-            *dst = src;
-        }
-        let [dpsi, dtheta] = self.increment;
-        let [.., psi, theta] = &mut first;
-        (*psi, *theta) = (dpsi, dtheta);
-        Ok(Derivatives { first, second })
+        Ok(self.point(s)?.derivatives(self.increment))
     }
 }
 
@@ -197,23 +194,39 @@ pub fn row_limits<T: Real>(
     rows
 }
 
-/// What a [`MotionPath`] moves.
+/// What a [`MotionPath`] moves: each type by its target, so that `s = 1`
+/// is the target itself, not a sum that rounding could leave short of it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Geometry<T: Real> {
-    /// Type 1: the pose by `(dx, dy, dz, dpsi, dtheta, dphi)` (mm, rad).
+    /// Type 1: the pose to `(x, y, z, psi, theta, phi)` (mm, rad).
     Position([T; 6]),
     /// Type 2: `qs3` of a module, or the endoscope's depth, by `depth` mm.
     Insert(Port, T),
-    /// Type 3: the tips from `from` by `delta` (mm, fixed frame).
+    /// Type 3: the tips from `from` to `to` (mm, fixed frame).
     Manipulate {
         from: [Vector3<T>; 2],
-        delta: [Vector3<T>; 2],
+        to: [Vector3<T>; 2],
     },
-    /// Type 4: `(psi, theta)` by `increment` (rad), the tips held.
-    Reorient {
-        increment: [T; 2],
-        tips: [Vector3<T>; 2],
-    },
+    /// Type 4: `(psi, theta)` to `goal` (rad), the tips held.
+    Reorient { goal: [T; 2], tips: [Vector3<T>; 2] },
+}
+
+/// The point `s` of the way from `from` to `to`: `from + s (to - from)`,
+/// and `to` itself from `s = 1` on.
+fn lerp<T: Real>(from: T, to: T, s: T) -> T {
+    if s >= T::one() {
+        to
+    } else {
+        from + s * (to - from)
+    }
+}
+
+/// The displacement of a [`MotionPath`]'s own coordinates over the path.
+enum Delta<T: Real> {
+    Position([T; 6]),
+    Insert(T),
+    Manipulate([Vector3<T>; 2]),
+    Reorient([T; 2]),
 }
 
 /// Any of the paper's four motion types from rest to rest as a geometric
@@ -262,10 +275,7 @@ enum Geometry<T: Real> {
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MotionPath<T: Real> {
-    module1: ParallelRobot<T>,
-    left: Instrument<T>,
-    right: Instrument<T>,
-    modes: [AssemblyMode; 2],
+    controller: Controller<T>,
     start: RobotState<T>,
     geometry: Geometry<T>,
 }
@@ -273,10 +283,7 @@ pub struct MotionPath<T: Real> {
 impl<T: Real> MotionPath<T> {
     fn on(controller: &Controller<T>, start: &RobotState<T>, geometry: Geometry<T>) -> Self {
         Self {
-            module1: controller.module1,
-            left: controller.left,
-            right: controller.right,
-            modes: controller.modes,
+            controller: *controller,
             start: *start,
             geometry,
         }
@@ -285,9 +292,7 @@ impl<T: Real> MotionPath<T> {
     /// Type 1: the platform from `start.pose` to `goal` on the straight
     /// line in pose space, the instrument joints and the endoscope held.
     pub fn positioning(controller: &Controller<T>, start: &RobotState<T>, goal: Pose<T>) -> Self {
-        let [a, b] = [start.pose.to_array(), goal.to_array()];
-        let delta = core::array::from_fn(|k| b[k] - a[k]);
-        Self::on(controller, start, Geometry::Position(delta))
+        Self::on(controller, start, Geometry::Position(goal.to_array()))
     }
 
     /// Type 2: `port`'s `qs3` (or the endoscope's depth) by `depth` mm,
@@ -310,19 +315,37 @@ impl<T: Real> MotionPath<T> {
         from: [Vector3<T>; 2],
         to: [Option<Vector3<T>>; 2],
     ) -> Self {
-        let delta = [0, 1].map(|i| to[i].map_or_else(Vector3::zeros, |p| p - from[i]));
-        Self::on(controller, start, Geometry::Manipulate { from, delta })
+        let to = [0, 1].map(|i| to[i].unwrap_or(from[i]));
+        Self::on(controller, start, Geometry::Manipulate { from, to })
     }
 
-    /// Type 4: `(psi, theta)` by `increment` (rad) from `start.pose`, the
-    /// tips held at `tips` (`[left, right]`, mm, fixed frame).
+    /// Type 4: `(psi, theta)` from `start.pose`'s to `goal` (rad), the tips
+    /// held at `tips` (`[left, right]`, mm, fixed frame).
     pub fn turning(
         controller: &Controller<T>,
         start: &RobotState<T>,
-        increment: [T; 2],
+        goal: [T; 2],
         tips: [Vector3<T>; 2],
     ) -> Self {
-        Self::on(controller, start, Geometry::Reorient { increment, tips })
+        Self::on(controller, start, Geometry::Reorient { goal, tips })
+    }
+
+    /// The displacement of the motion's coordinates along the whole path
+    /// (`d q / d s` of each): the pose's six, the inserted depth, each tip's
+    /// `x, y, z`, `(psi, theta)`.
+    fn delta(&self) -> Delta<T> {
+        let p = self.start.pose.to_array();
+        match &self.geometry {
+            Geometry::Position(goal) => Delta::Position(core::array::from_fn(|k| goal[k] - p[k])),
+            Geometry::Insert(_, d) => Delta::Insert(*d),
+            Geometry::Manipulate { from, to } => {
+                Delta::Manipulate([to[0] - from[0], to[1] - from[1]])
+            }
+            Geometry::Reorient { goal, .. } => Delta::Reorient([
+                goal[0] - self.start.pose.psi,
+                goal[1] - self.start.pose.theta,
+            ]),
+        }
     }
 
     /// The motion's type.
@@ -344,13 +367,11 @@ impl<T: Real> MotionPath<T> {
     /// time.
     pub fn is_still(&self) -> bool {
         let zero = T::zero();
-        match &self.geometry {
-            Geometry::Position(d) => d.iter().all(|&x| x == zero),
-            Geometry::Insert(_, d) => *d == zero,
-            Geometry::Manipulate { delta, .. } => {
-                delta.iter().all(|d| d.iter().all(|&x| x == zero))
-            }
-            Geometry::Reorient { increment, .. } => increment.iter().all(|&x| x == zero),
+        match self.delta() {
+            Delta::Position(d) => d.iter().all(|&x| x == zero),
+            Delta::Insert(d) => d == zero,
+            Delta::Manipulate(delta) => delta.iter().all(|d| d.iter().all(|&x| x == zero)),
+            Delta::Reorient(increment) => increment.iter().all(|&x| x == zero),
         }
     }
 
@@ -364,11 +385,11 @@ impl<T: Real> MotionPath<T> {
                 if x > m { x } else { m }
             })
         };
-        match &self.geometry {
-            Geometry::Position(d) => [largest(&d[..3]), largest(&d[3..])],
-            Geometry::Insert(_, d) => [*d, zero],
-            Geometry::Manipulate { delta, .. } => delta.map(|d| d.norm()),
-            Geometry::Reorient { increment, .. } => *increment,
+        match self.delta() {
+            Delta::Position(d) => [largest(&d[..3]), largest(&d[3..])],
+            Delta::Insert(d) => [d, zero],
+            Delta::Manipulate(delta) => delta.map(|d| d.norm()),
+            Delta::Reorient(increment) => increment,
         }
     }
 
@@ -385,15 +406,18 @@ impl<T: Real> MotionPath<T> {
             right: ModuleCommand::Joints(JointMotion::held(r)),
             endoscope: State::rest(start.endoscope_depth),
         };
-        let along = |from: T, by: T| State {
-            position: from + s * by,
-            velocity: s_dot * by,
-            acceleration: s_ddot * by,
+        let along = |from: T, to: T| {
+            let by = to - from;
+            State {
+                position: lerp(from, to, s),
+                velocity: s_dot * by,
+                acceleration: s_ddot * by,
+            }
         };
         match &self.geometry {
-            Geometry::Position(d) => {
+            Geometry::Position(goal) => {
                 let p = start.pose.to_array();
-                let c: [State<T>; 6] = core::array::from_fn(|k| along(p[k], d[k]));
+                let c: [State<T>; 6] = core::array::from_fn(|k| along(p[k], goal[k]));
                 out.platform = PlatformState {
                     pose: Pose::from_array(c.map(|a| a.position)),
                     velocity: PoseRate::new(
@@ -416,7 +440,7 @@ impl<T: Real> MotionPath<T> {
             }
             Geometry::Insert(port, depth) => {
                 let driven = |q: Joints<T>| {
-                    let a = along(q.qs3, *depth);
+                    let a = along(q.qs3, q.qs3 + *depth);
                     let zero = T::zero();
                     ModuleCommand::Joints(JointMotion {
                         q: Joints::new(q.qs1, q.qs2, a.position),
@@ -427,31 +451,31 @@ impl<T: Real> MotionPath<T> {
                 match port {
                     Port::Left => out.left = driven(l),
                     Port::Right => out.right = driven(r),
-                    Port::Endoscope => out.endoscope = along(start.endoscope_depth, *depth),
+                    Port::Endoscope => {
+                        out.endoscope =
+                            along(start.endoscope_depth, start.endoscope_depth + *depth);
+                    }
                 }
             }
-            Geometry::Manipulate { from, delta } => {
+            Geometry::Manipulate { from, to } => {
                 let tip = |i: usize| {
+                    let delta = to[i] - from[i];
                     ModuleCommand::Tip(TipMotion {
-                        position: from[i] + delta[i] * s,
-                        velocity: delta[i] * s_dot,
-                        acceleration: delta[i] * s_ddot,
+                        position: Vector3::from_fn(|k, _| lerp(from[i][k], to[i][k], s)),
+                        velocity: delta * s_dot,
+                        acceleration: delta * s_ddot,
                     })
                 };
-                let zero = T::zero();
-                if delta[0].iter().any(|&x| x != zero) {
+                if from[0] != to[0] {
                     out.left = tip(0);
                 }
-                if delta[1].iter().any(|&x| x != zero) {
+                if from[1] != to[1] {
                     out.right = tip(1);
                 }
             }
-            Geometry::Reorient { increment, tips } => {
+            Geometry::Reorient { goal, tips } => {
                 let p = &start.pose;
-                out.platform = turned(
-                    p,
-                    [along(p.psi, increment[0]), along(p.theta, increment[1])],
-                );
+                out.platform = turned(p, [along(p.psi, goal[0]), along(p.theta, goal[1])]);
                 out.left = ModuleCommand::still(tips[0]);
                 out.right = ModuleCommand::still(tips[1]);
             }
@@ -463,39 +487,17 @@ impl<T: Real> MotionPath<T> {
 impl<T: Real> Path<T, PATH_ROWS> for MotionPath<T> {
     type Error = crate::kin::Error;
 
-    /// The actuators' `q'(s)` and `q''(s)` from the closed-form rates of the
-    /// robot at `s` moving with `s_dot = 1`, `s_ddot = 0` (see the module's
-    /// documentation), then the motion's own rows.
+    /// The actuators' `q'(s)` and `q''(s)` from the controller's step of
+    /// the robot at `s` moving with `s_dot = 1`, `s_ddot = 0` (see the
+    /// module's documentation), then the motion's own rows.
     fn derivatives(&self, s: T) -> Result<Derivatives<T, PATH_ROWS>, crate::kin::Error> {
         let at = self.sample(s, T::one(), T::zero());
-        let frame = at.platform.frame()?;
-        let mut first = [T::zero(); PATH_ROWS];
-        let mut second = [T::zero(); PATH_ROWS];
-        if matches!(
-            self.geometry,
-            Geometry::Position(_) | Geometry::Reorient { .. }
-        ) {
-            let q1 = self.module1.ik(&at.platform.pose)?;
-            let (v1, a1) = self.module1.rates(&frame, &q1)?;
-            first[..6].copy_from_slice(&v1.0);
-            second[..6].copy_from_slice(&a1.0);
-        }
-        let modules = [
-            (&self.left, &at.left, self.modes[0]),
-            (&self.right, &at.right, self.modes[1]),
-        ];
-        for (k, (module, command, mode)) in modules.into_iter().enumerate() {
-            let solution = match command {
-                ModuleCommand::Tip(tip) => module.solve(&frame, tip, mode)?,
-                ModuleCommand::Joints(joints) => module.solve_joints(joints)?,
-            };
-            let rows = 6 + 3 * k..9 + 3 * k;
-            first[rows.clone()].copy_from_slice(&solution.q_dot.to_array());
-            second[rows].copy_from_slice(&solution.q_ddot.to_array());
-        }
-        let [own_a, own_b] = self.own_rates();
-        let [.., a, b] = &mut first;
-        (*a, *b) = (own_a, own_b);
-        Ok(Derivatives { first, second })
+        let step = self.controller.step_commanded(
+            &at.platform,
+            &at.left,
+            &at.right,
+            &mut MarginTracker::new(),
+        )?;
+        Ok(PathPoint::of(&step).derivatives(self.own_rates()))
     }
 }

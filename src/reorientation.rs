@@ -15,15 +15,16 @@
 //!
 //! ```
 //! use parasils::Reorientation;
-//! use parasils::kin::{Controller, TipTargets};
+//! use parasils::kin::{Controller, MarginTracker, TipTargets};
 //!
 //! let motion = Reorientation::<f64>::paper()?;
 //! assert_eq!(motion.duration(), 4.5);
-//! let mut controller = Controller::paper();
+//! let controller = Controller::paper();
+//! let mut tracker = MarginTracker::new();
 //! let tips = TipTargets::paper();
 //! let mut drift = 0.0_f64;
 //! for sample in motion.sampler(1000.0)? {
-//!     let out = controller.step(&sample.state, &tips)?;
+//!     let out = controller.step(&sample.state, &tips, &mut tracker)?;
 //!     let tip = out.frame.to_fixed(&controller.left.fk_platform(&out.left.q));
 //!     drift = drift.max((tip - tips.left).norm());
 //! }

@@ -51,11 +51,12 @@
 //! 18 deg (`qs2` to its limit) and about 50 mm (strokes): no warning.
 //!
 //! ```
-//! use parasils::kin::{Controller, PlatformState, Pose, TipTargets};
+//! use parasils::kin::{Controller, MarginTracker, PlatformState, Pose, TipTargets};
 //! use parasils::supervisor::{Margin, Margins, Supervisor};
 //!
-//! let mut controller = Controller::<f64>::paper();
-//! let step = controller.step(&PlatformState::at_rest(Pose::paper_start()), &TipTargets::paper())?;
+//! let controller = Controller::<f64>::paper();
+//! let at_rest = PlatformState::at_rest(Pose::paper_start());
+//! let step = controller.step(&at_rest, &TipTargets::paper(), &mut MarginTracker::new())?;
 //! let margins = Margins::of(&step);
 //! assert!(margins[Margin::Parallel] > 0.7);
 //! let verdict = Supervisor::default().check(&margins);

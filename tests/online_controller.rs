@@ -398,18 +398,12 @@ fn command_index_counts_every_command_and_stop() -> Result<(), Error> {
 #[test]
 fn no_cycle_takes_the_full_decomposition() -> Result<(), Error> {
     let mut c = online::<f32>()?;
-    assert_eq!(c.controller().margin_tracker().counts(), (1, 1));
+    assert_eq!(c.margin_tracker().counts(), (1, 1));
     let r = run(&mut c, &STREAM, 20_000)?;
-    assert_eq!(
-        c.controller().margin_tracker().counts(),
-        (r.cycles.len() as u64 + 1, 1)
-    );
+    assert_eq!(c.margin_tracker().counts(), (r.cycles.len() as u64 + 1, 1));
     let mut c = online::<f64>()?;
     let r = run(&mut c, &STREAM, 20_000)?;
-    assert_eq!(
-        c.controller().margin_tracker().counts(),
-        (r.cycles.len() as u64 + 1, 1)
-    );
+    assert_eq!(c.margin_tracker().counts(), (r.cycles.len() as u64 + 1, 1));
     Ok(())
 }
 

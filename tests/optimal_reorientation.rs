@@ -4,8 +4,8 @@
 
 use parasils::Reorientation;
 use parasils::kin::{
-    ACTUATOR_COUNT, Actuator, ActuatorLimits, ControlStep, Controller, LimitError, Pose, RateKind,
-    TipTargets, step_positions, step_rates,
+    ACTUATOR_COUNT, Actuator, ActuatorLimits, ControlStep, Controller, LimitError, MarginTracker,
+    Pose, RateKind, TipTargets, step_positions, step_rates,
 };
 use parasils::path::{PATH_ROWS, ReorientationPath, row_limits};
 use parasils::traj::Limits;
@@ -39,11 +39,12 @@ fn peaks(steps: &[ControlStep<f64>], limits: &ActuatorLimits<f64>) -> ([f64; 12]
 }
 
 fn trapezoid_steps() -> Result<Vec<ControlStep<f64>>> {
-    let mut c = Controller::paper();
+    let c = Controller::paper();
+    let mut tracker = MarginTracker::new();
     let tips = TipTargets::paper();
     let mut out = Vec::new();
     for sample in Reorientation::<f64>::paper()?.sampler(1000.0)? {
-        out.push(c.step(&sample.state, &tips)?);
+        out.push(c.step(&sample.state, &tips, &mut tracker)?);
     }
     Ok(out)
 }
@@ -54,12 +55,13 @@ fn optimal_steps(
     schedule: &Schedule<'_, f64, PATH_ROWS>,
     rate_hz: f64,
 ) -> Result<Vec<(f64, ControlStep<f64>)>> {
-    let mut c = Controller::paper();
+    let c = Controller::paper();
+    let mut tracker = MarginTracker::new();
     let mut out = Vec::new();
     for sample in schedule.sampler(rate_hz)? {
         let st = sample.state;
         let state = path.state(st.position, st.velocity, st.acceleration);
-        out.push((sample.time, c.step(&state, path.tips())?));
+        out.push((sample.time, c.step(&state, path.tips(), &mut tracker)?));
     }
     Ok(out)
 }

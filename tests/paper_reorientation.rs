@@ -5,7 +5,7 @@
 //! with nothing integrated. The drift bounds are those of `docs/model.md`,
 //! *Check values*: 1e-9 mm in `f64`, 2e-3 mm in `f32`.
 
-use parasils::kin::{ControlStep, Controller, PlatformState, TipTargets};
+use parasils::kin::{ControlStep, Controller, MarginTracker, PlatformState, TipTargets};
 use parasils::{Real, Reorientation, paper};
 
 /// `x` as `T`.
@@ -36,13 +36,14 @@ fn tip_drift<T: Real>(
 /// at 1 kHz, and the number of samples.
 fn drift<T: Real>() -> (f64, usize) {
     let motion = Reorientation::<T>::paper().expect("valid limits");
-    let mut controller = Controller::<T>::paper();
+    let controller = Controller::<T>::paper();
+    let mut tracker = MarginTracker::new();
     let tips = TipTargets::<T>::paper();
     let mut worst = 0.0f64;
     let mut n = 0;
     for s in motion.sampler(lit(paper::RATE_HZ)).expect("valid rate") {
         let out = controller
-            .step(&s.state, &tips)
+            .step(&s.state, &tips, &mut tracker)
             .expect("regular along the paper's motion");
         worst = worst.max(tip_drift(&controller, &s.state, &out, &tips));
         n += 1;
@@ -74,8 +75,8 @@ fn bridge_drives_the_controller<T: Real>(bound: f64) -> usize {
     let start = *motion.start();
     let rate = lit::<T>(paper::RATE_HZ);
     let tips = TipTargets::<T>::paper();
-    let mut on_samples = Controller::<T>::paper();
-    let mut between = Controller::<T>::paper();
+    let (on_samples, between) = (Controller::<T>::paper(), Controller::<T>::paper());
+    let mut trackers = [MarginTracker::new(), MarginTracker::new()];
     let mut n = 0;
     for s in motion.sampler(rate).expect("valid rate") {
         let k = s.index;
@@ -113,12 +114,16 @@ fn bridge_drives_the_controller<T: Real>(bound: f64) -> usize {
             "sample {k}: P and phi at rest"
         );
 
-        let out = on_samples.step(&s.state, &tips).expect("regular");
+        let out = on_samples
+            .step(&s.state, &tips, &mut trackers[0])
+            .expect("regular");
         let d = tip_drift(&on_samples, &s.state, &out, &tips);
         assert!(d < bound, "sample {k}: drift {d} mm");
 
         let mid = motion.state_at(t + lit::<T>(0.5) / rate);
-        let out = between.step(&mid, &tips).expect("regular");
+        let out = between
+            .step(&mid, &tips, &mut trackers[1])
+            .expect("regular");
         let d = tip_drift(&between, &mid, &out, &tips);
         assert!(d < bound, "half-way after sample {k}: drift {d} mm");
         n += 1;

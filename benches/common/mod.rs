@@ -8,7 +8,7 @@
 //! code measured is the general one.
 #![allow(dead_code, reason = "each bench uses a part")]
 
-use parasils::kin::{Controller, PlatformState, Pose, TipTargets};
+use parasils::kin::{Controller, MarginTracker, PlatformState, Pose, TipTargets};
 use parasils::traj::Limits;
 use parasils::{OnlineController, Real, Reorientation, Supervisor};
 
@@ -19,17 +19,37 @@ pub fn paper_motion<T: Real>() -> Reorientation<T> {
 }
 
 /// The paper's controller, tips and the states at `t = 0.999 s` and `t = 1 s`,
-/// the controller having stepped at `0.999 s`: a bench that alternates the
-/// two states times each step from the previous cycle's margin direction,
-/// 1 ms away, as in a 1 kHz loop.
-pub fn paper_step_inputs<T: Real>() -> (Controller<T>, TipTargets<T>, [PlatformState<T>; 2]) {
+/// with module 1's margin tracker having stepped at `0.999 s`: a bench that
+/// alternates the two states times each step from the previous cycle's
+/// margin direction, 1 ms away, as in a 1 kHz loop.
+pub struct StepInputs<T: Real> {
+    /// The paper's controller.
+    pub controller: Controller<T>,
+    /// Module 1's weakest direction at `0.999 s`.
+    pub tracker: MarginTracker<T>,
+    /// The paper's tips.
+    pub tips: TipTargets<T>,
+    /// The states at `0.999 s` and `1 s`.
+    pub states: [PlatformState<T>; 2],
+}
+
+/// See [`StepInputs`].
+pub fn paper_step_inputs<T: Real>() -> StepInputs<T> {
     let motion = paper_motion::<T>();
     let lit = T::lit;
     let states = [motion.state_at(lit(0.999)), motion.state_at(lit(1.0))];
-    let mut controller = Controller::paper();
+    let controller = Controller::paper();
+    let mut tracker = MarginTracker::new();
     let tips = TipTargets::paper();
-    controller.step(&states[0], &tips).expect("regular");
-    (controller, tips, states)
+    controller
+        .step(&states[0], &tips, &mut tracker)
+        .expect("regular");
+    StepInputs {
+        controller,
+        tracker,
+        tips,
+        states,
+    }
 }
 
 /// The online controller of the paper's scenario (the paper's goal commanded

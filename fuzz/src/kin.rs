@@ -9,8 +9,8 @@
 use nalgebra::Vector3;
 use parasils::kin::{
     Actuators, AssemblyMode, Controller, Error, FkOptions, Instrument, InstrumentGeometry,
-    InstrumentSolution, Joints, ParallelGeometry, ParallelRobot, ParallelSolution, PlatformState,
-    Pose, PoseRate, Side, TipMotion, TipTargets,
+    InstrumentSolution, Joints, MarginTracker, ParallelGeometry, ParallelRobot, ParallelSolution,
+    PlatformState, Pose, PoseRate, Side, TipMotion, TipTargets,
 };
 
 use crate::input::{FuzzFloat, Input};
@@ -457,9 +457,10 @@ fn controller_in<T: FuzzFloat>(inp: &mut Input) {
         }
     };
     // A few cycles, so that the margin tracker's state carries over.
+    let mut tracker = MarginTracker::new();
     for _ in 0..1 + inp.choose(3) {
         let state = state_in::<T>(inp);
-        match c.step(&state, &tips) {
+        match c.step(&state, &tips, &mut tracker) {
             Ok(s) => {
                 parallel_solution_finite(&s.module1);
                 instrument_solution_finite(&s.left);

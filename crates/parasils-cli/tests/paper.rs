@@ -16,7 +16,7 @@ mod common;
 
 use common::process::parasils;
 use common::table::Table;
-use parasils::kin::{ControlStep, Controller, PlatformState, Pose, TipTargets};
+use parasils::kin::{ControlStep, Controller, MarginTracker, PlatformState, Pose, TipTargets};
 
 /// The paper's run: `simulate` with its defaults, written to `paper.csv`.
 fn paper_file() -> Table {
@@ -98,7 +98,7 @@ fn closed_form(k: usize) -> ControlStep<f64> {
         [psi[2].to_radians(), theta[2].to_radians()],
     );
     Controller::paper()
-        .step(&state, &TipTargets::paper())
+        .step(&state, &TipTargets::paper(), &mut MarginTracker::new())
         .expect("the paper's motion is regular")
 }
 

@@ -53,8 +53,11 @@ fn the_demo_runs_and_its_csv_has_the_procedure_columns() {
     let depth = table.col("endoscope_depth_mm");
     assert_eq!(depth.iter().copied().fold(0.0, f64::max), 60.0);
     assert_eq!(depth[depth.len() - 1], 0.0);
-    // The summary line names the samples and the duration.
-    assert!(stderr.contains("(20.232 s)"), "{stderr}");
+    // The summary line names the samples and the duration: at 100 Hz each
+    // motion stretched to whole 10 ms periods (the left tip's 2.2321 s to
+    // 2.24 s) and the next one a period after it: 3 + 4 + 2.24 + 4.5 + 2.5
+    // + 4 + 5 x 0.01 s (20.232 s before).
+    assert!(stderr.contains("2030 samples (20.290 s)"), "{stderr}");
 }
 
 #[test]
@@ -65,7 +68,7 @@ fn check_prints_the_verdict_and_a_table_and_writes_nothing() {
         .run()
         .ok();
     assert!(
-        stdout.starts_with("procedure OK: 6 motions, 20.232 s, 20234 samples at 1000 Hz"),
+        stdout.starts_with("procedure OK: 6 motions, 20.238 s, 20239 samples at 1000 Hz"),
         "{stdout}"
     );
     let rows: Vec<&str> = stdout

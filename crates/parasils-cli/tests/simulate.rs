@@ -273,13 +273,16 @@ fn a_closed_pipe_ends_the_run_quietly() {
 #[test]
 fn messages_write_huge_numbers_with_an_exponent() {
     let dir = tempfile::tempdir().expect("tempdir");
-    // One sample per 1e300 s: the summary's times are huge.
+    // One sample per 1e300 s: the summary's times are huge (the 4.5 s turn
+    // is stretched to one whole period).
     let text = parasils(&["simulate", "--rate", "1e-300"])
         .dir(dir.path())
         .run()
         .ok();
     assert!(
-        text.starts_with("duration 1.000e300 s, 2 samples (0.000 to 1.000e300 s)\n"),
+        text.starts_with(
+            "duration 1.000e300 s, 2 samples (0.000 to 1.000e300 s); the law's 4.5000 s stretched to whole periods\n"
+        ),
         "{text}"
     );
     assert!(text.lines().all(|l| l.len() < 200), "{text}");

@@ -213,7 +213,7 @@ fn a_procedure_timed_optimally_keeps_every_limit_and_names_what_binds() {
     out.ok();
     let opt = Table::read(&dir.path().join("opt.csv"));
     let t = opt.col("t_s");
-    // Shorter than the trapezoids' 20.232 s: the platform (1.3 s instead
+    // Shorter than the trapezoids' 20.238 s: the platform (1.3 s instead
     // of 3 s) and the turn (2.22 s instead of 4.5 s) at the actuators'
     // limits; the endoscope and the tip motions at the limits the
     // procedure gives (the endoscope's defaults bind it: no actuator
@@ -230,7 +230,10 @@ fn a_procedure_timed_optimally_keeps_every_limit_and_names_what_binds() {
             .windows(2)
             .all(|w| w[1] - w[0] == 0.0 || w[1] - w[0] == 1.0)
     );
-    // --check names what limits each phase of each motion.
+    // --check names what limits each phase of each motion, on the
+    // procedure's time line: each law's phases stretched with it onto the
+    // control cycle (motion 0's 1.2999 s law to 1.301 s: its first phase
+    // ends at 0.4998 s / r = 0.5002 s), each motion a cycle after the last.
     let text = parasils(&[
         "simulate",
         "--procedure",
@@ -243,10 +246,10 @@ fn a_procedure_timed_optimally_keeps_every_limit_and_names_what_binds() {
     .run()
     .ok();
     for line in [
-        "  motion 0 (position \"platform down to the port\"): 0.0000 s to 0.4998 s: module 1 q1 acceleration limit",
-        "  motion 1 (insert \"endoscope in\"): 2.2985 s to 4.3015 s: depth velocity limit",
-        "  motion 2 (manipulate \"left tip to the tissue\"): 5.7997 s to 7.0324 s: left tip velocity limit",
-        "  motion 3 (reorient \"camera to the target\"): 8.0317 s to 9.2568 s: module 1 q6 velocity limit",
+        "  motion 0 (position \"platform down to the port\"): 0.0000 s to 0.5002 s: module 1 q1 acceleration limit",
+        "  motion 1 (insert \"endoscope in\"): 2.3007 s to 4.3043 s: depth velocity limit",
+        "  motion 2 (manipulate \"left tip to the tissue\"): 5.8039 s to 7.0371 s: left tip velocity limit",
+        "  motion 3 (reorient \"camera to the target\"): 8.0378 s to 9.2632 s: module 1 q6 velocity limit",
     ] {
         assert!(text.lines().any(|l| l == line), "{line:?} not in\n{text}");
     }

@@ -15,11 +15,20 @@
 //! hold; [`Controller::paper`] uses module 1's **assumed** geometry
 //! ([`ParallelGeometry::assumed`]).
 //!
+//! A step is a pure function of its inputs (`&self`): the one state a
+//! control loop carries from cycle to cycle, module 1's weakest direction
+//! ([`MarginTracker`]), is the caller's, passed to every step. A planner
+//! that evaluates the robot at scattered instants passes a fresh tracker
+//! (the margin then comes from the full decomposition); a loop passes the
+//! same one every cycle.
+//!
 //! ```
 //! use parasils_kin::controller::{Controller, TipTargets};
 //! use parasils_kin::frame::{PlatformState, Pose};
+//! use parasils_kin::MarginTracker;
 //!
-//! let mut controller = Controller::<f64>::paper();
+//! let controller = Controller::<f64>::paper();
+//! let mut tracker = MarginTracker::new();
 //! let tips = TipTargets::paper();
 //! // At P0, psi turning at 5 deg/s and theta accelerating at 5 deg/s^2.
 //! let state = PlatformState::reorientation(
@@ -27,7 +36,7 @@
 //!     [5f64.to_radians(), 0.0],
 //!     [0.0, 5f64.to_radians()],
 //! );
-//! let out = controller.step(&state, &tips)?;
+//! let out = controller.step(&state, &tips, &mut tracker)?;
 //! assert!((out.left.q.qs1.to_degrees() - 3.0889).abs() < 1e-4);
 //! assert!(out.left.margins.cos_qs2 > 0.7);
 //! // Module 1 (assumed geometry) at P0.
@@ -196,8 +205,6 @@ pub struct Controller<T: Real> {
     /// [`ActuatorLimits::assumed`]); [`ActuatorLimits::check`] checks a step
     /// against them.
     pub limits: ActuatorLimits<T>,
-    /// Module 1's weakest direction from the previous cycle.
-    tracker: MarginTracker<T>,
 }
 
 impl<T: Real> Controller<T> {
@@ -211,7 +218,6 @@ impl<T: Real> Controller<T> {
             modes: [AssemblyMode::A; 2],
             endoscope: EndoscopeGeometry::paper(),
             limits: ActuatorLimits::assumed(),
-            tracker: MarginTracker::new(),
         }
     }
 
@@ -255,19 +261,20 @@ impl<T: Real> Controller<T> {
     ///
     /// Module 1 is solved first ([`ParallelRobot::solve_tracking`]: strokes
     /// checked, the parallel margin reported for the caller to watch, from
-    /// the previous cycle's weakest direction), then the instrument modules.
-    /// Errors name the module and what failed: non-finite input, a leg or a
-    /// tip out of reach, a singular configuration, an actuator or joint
-    /// beyond its limit.
+    /// the previous cycle's weakest direction in `tracker`), then the
+    /// instrument modules. Errors name the module and what failed:
+    /// non-finite input, a leg or a tip out of reach, a singular
+    /// configuration, an actuator or joint beyond its limit.
     ///
-    /// The only state a step leaves behind is module 1's weakest direction
-    /// ([`Controller::margin_tracker`]), which makes the next margin cheaper;
-    /// every output is a function of this call's inputs (the margin to within
-    /// [`MarginTracker`]'s certified tolerance).
+    /// The controller is not changed; the only state a step leaves behind is
+    /// module 1's weakest direction in the caller's `tracker`, which makes
+    /// the next margin cheaper. Every output is a function of this call's
+    /// inputs (the margin to within [`MarginTracker`]'s certified tolerance).
     pub fn step(
-        &mut self,
+        &self,
         platform: &PlatformState<T>,
         tips: &TipTargets<T>,
+        tracker: &mut MarginTracker<T>,
     ) -> Result<ControlStep<T>, Error> {
         let frame = platform.frame()?;
         check_vector(&tips.left, ["tips.left.x", "tips.left.y", "tips.left.z"])?;
@@ -275,7 +282,7 @@ impl<T: Real> Controller<T> {
             &tips.right,
             ["tips.right.x", "tips.right.y", "tips.right.z"],
         )?;
-        let module1 = self.module1.solve_tracking(&frame, &mut self.tracker)?;
+        let module1 = self.module1.solve_tracking(&frame, tracker)?;
         let left = self
             .left
             .solve(&frame, &TipMotion::still(tips.left), self.modes[0])?;
@@ -301,28 +308,33 @@ impl<T: Real> Controller<T> {
     /// ([`Controller::step`], the same numbers).
     ///
     /// ```
-    /// use parasils_kin::{Controller, JointMotion, ModuleCommand, PlatformState, Pose, TipTargets};
+    /// use parasils_kin::{
+    ///     Controller, JointMotion, MarginTracker, ModuleCommand, PlatformState, Pose, TipTargets,
+    /// };
     ///
-    /// let mut controller = Controller::<f64>::paper();
+    /// let controller = Controller::<f64>::paper();
+    /// let mut tracker = MarginTracker::new();
     /// let tips = TipTargets::paper();
     /// let at_rest = PlatformState::at_rest(Pose::paper_start());
-    /// let held = controller.step(&at_rest, &tips)?;
+    /// let held = controller.step(&at_rest, &tips, &mut tracker)?;
     /// // The right module driven by its joints, at the joints the IK gave:
     /// // the same solution.
     /// let right = ModuleCommand::Joints(JointMotion::held(held.right.q));
-    /// let out = controller.step_commanded(&at_rest, &ModuleCommand::still(tips.left), &right)?;
+    /// let left = ModuleCommand::still(tips.left);
+    /// let out = controller.step_commanded(&at_rest, &left, &right, &mut tracker)?;
     /// assert_eq!(out.right.q, held.right.q);
     /// assert_eq!(out.left, held.left);
     /// # Ok::<(), parasils_kin::Error>(())
     /// ```
     pub fn step_commanded(
-        &mut self,
+        &self,
         platform: &PlatformState<T>,
         left: &ModuleCommand<T>,
         right: &ModuleCommand<T>,
+        tracker: &mut MarginTracker<T>,
     ) -> Result<ControlStep<T>, Error> {
         let frame = platform.frame()?;
-        let module1 = self.module1.solve_tracking(&frame, &mut self.tracker)?;
+        let module1 = self.module1.solve_tracking(&frame, tracker)?;
         let solve = |m: &Instrument<T>, command: &ModuleCommand<T>, mode| match command {
             ModuleCommand::Tip(tip) => m.solve(&frame, tip, mode),
             ModuleCommand::Joints(joints) => m.solve_joints(joints),
@@ -335,12 +347,6 @@ impl<T: Real> Controller<T> {
             left,
             right,
         })
-    }
-
-    /// Module 1's weakest direction from the previous cycle, and how many
-    /// margins took the full decomposition (see [`MarginTracker`]).
-    pub fn margin_tracker(&self) -> &MarginTracker<T> {
-        &self.tracker
     }
 }
 

@@ -3,16 +3,18 @@
 //! step or a geometry it cannot take is refused with a typed error.
 
 use parasils_kin::error::Error;
-use parasils_kin::{Controller, PlatformState, Pose, RobotGeometry, TipTargets};
+use parasils_kin::{Controller, MarginTracker, PlatformState, Pose, RobotGeometry, TipTargets};
 
 mod common;
 use common::motion::reorientation;
 
 #[test]
 fn step_includes_module_1() {
-    let mut controller = Controller::<f64>::paper();
+    let controller = Controller::<f64>::paper();
     let st = reorientation::<f64>(2.0);
-    let out = controller.step(&st, &TipTargets::paper()).expect("regular");
+    let out = controller
+        .step(&st, &TipTargets::paper(), &mut MarginTracker::new())
+        .expect("regular");
     let alone = controller.module1.solve_state(&st).expect("regular");
     assert_eq!(out.module1, alone);
     assert!(out.module1.q_dot.amax() > 1.0, "moving");
@@ -28,10 +30,10 @@ fn from_the_paper_geometry_is_the_paper_controller() {
 
 #[test]
 fn step_refuses_a_pose_out_of_module_1_reach() {
-    let mut controller = Controller::<f64>::paper();
+    let controller = Controller::<f64>::paper();
     let st = PlatformState::at_rest(Pose::from_mm_deg(15.0, -450.0, -500.0, -15.0, 10.0, -60.0));
     assert!(matches!(
-        controller.step(&st, &TipTargets::paper()),
+        controller.step(&st, &TipTargets::paper(), &mut MarginTracker::new()),
         Err(Error::LegOutOfReach { .. })
     ));
 }

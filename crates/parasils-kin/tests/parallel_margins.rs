@@ -90,12 +90,13 @@ fn solve_refuses_a_pose_next_to_a_parallel_singularity() {
 /// the same bit for bit.
 #[test]
 fn tracked_margin_along_the_paper_motion() {
-    let mut controller = Controller::<f64>::paper();
+    let controller = Controller::<f64>::paper();
+    let mut tracker = MarginTracker::new();
     let tips = TipTargets::paper();
     let mut worst = 0f64;
     for k in 0..=4500 {
         let st = reorientation::<f64>(k as f64 * 1e-3);
-        let out = controller.step(&st, &tips).expect("regular");
+        let out = controller.step(&st, &tips, &mut tracker).expect("regular");
         let exact = controller.module1.solve_state(&st).expect("regular");
         let rel =
             (out.module1.margins.parallel - exact.margins.parallel).abs() / exact.margins.parallel;
@@ -108,10 +109,10 @@ fn tracked_margin_along_the_paper_motion() {
     }
     println!("tracked margin, f64: largest relative difference {worst:.2e}");
     assert!(worst < 1e-14, "{worst:e}");
-    assert_eq!(controller.margin_tracker().counts(), (4501, 1));
+    assert_eq!(tracker.counts(), (4501, 1));
     // The direction is a unit right singular vector: |J x| = margin.
     let st = reorientation::<f64>(4.5);
-    let x = controller.margin_tracker().weakest().expect("tracked");
+    let x = tracker.weakest().expect("tracked");
     let j = controller.module1.jacobian(&st.pose).expect("reachable");
     let jx = j * Vector6::from(x);
     let m = controller
@@ -127,14 +128,15 @@ fn tracked_margin_along_the_paper_motion() {
 /// `f32` tolerance, without falling back more than a few times.
 #[test]
 fn tracked_margin_along_the_paper_motion_f32() {
-    let mut controller = Controller::<f32>::paper();
+    let controller = Controller::<f32>::paper();
+    let mut tracker = MarginTracker::new();
     let exact = ParallelRobot::<f64>::assumed();
     let tips = TipTargets::paper();
     let mut worst = 0f64;
     for k in 0..=4500 {
         let t = k as f64 * 1e-3;
         let out = controller
-            .step(&reorientation::<f32>(t), &tips)
+            .step(&reorientation::<f32>(t), &tips, &mut tracker)
             .expect("regular");
         let m = exact
             .margins(&reorientation::<f64>(t).pose)
@@ -142,7 +144,7 @@ fn tracked_margin_along_the_paper_motion_f32() {
             .parallel;
         worst = worst.max((f64::from(out.module1.margins.parallel) - m).abs() / m);
     }
-    let (n, full) = controller.margin_tracker().counts();
+    let (n, full) = tracker.counts();
     println!("tracked margin, f32: largest relative difference {worst:.2e}, {full} of {n} full");
     assert!(worst < 1e-5, "{worst:e}");
     assert!(full <= 5, "{full}");

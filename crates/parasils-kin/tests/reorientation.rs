@@ -3,20 +3,21 @@
 //! sample, in f64 and in f32, with nothing integrated.
 
 use nalgebra::Vector3;
-use parasils_kin::{Controller, Real, TipTargets};
+use parasils_kin::{Controller, MarginTracker, Real, TipTargets};
 
 mod common;
 use common::motion::reorientation;
 
 /// The largest tip drift (mm) over 4501 samples at 1 kHz, both modules.
 fn largest_drift<T: Real>() -> f64 {
-    let mut controller = Controller::<T>::paper();
+    let controller = Controller::<T>::paper();
+    let mut tracker = MarginTracker::new();
     let tips = TipTargets::<T>::paper();
     let mut worst = 0.0f64;
     for k in 0..=4500 {
         let st = reorientation::<T>(f64::from(k) / 1000.0);
         let out = controller
-            .step(&st, &tips)
+            .step(&st, &tips, &mut tracker)
             .expect("the paper's motion is regular");
         for (module, sol, target) in [
             (&controller.left, &out.left, &tips.left),
@@ -46,9 +47,13 @@ fn tips_do_not_drift_in_f32() {
 
 #[test]
 fn end_of_the_motion_matches_the_check_values() {
-    let mut controller = Controller::<f64>::paper();
+    let controller = Controller::<f64>::paper();
     let out = controller
-        .step(&reorientation(4.5), &TipTargets::paper())
+        .step(
+            &reorientation(4.5),
+            &TipTargets::paper(),
+            &mut MarginTracker::new(),
+        )
         .expect("regular");
     let deg = |q: &parasils_kin::Joints<f64>| [q.qs1.to_degrees(), q.qs2.to_degrees(), q.qs3];
     let (l, r) = (deg(&out.left.q), deg(&out.right.q));

@@ -58,10 +58,14 @@ def test_a_dict_is_read_like_the_file():
     ]
     start = {"pose": [15, 20, -460, -15, 10, -60], "tip_left_mm": [50, -50, -580]}
     table = parasils.simulate(procedure={**start, "motion": motions}, rate_hz=100.0)
-    # The insertion: 40 mm at 20 mm/s and 20 mm/s^2 takes 3 s.
+    # The insertion: 40 mm at 20 mm/s and 20 mm/s^2 takes 3 s, a whole
+    # number of periods: its last row is at 3 s, at rest on its target, and
+    # the next motion starts on the next cycle.
     first = table["motion"] == 0
-    assert table["t_s"][first][-1] < 3.0 <= table["t_s"][table["motion"] == 1][0]
-    assert table["endoscope_depth_mm"][first].max() < 40.0
+    assert table["t_s"][first][-1] == 3.0
+    assert table["t_s"][table["motion"] == 1][0] == 3.01
+    assert table["endoscope_depth_mm"][first][-1] == 40.0
+    assert table["endoscope_depth_mm"][first][:-1].max() < 40.0
     assert table["endoscope_depth_mm"][-1] == 40.0
     # The endoscope tip is P + R (0, 0, -depth), written here independently.
     for k in range(0, len(table["t_s"]), 37):
@@ -78,9 +82,9 @@ def test_a_dict_is_read_like_the_file():
     d = tips - tips[0]
     off = d - np.outer(d @ u, u)
     assert np.abs(off).max() < 1e-9
-    # Motion 1 ends where motion 2 starts (a boundary sample is the later
-    # motion's).
-    end = np.argmax(table["motion"] == 2)
+    # Motion 1 ends on its target, where motion 2 starts a cycle later.
+    end = np.argmax(table["motion"] == 2) - 1
+    assert table["motion"][end] == 1
     tip_end = np.array([table[f"left_tip_{a}_mm"][end] for a in "xyz"])
     assert np.linalg.norm(tip_end - target) < 1e-9
     assert table["left_tip_err_mm"].max() < 1e-9

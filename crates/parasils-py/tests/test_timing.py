@@ -40,6 +40,9 @@ def test_a_procedure_timed_optimally_equals_the_cli(run_cli, tmp_path):
         assert np.array_equal(bits(table[name]), bits(expected[name])), name
     trapezoid = parasils.simulate(procedure=DEMO, rate_hz=200.0)
     assert table["t_s"][-1] < trapezoid["t_s"][-1] - 1.0
-    # Module 1's sliders reach their assumed 50 mm/s, and no more.
+    # Module 1's sliders reach their assumed 50 mm/s, and no more, less the
+    # stretch of each law onto the 5 ms cycle: rates times T / T', at least
+    # 1 - 0.005 / 1.3 for the shortest motion that moves them (the 1.3 s
+    # positioning).
     rates = np.abs(np.stack([table[f"q{j}_rate_mm_s"] for j in range(1, 7)]))
-    assert 50.0 * (1 - 1e-6) < rates.max() <= 50.0 * (1 + 1e-9)
+    assert 50.0 * (1 - 0.005 / 1.3) < rates.max() <= 50.0 * (1 + 1e-9)

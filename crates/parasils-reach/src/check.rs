@@ -3,8 +3,8 @@
 //! margin.
 
 use parasils::kin::{
-    ControlStep, Controller, Error, InstrumentSingularity, Interval, Joint, PlatformState, Pose,
-    Side, TipTargets,
+    ControlStep, Controller, Error, InstrumentSingularity, Interval, Joint, MarginTracker,
+    PlatformState, Pose, Side, TipTargets,
 };
 
 use parasils_sim::{Scenario, SimulationError};
@@ -236,11 +236,13 @@ fn relative(range: &Interval<f64>, value: f64) -> Option<f64> {
 
 /// One orientation's check, as the controller runs it every cycle.
 ///
-/// Holds a [`Controller`] of its own (the parallel margin tracked from one
-/// call to the next, as in a control loop), the tips, and the start pose.
+/// Holds a [`Controller`] and a margin tracker of its own (the parallel
+/// margin tracked from one call to the next, as in a control loop), the
+/// tips, and the start pose.
 #[derive(Debug, Clone)]
 pub struct Checker {
     controller: Controller<f64>,
+    tracker: MarginTracker<f64>,
     tips: TipTargets<f64>,
     start: Pose<f64>,
 }
@@ -270,6 +272,7 @@ impl Checker {
         }
         Ok(Self {
             controller,
+            tracker: MarginTracker::new(),
             tips,
             start,
         })
@@ -307,7 +310,7 @@ impl Checker {
     /// The controller's, unchanged.
     pub fn step(&mut self, dpsi: f64, dtheta: f64) -> Result<ControlStep<f64>, Error> {
         let state = PlatformState::at_rest(self.pose(dpsi, dtheta));
-        self.controller.step(&state, &self.tips)
+        self.controller.step(&state, &self.tips, &mut self.tracker)
     }
 
     /// Whether `(dpsi, dtheta)` (rad from the start) is feasible.

@@ -4,8 +4,8 @@
 use std::collections::VecDeque;
 
 use parasils::kin::{
-    AssemblyMode, Controller, Error, Instrument, ParallelRobot, PlatformState, Pose, RobotGeometry,
-    TipTargets,
+    AssemblyMode, Controller, Error, Instrument, MarginTracker, ParallelRobot, PlatformState, Pose,
+    RobotGeometry, TipTargets,
 };
 use parasils_reach::{Constraint, ReachMap, ReachOptions, TOLERANCE_RAD};
 use parasils_sim::{Scenario, Simulation, SimulationError};
@@ -248,7 +248,8 @@ fn lines_point_by_point(scenario: &Scenario, map: &ReachMap) -> Vec<bool> {
     let line = |i: usize| -> bool {
         let [dpsi, dtheta] = map.increments_deg(i);
         let (p, q) = ((dpsi / step).round() as i64, (dtheta / step).round() as i64);
-        let mut controller = fresh;
+        let controller = fresh;
+        let mut tracker = MarginTracker::new();
         let mut passes = |dpsi: f64, dtheta: f64| {
             let pose = Pose {
                 psi: start.psi + dpsi,
@@ -256,7 +257,7 @@ fn lines_point_by_point(scenario: &Scenario, map: &ReachMap) -> Vec<bool> {
                 ..start
             };
             controller
-                .step(&PlatformState::at_rest(pose), &tips)
+                .step(&PlatformState::at_rest(pose), &tips, &mut tracker)
                 .is_ok()
         };
         if (p, q) == (0, 0) {

@@ -19,8 +19,9 @@
 //! };
 //! let sim = Simulation::new(scenario)?;
 //! // 40 mm at the default 20 mm/s and 20 mm/s^2: 1 s to reach 20 mm/s, 1 s
-//! // at it, 1 s to stop; then the paper's 4.5 s turn.
-//! assert!((sim.duration() - 7.5).abs() < 1e-12);
+//! // at it, 1 s to stop (rows 0 to 3000 at 1 kHz); then, from the next
+//! // cycle, the paper's 4.5 s turn: its last row at 3.001 + 4.5 s.
+//! assert!((sim.duration() - 7.501).abs() < 1e-12);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 

@@ -54,6 +54,9 @@ pub struct Summary {
     usage: [[f64; ACTUATOR_COUNT]; 2],
     /// The time-optimal law's phases, for a run timed with it.
     phases: Vec<NamedPhase>,
+    /// A single planned turn's law duration before it was stretched onto
+    /// the control cycle, s, when the stretch changed it.
+    planned_s: Option<f64>,
 }
 
 impl Default for Summary {
@@ -105,6 +108,7 @@ impl Summary {
             limits: ActuatorLimits::assumed(),
             usage: [[0.0; ACTUATOR_COUNT]; 2],
             phases: Vec::new(),
+            planned_s: None,
         }
     }
 
@@ -121,6 +125,7 @@ impl Summary {
         s.procedure = sim.procedure_check().cloned();
         s.limits = sim.controller().limits;
         s.phases = optimal_phases(sim);
+        s.planned_s = planned_turn(sim).filter(|&t| t != sim.duration());
         s
     }
 
@@ -171,7 +176,7 @@ impl fmt::Display for Summary {
         let r = |c: &Column| self.range(c).unwrap_or((f64::NAN, f64::NAN));
         let p = |c: &Column| Fixed(self.peak(c).unwrap_or(f64::NAN), 4);
         let (t0, t1) = r(&columns::T_S);
-        writeln!(
+        write!(
             f,
             "duration {} s, {} samples ({} to {} s)",
             Fixed(t1 - t0, 3),
@@ -179,6 +184,14 @@ impl fmt::Display for Summary {
             Fixed(t0, 3),
             Fixed(t1, 3)
         )?;
+        match self.planned_s {
+            Some(planned) => writeln!(
+                f,
+                "; the law's {} s stretched to whole periods",
+                Fixed(planned, 4)
+            )?,
+            None => writeln!(f)?,
+        }
         writeln!(f, "platform")?;
         for (a, angle, rate, acc) in [
             (
@@ -297,7 +310,8 @@ impl fmt::Display for Usage<'_> {
     }
 }
 
-/// A procedure's motions as a table (type, name, start, duration, peak
+/// A procedure's motions as a table (type, name, start, duration on the
+/// time line, the law's planned and stretched durations, peak
 /// rates, smallest margins, largest tip error), then every supervisor
 /// warning with its motion and times.
 struct MotionTable<'a>(&'a ProcedureCheck);
@@ -307,7 +321,7 @@ impl fmt::Display for MotionTable<'_> {
         use parasils::supervisor::Margin;
         writeln!(
             f,
-            "motion type        name                         start_s duration_s q_rate_mm_s qs12_rate_deg_s qs3_rate_mm_s min_cos_qs2 min_serial min_parallel min_stroke_mm tip_err_mm"
+            "motion type        name                         start_s duration_s planned_s stretched_s q_rate_mm_s qs12_rate_deg_s qs3_rate_mm_s min_cos_qs2 min_serial min_parallel min_stroke_mm tip_err_mm"
         )?;
         for m in &self.0.motions {
             let s = &m.smallest;
@@ -321,13 +335,15 @@ impl fmt::Display for MotionTable<'_> {
                 .collect();
             writeln!(
                 f,
-                "{:>6} {}:{:<10} {:<28} {:>7} {:>10} {:>11} {:>15} {:>13} {:>11} {:>10} {:>12} {:>13} {:>10.3e}",
+                "{:>6} {}:{:<10} {:<28} {:>7} {:>10} {:>9} {:>11} {:>11} {:>15} {:>13} {:>11} {:>10} {:>12} {:>13} {:>10.3e}",
                 m.name.index,
                 m.name.motion_type.number(),
                 m.name.type_name(),
                 name,
                 Fixed(m.start_s, 3),
                 Fixed(m.duration_s, 3),
+                Fixed(m.planned_s, 4),
+                Fixed(m.stretched_s, 4),
                 Fixed(m.peak_module1_mm_s, 3),
                 Fixed(m.peak_joint_rad_s.to_degrees(), 3),
                 Fixed(m.peak_qs3_mm_s, 3),
@@ -405,6 +421,27 @@ impl fmt::Display for CheckReport<'_> {
     }
 }
 
+/// The law's own duration of `sim`'s single planned turn (trapezoid or
+/// time-optimal), before its stretch onto the control cycle; `None` for a
+/// procedure or a run with commands.
+fn planned_turn(sim: &Simulation) -> Option<f64> {
+    let scenario = sim.scenario();
+    if sim.procedure().is_some() || scenario.has_commands() {
+        return None;
+    }
+    if let Some(law) = sim.optimal() {
+        return Some(law.duration());
+    }
+    parasils::Reorientation::new(
+        scenario.start(),
+        scenario.goal_rad(),
+        [scenario.limits(); 2],
+        scenario.sync,
+    )
+    .ok()
+    .map(|r| r.duration())
+}
+
 /// A phase of a time-optimal law, with the motion it belongs to in a
 /// procedure.
 type NamedPhase = (Option<MotionName>, PhaseSummary);
@@ -413,17 +450,36 @@ type NamedPhase = (Option<MotionName>, PhaseSummary);
 /// a procedure, every motion's, on the procedure's time line.
 fn optimal_phases(sim: &Simulation) -> Vec<NamedPhase> {
     if let Some(law) = sim.optimal() {
-        return law.phases().into_iter().map(|p| (None, p)).collect();
+        // The law's times, stretched onto the control cycle (`T' / T`).
+        let stretch = if law.duration() > 0.0 {
+            sim.duration() / law.duration()
+        } else {
+            1.0
+        };
+        return law
+            .phases()
+            .into_iter()
+            .map(|p| {
+                let phase = PhaseSummary {
+                    start_s: p.start_s * stretch,
+                    end_s: p.end_s * stretch,
+                    ..p
+                };
+                (None, phase)
+            })
+            .collect();
     }
     let Some(plan) = sim.procedure() else {
         return Vec::new();
     };
     let mut out = Vec::new();
     for m in &plan.motions {
+        // The law's times, stretched onto the control cycle.
+        let r = m.stretch.ratio();
         for p in m.optimal.iter().flat_map(OptimalMotion::phases) {
             let phase = PhaseSummary {
-                start_s: p.start_s + m.start_s,
-                end_s: p.end_s + m.start_s,
+                start_s: p.start_s / r + m.start_s,
+                end_s: p.end_s / r + m.start_s,
                 ..p
             };
             out.push((Some(m.name.clone()), phase));

@@ -8,7 +8,9 @@
 )]
 
 use nalgebra::Vector3;
-use parasils::kin::{AssemblyMode, Controller, Joints, ParallelRobot, PlatformState, Pose};
+use parasils::kin::{
+    AssemblyMode, Controller, Joints, MarginTracker, ParallelRobot, PlatformState, Pose,
+};
 use parasils::motions::{Motion, Moving};
 use parasils_sim::engine::procedure::ProcedurePlan;
 use parasils_sim::motion::{MotionGoal, MotionLimits, MotionSpec, Port};
@@ -161,9 +163,8 @@ fn the_endoscope_goes_in_along_the_platform_axis() -> Result {
 /// fresh controller.
 fn joints_at(plan: &ProcedurePlan, controller: &Controller<f64>, t: f64) -> Result<[[f64; 3]; 3]> {
     let s = plan.motions[0].motion.sample(t);
-    let out = controller
-        .clone()
-        .step_commanded(&s.platform, &s.left, &s.right)?;
+    let out =
+        controller.step_commanded(&s.platform, &s.left, &s.right, &mut MarginTracker::new())?;
     Ok([
         out.left.q.to_array(),
         out.left.q_dot.to_array(),
@@ -308,7 +309,8 @@ fn motions_join_at_rest_where_the_previous_one_ended() -> Result {
     let sim = Simulation::new(scenario)?;
     let plan = sim.procedure().ok_or("a procedure")?;
     assert_eq!(plan.motions.len(), 6);
-    let mut controller = *sim.controller();
+    let controller = *sim.controller();
+    let mut tracker = MarginTracker::new();
     for pair in plan.motions.windows(2) {
         let end = pair[0].motion.sample(pair[0].duration());
         let start = pair[1].motion.sample(0.0);
@@ -318,15 +320,22 @@ fn motions_join_at_rest_where_the_previous_one_ended() -> Result {
             assert_eq!(s.platform.velocity, parasils::kin::PoseRate::zero());
             assert_eq!(s.endoscope.velocity, 0.0);
         }
-        let a = controller.step_commanded(&end.platform, &end.left, &end.right)?;
-        let b = controller.step_commanded(&start.platform, &start.left, &start.right)?;
+        let a = controller.step_commanded(&end.platform, &end.left, &end.right, &mut tracker)?;
+        let b =
+            controller.step_commanded(&start.platform, &start.left, &start.right, &mut tracker)?;
         for (x, y) in [(a.left, b.left), (a.right, b.right)] {
             for k in 0..3 {
                 assert!((x.q.to_array()[k] - y.q.to_array()[k]).abs() < 1e-9);
                 assert!(x.q_dot.to_array()[k].abs() < 1e-9 && y.q_dot.to_array()[k].abs() < 1e-9);
             }
         }
-        assert_eq!(pair[1].start_s, pair[0].start_s + pair[0].duration());
+        // On the control cycle: the next motion starts on the cycle after
+        // the last row of the one before.
+        assert_eq!(
+            pair[1].first_sample,
+            pair[0].first_sample + pair[0].periods + 1
+        );
+        assert_eq!(pair[0].periods, pair[0].stretch.periods());
     }
     // Sample to sample, positions never jump more than the fastest rate
     // allows.
@@ -568,9 +577,13 @@ fn a_stop_brings_the_cut_motion_to_rest_at_its_own_limits() -> Result {
         let (sim, records) = run(vec![first, MotionSpec::new(MotionGoal::Stop)])?;
         let plan = sim.procedure().ok_or("a procedure")?;
         let cut = plan.motions[1].start_s;
-        assert!(
-            plan.motions[0].motion.duration() > cut,
-            "the first motion is cut"
+        assert!(plan.motions[0].cut, "the first motion is cut");
+        assert!(plan.motions[0].duration() > cut);
+        // The stop starts on the row the cut motion stops at, from its
+        // moving state there.
+        assert_eq!(
+            plan.motions[1].first_sample,
+            plan.motions[0].first_sample + plan.motions[0].periods
         );
         // The stop keeps the type of what it stops, and ends at rest.
         assert_eq!(Some(plan.motions[1].motion.motion_type().number()), kind);
@@ -606,7 +619,7 @@ fn a_stop_brings_the_cut_motion_to_rest_at_its_own_limits() -> Result {
         // 5 deg/s^2 by default): it lasts max |v_i| / a_i over its
         // coordinates at the cut.
         let (lin, ang) = (20.0, 5f64.to_radians());
-        let expected = match plan.motions[0].motion.moving_at(cut) {
+        let expected = match plan.motions[0].moving_at_row(plan.motions[0].periods) {
             Moving::Pose(s) => s
                 .iter()
                 .enumerate()
@@ -617,14 +630,20 @@ fn a_stop_brings_the_cut_motion_to_rest_at_its_own_limits() -> Result {
             Moving::Angles(s) => s.iter().map(|a| a.velocity.abs() / ang).fold(0.0, f64::max),
         };
         assert!(expected > 0.1, "moving at the cut");
-        assert!((plan.motions[1].duration() - expected).abs() < 1e-12 * expected.max(1.0));
+        let stop = &plan.motions[1];
+        assert!((stop.planned_s() - expected).abs() < 1e-12 * expected.max(1.0));
+        // It starts moving, so it is held at its end to the next whole
+        // period rather than stretched.
+        assert_eq!(stop.stretch.ratio(), 1.0);
+        assert_eq!(stop.periods, (expected * 1000.0).ceil() as usize);
     }
     Ok(())
 }
 
 #[test]
 fn until_s_after_the_end_rests_and_cut_motions_need_a_matching_successor() -> Result {
-    // A dwell: the insertion lasts 3 s; the reorientation starts at 5 s.
+    // A dwell: the insertion lasts 3 s and rests to its `until_s`, its last
+    // row at 5 s; the reorientation starts on the next cycle, 5.001 s.
     let (sim, records) = run(vec![
         until(
             MotionSpec::new(MotionGoal::Insert {
@@ -636,8 +655,9 @@ fn until_s_after_the_end_rests_and_cut_motions_need_a_matching_successor() -> Re
         reorient(5.0, 5.0, false),
     ])?;
     let plan = sim.procedure().ok_or("a procedure")?;
-    assert_eq!(plan.motions[1].start_s, 5.0);
-    for r in records.iter().filter(|r| r.t > 3.0 && r.t < 5.0) {
+    assert_eq!(plan.motions[1].start_s, 5.001);
+    assert_eq!(plan.motions[0].periods, 5000);
+    for r in records.iter().filter(|r| r.t > 3.0 && r.t <= 5.0) {
         assert_eq!(r.endoscope_depth, 40.0);
         assert_eq!(r.motion, 0);
         assert_eq!(r.euler_dot, [0.0; 3]);

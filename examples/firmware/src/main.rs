@@ -513,7 +513,7 @@ fn run(out: &mut Out) -> bool {
 
     // Every cycle's parallel margin tracked from the previous one: the only
     // full decomposition is the seed, in `OnlineController::new`.
-    let (margins, full) = rt.online.controller().margin_tracker().counts();
+    let (margins, full) = rt.online.margin_tracker().counts();
     out.str("module 1 parallel margins: ").u64(margins);
     out.str(", by the full SVD: ").u64(full);
     out.str(" (the seed before the loop; every cycle tracked)")

@@ -45,10 +45,11 @@ use crate::real::Real;
 /// that the next parallel margin costs one factorisation instead of a full
 /// singular value decomposition (see the [module docs](self)).
 ///
-/// A [`Controller`](crate::controller::Controller) holds one; a loop that
-/// calls [`ParallelRobot::solve_tracking`](crate::ParallelRobot::solve_tracking)
-/// itself keeps one per module 1. A new tracker knows nothing yet: its first
-/// margin is the full decomposition.
+/// A control loop keeps one per module 1 and passes it to every
+/// [`Controller::step`](crate::controller::Controller::step) (or to
+/// [`ParallelRobot::solve_tracking`](crate::ParallelRobot::solve_tracking)):
+/// the controller itself holds no state. A new tracker knows nothing yet:
+/// its first margin is the full decomposition.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MarginTracker<T> {
     /// The unit eigenvector of `J^T J` for the smallest eigenvalue last cycle

@@ -3,9 +3,12 @@
 //!
 //! Two paths, one loop shape:
 //! - **Without commands** (the paper's run), the reorientation is planned
-//!   rest to rest as a [`Reorientation`] and each sample's state goes through
-//!   [`Controller::step`]: the records are those of every earlier release,
-//!   to the last bit.
+//!   rest to rest as a [`Reorientation`] (or its time-optimal law),
+//!   stretched onto the control cycle ([`OnCycle`]: a whole number of
+//!   periods, the last sample at rest exactly on the goal), and each
+//!   sample's state goes through [`Controller::step`]. The paper's 4.5 s at
+//!   1 kHz already is a whole number of periods: its records are those of
+//!   every earlier release, to the last bit.
 //! - **With commands** (retargets, a stop; see [`Command`]), the run is an
 //!   [`OnlineController`] loop, as a robot's controller runs it: the
 //!   reorientation is commanded at `t = 0`, and each command at the first
@@ -25,14 +28,14 @@
 //! however long the run.
 
 use nalgebra::Vector3;
-use parasils::kin::LimitError;
 use parasils::kin::{
     AssemblyMode, ControlStep, Controller, Instrument, InstrumentSolution, PlatformState,
     TipTargets,
 };
+use parasils::kin::{LimitError, MarginTracker};
 use parasils::supervisor::{MarginSet, Margins};
 use parasils::traj::Sampler;
-use parasils::{MotionKind, OnlineController, Reorientation, Supervisor};
+use parasils::{MotionKind, OnCycle, OnlineController, Reorientation, Supervisor};
 use procedure::{ProcedureCheck, ProcedurePlan};
 
 use crate::scenario::Timing;
@@ -272,14 +275,14 @@ pub struct Scheduled {
 )]
 enum Plan {
     /// Without commands: the rest-to-rest reorientation.
-    Rest(Sampler<f64, Reorientation<f64>>),
+    Rest(Sampler<f64, OnCycle<Reorientation<f64>, f64>>),
     /// With commands: the online controller, at rest at the start, and the
     /// sampling rate.
     Online(OnlineController<f64>, f64),
     /// A procedure: its motions on one time line.
     Procedure(Sampler<f64, ProcedurePlan>),
     /// Without commands, timed to the actuators' limits.
-    Optimal(Sampler<f64, OptimalReorientation>),
+    Optimal(Sampler<f64, OnCycle<OptimalReorientation, f64>>),
 }
 
 /// What a record says besides the kinematics: the command and motion it
@@ -474,7 +477,8 @@ impl Simulation {
                 &options,
             )
             .map_err(SimulationError::Timing)?;
-            let duration = plan.duration();
+            let plan = OnCycle::new(plan, scenario.rate_hz).map_err(SimulationError::Trajectory)?;
+            let duration = plan.stretch().duration();
             let sampler =
                 Sampler::new(plan, scenario.rate_hz).map_err(SimulationError::Trajectory)?;
             let schedule = vec![Scheduled {
@@ -488,16 +492,18 @@ impl Simulation {
         } else if scenario.has_commands() {
             Self::plan_online(&scenario, controller, tips)?
         } else {
-            let sampler = reorientation
-                .sampler(scenario.rate_hz)
+            let turn = OnCycle::new(reorientation, scenario.rate_hz)
                 .map_err(SimulationError::Trajectory)?;
+            let duration = turn.stretch().duration();
+            let sampler =
+                Sampler::new(turn, scenario.rate_hz).map_err(SimulationError::Trajectory)?;
             let schedule = vec![Scheduled {
                 command: scenario.commands()[0],
                 goal_rad: Some(scenario.goal_rad()),
                 sample: 0,
                 t_s: 0.0,
             }];
-            let (count, duration) = (sampler.sample_count(), reorientation.duration());
+            let count = sampler.sample_count();
             (Plan::Rest(sampler), schedule, count, duration)
         };
         let [_, _, _, psi, theta, phi] = scenario.start_mm_deg;
@@ -541,7 +547,7 @@ impl Simulation {
     /// The time-optimal law, for a run timed with [`Timing::Optimal`].
     pub fn optimal(&self) -> Option<&OptimalReorientation> {
         match &self.plan {
-            Plan::Optimal(sampler) => Some(sampler.motion()),
+            Plan::Optimal(sampler) => Some(sampler.motion().motion()),
             _ => None,
         }
     }
@@ -648,14 +654,14 @@ impl Simulation {
         let inner = match &self.plan {
             Plan::Rest(sampler) => Inner::Rest {
                 sampler: sampler.clone(),
-                controller: self.controller,
+                tracker: MarginTracker::new(),
             },
             Plan::Procedure(sampler) => {
                 Inner::Procedure(ProcedureRun::new(sampler.clone(), self.controller))
             }
             Plan::Optimal(sampler) => Inner::Optimal {
                 sampler: sampler.clone(),
-                controller: self.controller,
+                tracker: MarginTracker::new(),
             },
             Plan::Online(online, rate) => Inner::Online(OnlineRun {
                 controller: *online,
@@ -884,14 +890,14 @@ pub struct Records<'a> {
 )]
 enum Inner {
     Rest {
-        sampler: Sampler<f64, Reorientation<f64>>,
-        controller: Controller<f64>,
+        sampler: Sampler<f64, OnCycle<Reorientation<f64>, f64>>,
+        tracker: MarginTracker<f64>,
     },
     Online(OnlineRun),
     Procedure(ProcedureRun),
     Optimal {
-        sampler: Sampler<f64, OptimalReorientation>,
-        controller: Controller<f64>,
+        sampler: Sampler<f64, OnCycle<OptimalReorientation, f64>>,
+        tracker: MarginTracker<f64>,
     },
 }
 
@@ -899,13 +905,14 @@ enum Inner {
 /// the controller's step, checked against the actuators' limits.
 fn planned_record(
     sim: &Simulation,
-    controller: &mut Controller<f64>,
+    tracker: &mut MarginTracker<f64>,
     k: usize,
     t: f64,
     state: &PlatformState<f64>,
 ) -> Result<Record, SimulationError> {
+    let controller = &sim.controller;
     let out = controller
-        .step(state, &sim.tips)
+        .step(state, &sim.tips, tracker)
         .map_err(|error| SimulationError::Kinematics {
             t,
             sample: Some(k),
@@ -944,6 +951,7 @@ fn check_limits(
 struct ProcedureRun {
     sampler: Sampler<f64, ProcedurePlan>,
     controller: Controller<f64>,
+    tracker: MarginTracker<f64>,
     done: bool,
 }
 
@@ -952,6 +960,7 @@ impl ProcedureRun {
         Self {
             sampler,
             controller,
+            tracker: MarginTracker::new(),
             done: false,
         }
     }
@@ -992,7 +1001,12 @@ impl ProcedureRun {
         let result = (|| {
             let out = self
                 .controller
-                .step_commanded(&sample.platform, &sample.left, &sample.right)
+                .step_commanded(
+                    &sample.platform,
+                    &sample.left,
+                    &sample.right,
+                    &mut self.tracker,
+                )
                 .map_err(fail)?;
             let endoscope_tip = self
                 .controller
@@ -1052,19 +1066,13 @@ impl Iterator for Records<'_> {
     fn next(&mut self) -> Option<Self::Item> {
         let sim = self.sim;
         match &mut self.inner {
-            Inner::Rest {
-                sampler,
-                controller,
-            } => {
+            Inner::Rest { sampler, tracker } => {
                 let s = sampler.next()?;
-                Some(planned_record(sim, controller, s.index, s.time, &s.state))
+                Some(planned_record(sim, tracker, s.index, s.time, &s.state))
             }
-            Inner::Optimal {
-                sampler,
-                controller,
-            } => {
+            Inner::Optimal { sampler, tracker } => {
                 let s = sampler.next()?;
-                Some(planned_record(sim, controller, s.index, s.time, &s.state))
+                Some(planned_record(sim, tracker, s.index, s.time, &s.state))
             }
             Inner::Procedure(run) => run.next(sim).map(|r| r.map(|(record, _)| record)),
             Inner::Online(run) => {

@@ -1,39 +1,50 @@
-//! A procedure planned: its motions one after the other on one time line,
-//! each from the state the previous one ended in, and the checks made before
-//! any output (see [`Simulation::new`](super::Simulation::new)).
+//! A procedure planned: its motions one after the other on one time line
+//! of samples, each on the control cycle, each from the state the previous
+//! one ended in.
 
 use nalgebra::Vector3;
-use parasils::kin::ActuatorLimits;
 use parasils::kin::{
-    Controller, Instrument, JointMotion, Joints, ModuleCommand, PlatformFrame, PlatformState, Pose,
-    TipTargets,
+    Controller, JointMotion, Joints, MarginTracker, ModuleCommand, PlatformState, Pose,
 };
 use parasils::motions::{
     Insertion, Manipulation, Motion, MotionSample, MotionType, Moving, Port, Positioning,
     RobotState, Turning,
 };
-use parasils::supervisor::{Margin, Margins};
 use parasils::traj::Synchronization;
-use parasils::{Reorientation, Supervisor};
+use parasils::{Reorientation, Stretch, TimeScaled};
 
-use super::SimulationError;
+use crate::engine::SimulationError;
 use crate::motion::{MotionGoal, MotionLimits, MotionName, MotionSpec};
-use crate::record::Record;
 use crate::scenario::Scenario;
 use crate::scenario::Timing;
 use crate::timing::{MotionPath, OptimalMotion, TimingError, TimingOptions};
 use parasils_io::Shortest;
 
-/// One motion placed on the procedure's time line.
+/// One motion placed on the procedure's time line, on the control cycle.
+///
+/// Its rows are at its own `t = 0, dt, ..., L dt` (`dt = 1 / rate`), the
+/// first at its start and, unless it is cut short, the last one at rest
+/// exactly on its target; the next motion's first row is the next cycle's.
+/// A motion cut short by its `until_s` owns the rows `0, ..., L - 1`: the
+/// motion that continues it starts at row `L`, from its moving state there.
 #[derive(Debug, Clone)]
 pub struct PlannedMotion {
     /// The motion, from the state the previous one ended in.
     pub motion: Motion<f64>,
-    /// When it starts, s from the procedure's start.
+    /// When it starts, s from the procedure's start: `first_sample / rate`.
     pub start_s: f64,
-    /// How long it lasts on the time line, s: its duration, or its
-    /// `until_s` (cut short before its end, or resting after it).
+    /// How long it lasts on the time line, s: `L / rate`, its stretched
+    /// duration, or its `until_s` rounded up to a whole period (cut short
+    /// before its end, or resting after it).
     pub length_s: f64,
+    /// The index of its first row in the procedure's samples.
+    pub first_sample: usize,
+    /// `L`, its length in periods (see [`PlannedMotion`]).
+    pub periods: usize,
+    /// Whether its `until_s` cuts it short (its last row is not at rest).
+    pub cut: bool,
+    /// Its law on the control cycle: the planned and the stretched duration.
+    pub stretch: Stretch<f64>,
     /// How messages and outputs name it.
     pub name: MotionName,
     /// The time-optimal law that times it instead of `motion`'s profile,
@@ -42,19 +53,63 @@ pub struct PlannedMotion {
 }
 
 impl PlannedMotion {
-    /// Its duration, s.
+    /// Its duration on the control cycle (stretched), s.
     pub fn duration(&self) -> f64 {
+        self.stretch.duration()
+    }
+
+    /// Its law's own duration (as planned, before the stretch), s.
+    pub fn planned_s(&self) -> f64 {
+        self.stretch.planned()
+    }
+
+    /// The law at its own time `tau` (s), unscaled.
+    fn law(&self, tau: f64) -> MotionSample<f64> {
         match &self.optimal {
-            Some(o) => o.duration(),
-            None => self.motion.duration(),
+            Some(o) => o.sample_at(tau),
+            None => self.motion.sample(tau),
         }
     }
 
-    /// The motion at `t` (s from its start).
+    /// Its row `j` (at its own `t = j / rate`): the law at the scaled time,
+    /// and, from its stretched end on, the law's end state itself.
+    pub fn sample_index(&self, j: usize) -> MotionSample<f64> {
+        let tau = self.stretch.law_time(j);
+        if j >= self.stretch.periods() {
+            self.law(tau)
+        } else {
+            self.law(tau).time_scaled(self.stretch.ratio())
+        }
+    }
+
+    /// The motion at `t` (s from its start), on the control cycle.
     pub fn sample(&self, t: f64) -> MotionSample<f64> {
-        match &self.optimal {
-            Some(o) => o.sample_at(t),
-            None => self.motion.sample(t),
+        if t >= self.stretch.duration() {
+            return self.law(self.stretch.planned());
+        }
+        let r = self.stretch.ratio();
+        self.law(t * r).time_scaled(r)
+    }
+
+    /// Its own coordinates and their rates at row `j`, on the control
+    /// cycle: what a motion continuing it starts from.
+    pub fn moving_at_row(&self, j: usize) -> Moving<f64> {
+        let tau = self.stretch.law_time(j);
+        let m = self.motion.moving_at(tau);
+        if j >= self.stretch.periods() {
+            m
+        } else {
+            m.time_scaled(self.stretch.ratio())
+        }
+    }
+
+    /// The index of the next motion's first row: one cycle after this
+    /// one's last row, or, cut short, the row this one stops at.
+    fn next_sample(&self) -> usize {
+        if self.cut {
+            self.first_sample + self.periods
+        } else {
+            self.first_sample + self.periods + 1
         }
     }
 }
@@ -66,7 +121,10 @@ pub struct ProcedurePlan {
     pub motions: Vec<PlannedMotion>,
     /// The state at the start (joints from the IK of the start tips).
     pub start: RobotState<f64>,
-    duration: f64,
+    /// The control rate, Hz.
+    pub rate_hz: f64,
+    /// The last row's index.
+    last_sample: usize,
     /// Why planning stopped early: the end of the last motion could not be
     /// solved, so that no later motion can start. The samples up to that end
     /// are still planned, so that a run finds the first one that fails.
@@ -89,16 +147,22 @@ fn tips_of(
 }
 
 impl ProcedurePlan {
-    /// Plans every motion of `scenario` in order; the end of each (solved
-    /// by `controller`) is the start of the next, or, for a motion cut short
-    /// by its `until_s`, its moving state there.
+    /// Plans every motion of `scenario` in order, each on the control cycle
+    /// (see [`PlannedMotion`]); the end of each (solved by `controller`) is
+    /// the start of the next, or, for a motion cut short by its `until_s`,
+    /// its moving state there.
     ///
     /// # Errors
     /// [`SimulationError::Motion`] naming the motion whose profile cannot be
     /// planned or that cannot follow the one before; [`SimulationError::Kinematics`]
-    /// at `t = 0` when the start cannot be solved.
+    /// at `t = 0` when the start cannot be solved;
+    /// [`SimulationError::Trajectory`] for a rate that is not positive and
+    /// finite.
     pub fn new(scenario: &Scenario, controller: &Controller<f64>) -> Result<Self, SimulationError> {
-        let mut solver = *controller;
+        let rate = scenario.rate_hz;
+        Stretch::new(0.0, rate).map_err(SimulationError::Trajectory)?;
+        let solver = *controller;
+        let mut tracker = MarginTracker::new();
         let tips = scenario.tips();
         let start_pose = scenario.start();
         let at_start = |error| SimulationError::Kinematics {
@@ -107,7 +171,7 @@ impl ProcedurePlan {
             error,
         };
         let first = solver
-            .step(&PlatformState::at_rest(start_pose), &tips)
+            .step(&PlatformState::at_rest(start_pose), &tips, &mut tracker)
             .map_err(at_start)?;
         solver
             .endoscope
@@ -119,7 +183,7 @@ impl ProcedurePlan {
             endoscope_depth: scenario.endoscope_depth_mm,
         };
         let mut state = start;
-        let mut t = 0.0;
+        let mut next_sample = 0usize;
         let mut motions: Vec<PlannedMotion> = Vec::with_capacity(scenario.motions.len());
         // The previous motion's moving state when it was cut short, with
         // its limits (a stop decelerates at them).
@@ -149,8 +213,12 @@ impl ProcedurePlan {
                     String::from("a stop needs a motion before it to stop"),
                 ));
             }
+            // A law that starts moving keeps its start: held at its end
+            // until the next whole period instead of stretched.
+            let mut from_moving = false;
             let motion = match (&spec.goal, moving) {
                 (goal, Some((m, limits))) if !m.at_rest() || *goal == MotionGoal::Stop => {
+                    from_moving = !m.at_rest();
                     continued(controller, &state, spec, m, limits).map_err(|e| match e {
                         Continue::Trajectory(e) => fail(&name, 0.0, SimulationError::Trajectory(e)),
                         Continue::Mismatch(why) => order(&name, why),
@@ -158,9 +226,7 @@ impl ProcedurePlan {
                 }
                 (MotionGoal::Stop, _) => {
                     // The motion before ended at rest: a stop of no length.
-                    let last = motions
-                        .last()
-                        .map(|m| m.motion.moving_at(m.motion.duration()));
+                    let last = motions.last().map(|m| m.moving_at_row(m.periods));
                     let m = last.ok_or_else(|| order(&name, String::from("nothing to stop")))?;
                     continued(controller, &state, spec, m, spec.limits).map_err(|e| match e {
                         Continue::Trajectory(e) => fail(&name, 0.0, SimulationError::Trajectory(e)),
@@ -178,9 +244,21 @@ impl ProcedurePlan {
                     .map_err(|e| fail(&name, 0.0, SimulationError::Timing(e)))?,
                 Timing::Trapezoid => None,
             };
-            let duration = optimal.as_ref().map_or(motion.duration(), |o| o.duration());
-            let length = spec.until_s.unwrap_or(duration);
-            let cut = length < duration;
+            let planned = optimal.as_ref().map_or(motion.duration(), |o| o.duration());
+            let stretch = if from_moving {
+                Stretch::padded(planned, rate)
+            } else {
+                Stretch::new(planned, rate)
+            }
+            .map_err(|e| fail(&name, 0.0, SimulationError::Trajectory(e)))?;
+            let periods = match spec.until_s {
+                Some(until) => Stretch::padded(until, rate)
+                    .map_err(|e| fail(&name, 0.0, SimulationError::Trajectory(e)))?
+                    .periods(),
+                None => stretch.periods(),
+            };
+            let cut = periods < stretch.periods();
+            let (length, duration) = (periods as f64 / rate, stretch.duration());
             if cut && optimal.is_some() {
                 return Err(order(
                     &name,
@@ -201,90 +279,121 @@ impl ProcedurePlan {
                     ),
                 ));
             }
-            let end = match &optimal {
-                Some(o) => o.sample_at(length),
-                None => motion.sample(length),
+            let placed = PlannedMotion {
+                motion,
+                start_s: next_sample as f64 / rate,
+                length_s: length,
+                first_sample: next_sample,
+                periods,
+                cut,
+                stretch,
+                name,
+                optimal,
             };
-            let out = match solver.step_commanded(&end.platform, &end.left, &end.right) {
-                Ok(out) => out,
-                Err(error) => {
-                    let failure = fail(
-                        &name,
-                        length,
-                        SimulationError::Kinematics {
-                            t: t + length,
-                            sample: None,
-                            error,
-                        },
-                    );
-                    motions.push(PlannedMotion {
-                        motion,
-                        start_s: t,
-                        length_s: length,
-                        name,
-                        optimal,
-                    });
-                    return Ok(Self {
-                        motions,
-                        start,
-                        duration: t + length,
-                        failure: Some(failure),
-                    });
-                }
-            };
+            let end = placed.sample_index(periods);
+            let out =
+                match solver.step_commanded(&end.platform, &end.left, &end.right, &mut tracker) {
+                    Ok(out) => out,
+                    Err(error) => {
+                        let failure = fail(
+                            &placed.name,
+                            length,
+                            SimulationError::Kinematics {
+                                t: placed.start_s + length,
+                                sample: None,
+                                error,
+                            },
+                        );
+                        let last_sample = placed.first_sample + periods;
+                        motions.push(placed);
+                        return Ok(Self {
+                            motions,
+                            start,
+                            rate_hz: rate,
+                            last_sample,
+                            failure: Some(failure),
+                        });
+                    }
+                };
             state = RobotState {
                 pose: end.platform.pose,
                 joints: [out.left.q, out.right.q],
                 endoscope_depth: end.endoscope.position,
             };
-            moving = cut.then(|| (motion.moving_at(length), spec.limits));
-            motions.push(PlannedMotion {
-                motion,
-                start_s: t,
-                length_s: length,
-                name,
-                optimal,
-            });
-            t += length;
+            moving = cut.then(|| (placed.moving_at_row(periods), spec.limits));
+            next_sample = placed.next_sample();
+            motions.push(placed);
         }
+        let last_sample = motions.last().map_or(0, |m| m.first_sample + m.periods);
         Ok(Self {
             motions,
             start,
-            duration: t,
+            rate_hz: rate,
+            last_sample,
             failure: None,
         })
     }
 
     /// Why planning stopped before the last motion, if it did (see
-    /// [`Simulation::new`](super::Simulation::new), which runs the samples
+    /// [`Simulation::new`](crate::engine::Simulation::new), which runs the samples
     /// first to name the first that fails).
     pub fn failure(&self) -> Option<&SimulationError> {
         self.failure.as_ref()
     }
 
-    /// The whole procedure's duration, s.
+    /// The whole procedure's duration, s: its last row's time.
     pub fn duration(&self) -> f64 {
-        self.duration
+        self.last_sample as f64 / self.rate_hz
     }
 
-    /// The motion under way at `t` (s from the procedure's start) and its
-    /// sample there.
-    pub fn sample_at(&self, t: f64) -> (usize, MotionSample<f64>) {
-        let k = self.index_at(t);
-        match self.motions.get(k) {
-            Some(m) => (k, m.sample(t - m.start_s)),
+    /// The number of rows, `t = k / rate` for `k = 0..n`.
+    pub fn sample_count(&self) -> usize {
+        self.last_sample + 1
+    }
+
+    /// The motion under way at row `k` (at `t = k / rate`) and its sample
+    /// there.
+    pub fn sample_index(&self, k: usize) -> (usize, MotionSample<f64>) {
+        let i = self.motion_at(k);
+        match self.motions.get(i) {
+            Some(m) => (i, m.sample_index(k.saturating_sub(m.first_sample))),
             // No motion: never planned (a procedure has at least one).
             None => (0, held_at(&self.start)),
         }
     }
 
-    /// The index of the motion under way at `t` (s): the last one started at
-    /// or before `t` (a motion's end is the next one's start, the same
-    /// state).
+    /// The motion under way at `t` (s from the procedure's start, read as
+    /// the nearest row) and its sample there.
+    pub fn sample_at(&self, t: f64) -> (usize, MotionSample<f64>) {
+        self.sample_index(self.row(t))
+    }
+
+    /// The index of the motion under way at `t` (s, read as the nearest
+    /// row): the last one whose first row is at or before it.
     pub fn index_at(&self, t: f64) -> usize {
+        self.motion_at(self.row(t))
+    }
+
+    fn motion_at(&self, k: usize) -> usize {
         self.motions
-            .partition_point(|m| m.start_s <= t)
+            .partition_point(|m| m.first_sample <= k)
             .saturating_sub(1)
+    }
+
+    /// The row nearest `t` (s), within the plan.
+    fn row(&self, t: f64) -> usize {
+        let x = (t * self.rate_hz).round();
+        if x > 0.0 {
+            #[allow(
+                clippy::cast_possible_truncation,
+                clippy::cast_sign_loss,
+                reason = "positive, capped at the last row"
+            )]
+            let k = x.min(self.last_sample as f64) as usize;
+            k
+        } else {
+            0
+        }
     }
 }
 
@@ -292,7 +401,7 @@ impl parasils::traj::Motion<f64> for ProcedurePlan {
     type Output = (usize, MotionSample<f64>);
 
     fn duration(&self) -> f64 {
-        self.duration
+        ProcedurePlan::duration(self)
     }
 
     fn sample(&self, t: f64) -> Self::Output {
@@ -420,12 +529,7 @@ fn optimal_plan(
             let from = [state.pose.psi, state.pose.theta];
             let goal = reorient_goal(psi_deg, theta_deg, absolute, from);
             (
-                MotionPath::turning(
-                    controller,
-                    state,
-                    [goal[0] - from[0], goal[1] - from[1]],
-                    tips(),
-                ),
+                MotionPath::turning(controller, state, goal, tips()),
                 [stated_angular; 2],
             )
         }
@@ -555,158 +659,4 @@ fn continued(
             )));
         }
     })
-}
-
-/// What the check of a procedure found in one motion: its duration, its
-/// peak rates and its smallest margins.
-#[derive(Debug, Clone, PartialEq)]
-pub struct MotionCheck {
-    /// The motion.
-    pub name: MotionName,
-    /// When it starts, s.
-    pub start_s: f64,
-    /// Its duration, s.
-    pub duration_s: f64,
-    /// The largest `|q_dot|` of module 1's actuators, mm/s.
-    pub peak_module1_mm_s: f64,
-    /// The largest `|qs1_dot|`, `|qs2_dot|` of either instrument module,
-    /// rad/s.
-    pub peak_joint_rad_s: f64,
-    /// The largest `|qs3_dot|` of either instrument module, mm/s.
-    pub peak_qs3_mm_s: f64,
-    /// The smallest value of each margin over the motion.
-    pub smallest: Margins<f64>,
-    /// The largest distance between a tip by forward kinematics and its
-    /// command, mm.
-    pub tip_err_mm: f64,
-}
-
-/// A margin below its warning threshold during a motion: from when, until
-/// when, and how low it went.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Warning {
-    /// The margin.
-    pub margin: Margin,
-    /// The motion's index.
-    pub motion: usize,
-    /// The first sample below the threshold, s from the procedure's start.
-    pub from_s: f64,
-    /// The last sample below it, s.
-    pub until_s: f64,
-    /// The smallest value, in the margin's unit.
-    pub smallest: f64,
-    /// The warning threshold.
-    pub threshold: f64,
-}
-
-/// The check of a whole procedure: one [`MotionCheck`] per motion and the
-/// warnings of its supervisor, in time order.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct ProcedureCheck {
-    /// Per motion.
-    pub motions: Vec<MotionCheck>,
-    /// Every episode of a margin below its warning threshold.
-    pub warnings: Vec<Warning>,
-    /// Each actuator's largest fraction of its velocity limit (`[0]`) and
-    /// of its acceleration limit (`[1]`) over the procedure, in the order of
-    /// [`parasils::kin::Actuator::ALL`].
-    pub usage: [[f64; 12]; 2],
-    /// Per margin, the warning under way: its place in `warnings` and the
-    /// last sample's index.
-    open: [Option<(usize, usize)>; Margin::COUNT],
-}
-
-impl ProcedureCheck {
-    /// An empty check of `plan`'s motions.
-    pub(super) fn new(plan: &ProcedurePlan) -> Self {
-        Self {
-            motions: plan
-                .motions
-                .iter()
-                .map(|m| MotionCheck {
-                    name: m.name.clone(),
-                    start_s: m.start_s,
-                    duration_s: m.length_s,
-                    peak_module1_mm_s: 0.0,
-                    peak_joint_rad_s: 0.0,
-                    peak_qs3_mm_s: 0.0,
-                    smallest: Margins::splat(f64::INFINITY),
-                    tip_err_mm: 0.0,
-                })
-                .collect(),
-            warnings: Vec::new(),
-            usage: [[0.0; 12]; 2],
-            open: [None; Margin::COUNT],
-        }
-    }
-
-    /// Takes one record and its margins into account.
-    pub(super) fn push(
-        &mut self,
-        record: &Record,
-        margins: &Margins<f64>,
-        supervisor: &Supervisor<f64>,
-        limits: &ActuatorLimits<f64>,
-    ) {
-        record.widen_usage(&mut self.usage, limits);
-        let k = record.motion as usize;
-        let Some(m) = self.motions.get_mut(k) else {
-            return;
-        };
-        let amax = |v: &[f64]| v.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
-        m.peak_module1_mm_s = m.peak_module1_mm_s.max(amax(&record.module1.q_dot));
-        for side in [&record.left, &record.right] {
-            m.peak_joint_rad_s = m.peak_joint_rad_s.max(amax(&side.q_dot[..2]));
-            m.peak_qs3_mm_s = m.peak_qs3_mm_s.max(side.q_dot[2].abs());
-            m.tip_err_mm = m.tip_err_mm.max(side.tip_err);
-        }
-        for margin in Margin::ALL {
-            m.smallest[margin] = m.smallest[margin].min(margins[margin]);
-        }
-        for (slot, margin) in self.open.iter_mut().zip(Margin::ALL) {
-            if !record.warnings.contains(margin) {
-                *slot = None;
-                continue;
-            }
-            let going = slot
-                .and_then(|(w, last)| (last + 1 == record.index).then_some(w))
-                .filter(|&w| self.warnings.get(w).is_some_and(|w| w.motion == k));
-            let w = match going {
-                Some(w) => w,
-                None => {
-                    self.warnings.push(Warning {
-                        margin,
-                        motion: k,
-                        from_s: record.t,
-                        until_s: record.t,
-                        smallest: margins[margin],
-                        threshold: supervisor.warn[margin],
-                    });
-                    self.warnings.len() - 1
-                }
-            };
-            if let Some(x) = self.warnings.get_mut(w) {
-                x.until_s = record.t;
-                x.smallest = x.smallest.min(margins[margin]);
-            }
-            *slot = Some((w, record.index));
-        }
-    }
-}
-
-/// The command for tip targets of a sample: where each module's tip is
-/// commanded (by its tip, or by forward kinematics of its commanded joints).
-pub(super) fn commanded_tips(
-    controller: &Controller<f64>,
-    sample: &MotionSample<f64>,
-    frame: &PlatformFrame<f64>,
-) -> TipTargets<f64> {
-    let tip = |m: &Instrument<f64>, c: &ModuleCommand<f64>| match c {
-        ModuleCommand::Tip(t) => t.position,
-        ModuleCommand::Joints(j) => frame.to_fixed(&m.fk_platform(&j.q)),
-    };
-    TipTargets {
-        left: tip(&controller.left, &sample.left),
-        right: tip(&controller.right, &sample.right),
-    }
 }

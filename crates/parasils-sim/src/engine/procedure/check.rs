@@ -1,0 +1,175 @@
+//! The check of a planned procedure, sample by sample, before any output:
+//! per motion its durations, peak rates, smallest margins and tip error, and
+//! the supervisor's warnings.
+
+use parasils::Supervisor;
+use parasils::kin::{
+    ActuatorLimits, Controller, Instrument, ModuleCommand, PlatformFrame, TipTargets,
+};
+use parasils::motions::MotionSample;
+use parasils::supervisor::{Margin, Margins};
+
+use super::plan::ProcedurePlan;
+use crate::motion::MotionName;
+use crate::record::Record;
+
+/// What the check of a procedure found in one motion: its duration, its
+/// peak rates and its smallest margins.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MotionCheck {
+    /// The motion.
+    pub name: MotionName,
+    /// When it starts, s.
+    pub start_s: f64,
+    /// How long it lasts on the time line, s (its stretched duration, or
+    /// its `until_s` rounded up to a whole period).
+    pub duration_s: f64,
+    /// Its law's duration as planned, s.
+    pub planned_s: f64,
+    /// That duration stretched to a whole number of periods, s.
+    pub stretched_s: f64,
+    /// The largest `|q_dot|` of module 1's actuators, mm/s.
+    pub peak_module1_mm_s: f64,
+    /// The largest `|qs1_dot|`, `|qs2_dot|` of either instrument module,
+    /// rad/s.
+    pub peak_joint_rad_s: f64,
+    /// The largest `|qs3_dot|` of either instrument module, mm/s.
+    pub peak_qs3_mm_s: f64,
+    /// The smallest value of each margin over the motion.
+    pub smallest: Margins<f64>,
+    /// The largest distance between a tip by forward kinematics and its
+    /// command, mm.
+    pub tip_err_mm: f64,
+}
+
+/// A margin below its warning threshold during a motion: from when, until
+/// when, and how low it went.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Warning {
+    /// The margin.
+    pub margin: Margin,
+    /// The motion's index.
+    pub motion: usize,
+    /// The first sample below the threshold, s from the procedure's start.
+    pub from_s: f64,
+    /// The last sample below it, s.
+    pub until_s: f64,
+    /// The smallest value, in the margin's unit.
+    pub smallest: f64,
+    /// The warning threshold.
+    pub threshold: f64,
+}
+
+/// The check of a whole procedure: one [`MotionCheck`] per motion and the
+/// warnings of its supervisor, in time order.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ProcedureCheck {
+    /// Per motion.
+    pub motions: Vec<MotionCheck>,
+    /// Every episode of a margin below its warning threshold.
+    pub warnings: Vec<Warning>,
+    /// Each actuator's largest fraction of its velocity limit (`[0]`) and
+    /// of its acceleration limit (`[1]`) over the procedure, in the order of
+    /// [`parasils::kin::Actuator::ALL`].
+    pub usage: [[f64; 12]; 2],
+    /// Per margin, the warning under way: its place in `warnings` and the
+    /// last sample's index.
+    open: [Option<(usize, usize)>; Margin::COUNT],
+}
+
+impl ProcedureCheck {
+    /// An empty check of `plan`'s motions.
+    pub(in crate::engine) fn new(plan: &ProcedurePlan) -> Self {
+        Self {
+            motions: plan
+                .motions
+                .iter()
+                .map(|m| MotionCheck {
+                    name: m.name.clone(),
+                    start_s: m.start_s,
+                    duration_s: m.length_s,
+                    planned_s: m.planned_s(),
+                    stretched_s: m.duration(),
+                    peak_module1_mm_s: 0.0,
+                    peak_joint_rad_s: 0.0,
+                    peak_qs3_mm_s: 0.0,
+                    smallest: Margins::splat(f64::INFINITY),
+                    tip_err_mm: 0.0,
+                })
+                .collect(),
+            warnings: Vec::new(),
+            usage: [[0.0; 12]; 2],
+            open: [None; Margin::COUNT],
+        }
+    }
+
+    /// Takes one record and its margins into account.
+    pub(in crate::engine) fn push(
+        &mut self,
+        record: &Record,
+        margins: &Margins<f64>,
+        supervisor: &Supervisor<f64>,
+        limits: &ActuatorLimits<f64>,
+    ) {
+        record.widen_usage(&mut self.usage, limits);
+        let k = record.motion as usize;
+        let Some(m) = self.motions.get_mut(k) else {
+            return;
+        };
+        let amax = |v: &[f64]| v.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+        m.peak_module1_mm_s = m.peak_module1_mm_s.max(amax(&record.module1.q_dot));
+        for side in [&record.left, &record.right] {
+            m.peak_joint_rad_s = m.peak_joint_rad_s.max(amax(&side.q_dot[..2]));
+            m.peak_qs3_mm_s = m.peak_qs3_mm_s.max(side.q_dot[2].abs());
+            m.tip_err_mm = m.tip_err_mm.max(side.tip_err);
+        }
+        for margin in Margin::ALL {
+            m.smallest[margin] = m.smallest[margin].min(margins[margin]);
+        }
+        for (slot, margin) in self.open.iter_mut().zip(Margin::ALL) {
+            if !record.warnings.contains(margin) {
+                *slot = None;
+                continue;
+            }
+            let going = slot
+                .and_then(|(w, last)| (last + 1 == record.index).then_some(w))
+                .filter(|&w| self.warnings.get(w).is_some_and(|w| w.motion == k));
+            let w = match going {
+                Some(w) => w,
+                None => {
+                    self.warnings.push(Warning {
+                        margin,
+                        motion: k,
+                        from_s: record.t,
+                        until_s: record.t,
+                        smallest: margins[margin],
+                        threshold: supervisor.warn[margin],
+                    });
+                    self.warnings.len() - 1
+                }
+            };
+            if let Some(x) = self.warnings.get_mut(w) {
+                x.until_s = record.t;
+                x.smallest = x.smallest.min(margins[margin]);
+            }
+            *slot = Some((w, record.index));
+        }
+    }
+}
+
+/// The command for tip targets of a sample: where each module's tip is
+/// commanded (by its tip, or by forward kinematics of its commanded joints).
+pub(in crate::engine) fn commanded_tips(
+    controller: &Controller<f64>,
+    sample: &MotionSample<f64>,
+    frame: &PlatformFrame<f64>,
+) -> TipTargets<f64> {
+    let tip = |m: &Instrument<f64>, c: &ModuleCommand<f64>| match c {
+        ModuleCommand::Tip(t) => t.position,
+        ModuleCommand::Joints(j) => frame.to_fixed(&m.fk_platform(&j.q)),
+    };
+    TipTargets {
+        left: tip(&controller.left, &sample.left),
+        right: tip(&controller.right, &sample.right),
+    }
+}

@@ -1,0 +1,11 @@
+//! A procedure planned: its motions one after the other on one time line,
+//! each from the state the previous one ended in, each lasting a whole
+//! number of periods (`plan`), and the checks made before any output
+//! (`check`; see [`Simulation::new`](crate::engine::Simulation::new)).
+
+mod check;
+mod plan;
+
+pub(in crate::engine) use check::commanded_tips;
+pub use check::{MotionCheck, ProcedureCheck, Warning};
+pub use plan::{PlannedMotion, ProcedurePlan};
