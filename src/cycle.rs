@@ -31,7 +31,7 @@
 //! (`r = 1`, at rest on its target from `T` to `T'`).
 //!
 //! [`OnCycle`] is a motion so placed, itself a
-//! [`Motion`](crate::traj::Motion): sample `j` (at `t = j dt`) is the law at
+//! [`Motion`]: sample `j` (at `t = j dt`) is the law at
 //! `j dt r`, and sample `N` is the law's end state itself (its target, at
 //! rest), never a float sum that could fall short of it.
 //!

@@ -28,9 +28,15 @@ pub mod supervisor;
 
 pub use cycle::{OnCycle, Stretch, TimeScaled};
 pub use error::Error;
+pub use margin::Margin;
+pub use motions::{
+    Insertion, Manipulation, Motion, MotionSample, MotionType, Moving, Port, Positioning,
+    RobotState, Turning,
+};
 pub use online::{MotionKind, OnlineController, Setpoint};
+pub use path::{MotionPath, PathPoint, ReorientationPath};
 pub use reorientation::Reorientation;
-pub use supervisor::Supervisor;
+pub use supervisor::{MarginSet, Margins, Supervisor, Verdict};
 
 /// The float type of both crates, [`f32`] or [`f64`]: the one trait the
 /// kinematics ([`kin::Real`]) and the profiles ([`traj::Real`]) are both

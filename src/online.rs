@@ -68,7 +68,7 @@
 //! while the parallel margin is above about 0.2 (with module 1's assumed
 //! geometry): below, rounding leaves the tracker nothing to certify, and
 //! every cycle takes the full decomposition again (see
-//! [`MarginTracker`](crate::kin::MarginTracker)), about twice a tracked
+//! [`MarginTracker`]), about twice a tracked
 //! cycle's cost; `f64` tracks down to the hard threshold.
 //!
 //! ```

@@ -10,9 +10,9 @@ use parasils::supervisor::MarginSet;
 use parasils_sim::columns::{self, Column};
 use parasils_sim::csv::CsvSink;
 use parasils_sim::mcap::{McapError, McapOptions, McapSink};
-use parasils_sim::record::{InstrumentRecord, Module1Record, Record};
+use parasils_sim::{InstrumentRecord, Module1Record, Record};
 use parasils_sim::scenario::{CommandKind, Scenario};
-use parasils_sim::sink::Sink;
+use parasils_sim::Sink;
 
 use crate::input::Input;
 

@@ -47,29 +47,30 @@
 //! ```
 //!
 //! # Modules
+//! In import order (a module uses only those above it); the private ones
+//! (`supervisor`, `motion`, `record`, `sink`, `engine`, `robot`) have their
+//! types at the crate root.
+//!
 //! | module | concept |
 //! |---|---|
-//! | [`input`] | [`Input`]: what a user asks for, each field given or not; the one resolution of defaults, exclusions and the timing rule that every front end calls |
-//! | [`scenario`] | the inputs in user units (mm, deg, deg/s, deg/s^2, Hz), the defaults stated once, the commands |
-//! | [`motion`] | a procedure's motions in user units: goals of the paper's four types, limits, names |
-//! | [`procedure`] | procedure files (TOML) into a scenario with motions |
-//! | [`supervisor`] | the margin supervisor's thresholds in the robot file (`[supervisor]`) |
-//! | [`engine`] | [`Simulation`]: validation, planning, the commands' schedule, the one run loop |
-//! | [`record`] | [`Record`]: one instant, typed, in library units |
+//! | `supervisor` | [`SupervisorTable`]: the margin supervisor's thresholds a robot file gives |
+//! | [`timing`] | [`OptimalLaw`]: a path timed as fast as the actuators allow |
+//! | `motion` | a procedure's motions in user units ([`MotionSpec`]): goals of the paper's four types, limits, names |
+//! | [`scenario`] | [`Scenario`]: a run resolved, in user units (mm, deg, deg/s, deg/s^2, Hz); the commands |
+//! | `record` | [`Record`]: one instant, typed, in library units |
 //! | [`columns`] | the one table of output columns |
-//! | [`sink`] | [`Sink`] and [`Tee`] |
+//! | `sink` | [`Sink`] and [`Tee`] |
+//! | `engine` | [`Simulation`]: validation, planning, the commands' schedule, the one run loop |
 //! | [`csv`], [`mcap`], [`summary`], `plot` | the sinks |
 //! | [`output`] | [`OutputFile`]: CSV or MCAP written atomically (with `parasils_io`'s [`AtomicFile`](parasils_io::AtomicFile)) |
-//! | [`robot`] | [`Robot`]: a robot file's whole content (geometry and supervisor thresholds), read once |
-//! | [`robot_file`] | the robot's geometry as TOML |
+//! | `robot` | [`Robot`]: a robot file's whole content (geometry and supervisor thresholds), read once |
+//! | [`robot_file`] | the robot file as TOML |
+//! | [`procedure`] | procedure files (TOML) into a scenario with motions |
+//! | [`input`] | [`Input`]: what a user asks for, each field given or not; the one resolution of defaults, exclusions and the timing rule that every front end calls |
 //!
 //! The plumbing (files written atomically, numbers in messages, the plot
 //! kit) is `parasils-io`'s; the reach maps are a study of their own, in
 //! `parasils-reach`.
-//!
-//! Imports go one way: `motion` < `scenario` < `record` <
-//! `columns`, `sink` < `engine` < the sinks < `output`; `robot_file` stands
-//! alone, and `procedure` reads files into a `scenario` with it.
 //!
 //! The robot's geometry (module 1 and both instrument modules, with their
 //! limits) is read from and written to TOML by [`robot_file`]. Module 1's
@@ -84,29 +85,46 @@
 
 pub mod columns;
 pub mod csv;
-pub mod engine;
+mod engine;
 pub mod input;
 pub mod mcap;
-pub mod motion;
+mod motion;
 pub mod output;
 #[cfg(feature = "plot")]
 pub mod plot;
 pub mod procedure;
-pub mod record;
-pub mod robot;
+mod record;
+mod robot;
 pub mod robot_file;
 pub mod scenario;
-pub mod sink;
+mod sink;
 pub mod summary;
-pub mod supervisor;
+mod supervisor;
 pub mod timing;
 
-pub use engine::{RunError, Simulation, SimulationError};
-pub use input::{Input, InputError};
+pub use columns::{Channel, Column, InstrumentColumns};
+pub use csv::CsvSink;
+pub use engine::procedure::{MotionCheck, PlannedMotion, ProcedureCheck, ProcedurePlan, Warning};
+pub use engine::{
+    CommandError, CommandName, Records, RunError, Scheduled, Simulation, SimulationError,
+};
+pub use input::{Input, InputError, InputField, ProcedureSource, RobotSource, TimingKind};
+pub use mcap::{McapError, McapOptions, McapSink, SceneGeometry};
+pub use motion::{MotionGoal, MotionLimits, MotionName, MotionSpec};
 pub use output::{Flushed, Format, OutputError, OutputFile};
 #[cfg(feature = "plot")]
 pub use plot::PlotSink;
+pub use procedure::ProcedureError;
 pub use record::{InstrumentRecord, Module1Record, Record};
 pub use robot::Robot;
-pub use scenario::Scenario;
+pub use robot_file::{
+    EndoscopeFile, GuideFile, InstrumentFile, LegFile, Module1File, RobotFile, RobotFileError,
+};
+pub use scenario::{Command, CommandKind, LibraryUnits, Retarget, RetargetUnits, Scenario, Timing};
 pub use sink::{BoxError, Sink, Tee};
+pub use summary::{CheckReport, Summary};
+pub use supervisor::SupervisorTable;
+pub use timing::{
+    Binding, OptimalLaw, OptimalMotion, OptimalReorientation, PhasePlane, PhaseSummary,
+    TimingError, TimingOptions,
+};

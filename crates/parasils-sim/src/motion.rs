@@ -7,7 +7,8 @@
 //! [`engine`](crate::engine) plans them with `parasils::motions`.
 //!
 //! ```
-//! use parasils_sim::motion::{MotionGoal, MotionSpec, Port};
+//! use parasils::Port;
+//! use parasils_sim::{MotionGoal, MotionSpec};
 //! use parasils_sim::{Scenario, Simulation};
 //!
 //! let scenario = Scenario {
@@ -48,9 +49,9 @@ pub const ACCELERATION_MM_S2: f64 = 20.0;
 /// tip's arc length (type 3).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct MotionLimits {
-    /// mm/s (default [`VELOCITY_MM_S`]).
+    /// mm/s (default 20 mm/s).
     pub velocity_mm_s: f64,
-    /// mm/s^2 (default [`ACCELERATION_MM_S2`]).
+    /// mm/s^2 (default 20 mm/s^2).
     pub acceleration_mm_s2: f64,
     /// deg/s (default the paper's 10 deg/s).
     pub velocity_deg_s: f64,

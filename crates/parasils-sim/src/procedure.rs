@@ -6,7 +6,7 @@
 //! depth, robot) is the file's, the sampling rate the caller's.
 //! [`Simulation::new`](crate::Simulation::new) plans every motion and checks
 //! the whole procedure before a record is written (see
-//! [`crate::engine`]).
+//! [`ProcedureCheck`](crate::ProcedureCheck)).
 //!
 //! The file has the robot file's habits (every key names its unit):
 //!

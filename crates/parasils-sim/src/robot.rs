@@ -10,7 +10,7 @@
 //!
 //! ```
 //! use parasils::kin::RobotGeometry;
-//! use parasils_sim::robot::Robot;
+//! use parasils_sim::Robot;
 //!
 //! let robot = Robot::paper();
 //! assert_eq!(robot.geometry, RobotGeometry::paper());

@@ -3,7 +3,7 @@
 //! One file holds module 1 (the parallel robot: six guides with their links
 //! and strokes, three platform nodes, thresholds) and both instrument modules
 //! (angles, radius, port, joint limits, thresholds): a
-//! [`RobotGeometry<f64>`]. Every key names its unit (`link_length_mm`,
+//! [`RobotGeometry<f64>`](parasils::kin::RobotGeometry). Every key names its unit (`link_length_mm`,
 //! `alpha_deg`, `qs1_deg = [min, max]`); angles are in degrees in the file
 //! and in radians in memory, lengths in mm in both. `parasils robot` prints
 //! the default file, which is also under version control as

@@ -71,7 +71,7 @@ pub struct Scenario {
     pub retargets: Vec<Retarget>,
     /// The time of a controlled stop, s from the start; `None` for no stop.
     pub stop_at_s: Option<f64>,
-    /// A procedure's motions, in order (see [`crate::motion`]); empty for
+    /// A procedure's motions, in order (see [`MotionSpec`]); empty for
     /// the paper's single reorientation (`psi_deg`, `theta_deg` and the
     /// limits above), which is what a run without motions does.
     pub motions: Vec<MotionSpec>,

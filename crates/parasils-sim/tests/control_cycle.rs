@@ -5,10 +5,11 @@
 //! changes only between such rows.
 
 use nalgebra::Vector3;
+use parasils::Port;
 use parasils::kin::{ModuleCommand, Pose};
 use parasils_sim::columns::ALL;
-use parasils_sim::motion::{MotionGoal, MotionSpec, Port};
 use parasils_sim::scenario::Timing;
+use parasils_sim::{MotionGoal, MotionSpec};
 use parasils_sim::{Record, Scenario, Simulation};
 
 type Result<T = ()> = core::result::Result<T, Box<dyn core::error::Error>>;

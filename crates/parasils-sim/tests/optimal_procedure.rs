@@ -11,11 +11,12 @@
 )]
 
 use nalgebra::Vector3;
+use parasils::Port;
 use parasils::kin::{ActuatorLimits, Pose};
-use parasils_sim::motion::{MotionGoal, MotionLimits, MotionSpec, Port};
 use parasils_sim::procedure;
 use parasils_sim::scenario::Timing;
 use parasils_sim::timing::Binding;
+use parasils_sim::{MotionGoal, MotionLimits, MotionSpec};
 use parasils_sim::{Record, Scenario, Simulation};
 
 type Result<T = ()> = core::result::Result<T, Box<dyn core::error::Error>>;

@@ -8,13 +8,13 @@
 )]
 
 use nalgebra::Vector3;
+use parasils::Port;
 use parasils::kin::{
     AssemblyMode, Controller, Joints, MarginTracker, ParallelRobot, PlatformState, Pose,
 };
 use parasils::motions::{Motion, Moving};
-use parasils_sim::engine::procedure::ProcedurePlan;
-use parasils_sim::motion::{MotionGoal, MotionLimits, MotionSpec, Port};
 use parasils_sim::procedure;
+use parasils_sim::{MotionGoal, MotionLimits, MotionSpec, ProcedurePlan};
 use parasils_sim::{Record, Scenario, Simulation, SimulationError};
 
 type Result<T = ()> = core::result::Result<T, Box<dyn core::error::Error>>;
@@ -411,7 +411,7 @@ fn a_motion_that_crosses_a_joint_limit_is_named_before_any_output() {
 #[test]
 fn the_robot_file_s_supervisor_thresholds_mark_warnings_with_their_motion() -> Result {
     use parasils::supervisor::Margin;
-    use parasils_sim::supervisor::SupervisorTable;
+    use parasils_sim::SupervisorTable;
     let demo = procedure::load(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../procedures/sils-demo.toml"

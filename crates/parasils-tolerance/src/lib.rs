@@ -61,9 +61,10 @@ pub mod study;
 pub mod trace;
 
 pub use linear::{LinearError, Linearisation, Sensitivity};
+pub use output::Format;
 pub use perturbation::{InstrumentDeviation, Perturbation};
 pub use replay::{Deviation, ReplayFailure, replay};
-pub use report::Report;
+pub use report::{Histogram, Report, Stats};
 pub use spec::{Distribution, Family, Spec, SpecError};
 pub use study::{Interrupted, Results, Study, StudyError};
-pub use trace::Trace;
+pub use trace::{Command, Trace};

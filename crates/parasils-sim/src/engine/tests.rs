@@ -1,6 +1,8 @@
 //! The engine's unit tests.
 
 use super::*;
+use crate::record::Record;
+use crate::scenario::Scenario;
 
 #[test]
 fn the_paper_run_holds_the_tips_and_starts_on_the_user_s_degrees() {

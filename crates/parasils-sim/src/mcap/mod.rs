@@ -7,7 +7,7 @@
 //! `jsonschema`). Log time and publish time are the simulation time, ns.
 //!
 //! # Channels
-//! One message per record on each of the six data channels ([`Channel`]),
+//! One message per record on each of the six data channels ([`Channel`](crate::Channel)),
 //! every field a number named with its unit, `t_s` first in each, then the
 //! channel's columns in the order of the [column table](crate::columns::ALL),
 //! so that Foxglove's plot panel draws the paper's figures 5-7 directly:
@@ -52,8 +52,8 @@
 //! on the data channels. A period of 0 publishes every record.
 //!
 //! # Metadata
-//! A metadata record `parasils.scenario`, written first: the [`Scenario`] in
-//! library units ([`Scenario::library_units`]: mm, rad, s) as JSON, the
+//! A metadata record `parasils.scenario`, written first: the [`Scenario`](crate::Scenario) in
+//! library units ([`Scenario::library_units`](crate::Scenario::library_units): mm, rad, s) as JSON, the
 //! [`SceneGeometry`] as JSON (mm), the resolved tips, whether module 1's
 //! geometry is assumed, the channels' units. A record `parasils.run`, written
 //! by [`McapSink::finish`]: the number of records and the first and last
@@ -74,7 +74,7 @@
 //! so with 4 MiB chunks (the default) a chunk's first half is compressed
 //! while its second half is written. The file is the same, byte for byte, as
 //! one written on a single thread; an I/O error of the writer thread is
-//! reported by the next [`Sink::push`] or by [`McapSink::finish`].
+//! reported by the next [`Sink::push`](crate::Sink::push) or by [`McapSink::finish`].
 //!
 //! # Modules
 //! `error` ([`McapError`]), `json` (the JSON text builder), `schema` (the

@@ -27,7 +27,7 @@ pub struct RobotFile {
     #[serde(default = "EndoscopeFile::paper")]
     pub endoscope: EndoscopeFile,
     /// `[supervisor]`: the margin supervisor's thresholds (see
-    /// [`crate::supervisor`]; not part of the geometry).
+    /// [`SupervisorTable`]; not part of the geometry).
     #[serde(default, skip_serializing)]
     pub supervisor: Option<SupervisorTable>,
 }

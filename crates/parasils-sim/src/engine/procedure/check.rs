@@ -79,7 +79,7 @@ pub struct ProcedureCheck {
 
 impl ProcedureCheck {
     /// An empty check of `plan`'s motions.
-    pub(in crate::engine) fn new(plan: &ProcedurePlan) -> Self {
+    pub(crate) fn new(plan: &ProcedurePlan) -> Self {
         Self {
             motions: plan
                 .motions
@@ -104,7 +104,7 @@ impl ProcedureCheck {
     }
 
     /// Takes one record and its margins into account.
-    pub(in crate::engine) fn push(
+    pub(crate) fn push(
         &mut self,
         record: &Record,
         margins: &Margins<f64>,
@@ -159,7 +159,7 @@ impl ProcedureCheck {
 
 /// The command for tip targets of a sample: where each module's tip is
 /// commanded (by its tip, or by forward kinematics of its commanded joints).
-pub(in crate::engine) fn commanded_tips(
+pub(crate) fn commanded_tips(
     controller: &Controller<f64>,
     sample: &MotionSample<f64>,
     frame: &PlatformFrame<f64>,

@@ -6,6 +6,6 @@
 mod check;
 mod plan;
 
-pub(in crate::engine) use check::commanded_tips;
+pub(crate) use check::commanded_tips;
 pub use check::{MotionCheck, ProcedureCheck, Warning};
 pub use plan::{PlannedMotion, ProcedurePlan};

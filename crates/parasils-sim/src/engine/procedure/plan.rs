@@ -13,7 +13,7 @@ use parasils::motions::{
 use parasils::traj::Synchronization;
 use parasils::{Reorientation, Stretch, TimeScaled};
 
-use crate::engine::SimulationError;
+use crate::engine::error::SimulationError;
 use crate::motion::{MotionGoal, MotionLimits, MotionName, MotionSpec};
 use crate::scenario::Scenario;
 use crate::scenario::Timing;

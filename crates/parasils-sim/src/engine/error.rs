@@ -1,0 +1,215 @@
+//! What can stop a simulation or a run, each error naming its subject.
+
+use parasils::kin::LimitError;
+
+use crate::timing::TimingError;
+
+use crate::motion::MotionName;
+use parasils_io::{AtTime, Fixed, Shortest};
+
+/// What can stop a simulation.
+///
+/// Each message names its subject once: the robot's geometry, the
+/// trajectory, the commands, or the sample's time followed by the
+/// kinematics' own message (which names the module).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SimulationError {
+    /// The robot's geometry is invalid.
+    #[error("robot geometry: {0}")]
+    Geometry(parasils::kin::Error),
+    /// The trajectory cannot be planned or sampled (limits, angles or rate
+    /// invalid).
+    #[error("trajectory: {0}")]
+    Trajectory(parasils::traj::Error),
+    /// The kinematics failed at a sample (unreachable tip, singularity,
+    /// limit), or a tip target is not finite (at `t = 0`, before any sample).
+    #[error("{}{error}", AtTime(*t))]
+    Kinematics {
+        /// The sample's time, s.
+        t: f64,
+        /// The sample's index; `None` when no sample was computed.
+        sample: Option<usize>,
+        /// What failed.
+        error: parasils::kin::Error,
+    },
+    /// The retargets or the stop cannot be scheduled.
+    #[error("commands: {0}")]
+    Commands(CommandError),
+    /// A motion of a procedure failed: which one, when inside it, and what
+    /// failed (the error's own time is from the procedure's start).
+    #[error(
+        "{motion}, {} s into it{}: {}",
+        Fixed(*t_motion, 3),
+        error.time_s().map(|t| format!(" (t = {} s)", Fixed(t, 3))).unwrap_or_default(),
+        error.without_time()
+    )]
+    Motion {
+        /// The motion.
+        motion: Box<MotionName>,
+        /// The time inside it, s.
+        t_motion: f64,
+        /// What failed.
+        error: Box<SimulationError>,
+    },
+    /// A procedure's motions do not follow each other (a stop with nothing
+    /// to stop, a motion of another type after one cut short while moving).
+    #[error("{0}")]
+    Procedure(String),
+    /// An actuator's velocity or acceleration beyond its limit at a sample.
+    #[error("{}{error}", AtTime(*t))]
+    ActuatorLimit {
+        /// The sample's time, s.
+        t: f64,
+        /// The sample's index.
+        sample: Option<usize>,
+        /// Which actuator, the value and the limit.
+        error: LimitError,
+    },
+    /// The time-optimal law cannot be computed.
+    #[error("time-optimal timing: {0}")]
+    Timing(TimingError),
+    /// An option that does not apply to this run.
+    #[error("{0}")]
+    Unsupported(&'static str),
+    /// The margin supervisor's thresholds are invalid (a stop threshold not
+    /// above the solvers' hard one, a warning below its stop threshold).
+    #[error("supervisor thresholds: {0}")]
+    Supervisor(parasils::Error),
+    /// The online controller refused a call for another reason than the
+    /// kinematics or the trajectory (for instance, a supervisor threshold).
+    #[error("{}{error}", AtTime(*t))]
+    Controller {
+        /// The sample's time, s.
+        t: f64,
+        /// The sample's index.
+        sample: Option<usize>,
+        /// What failed.
+        error: parasils::Error,
+    },
+}
+
+impl SimulationError {
+    /// The message without its leading time (for errors placed in a
+    /// motion, which give the time inside it).
+    fn without_time(&self) -> String {
+        match self {
+            SimulationError::Kinematics { error, .. } => error.to_string(),
+            SimulationError::Controller { error, .. } => error.to_string(),
+            SimulationError::ActuatorLimit { error, .. } => error.to_string(),
+            e => e.to_string(),
+        }
+    }
+
+    /// The time of the failure, s from the start, when there is one.
+    pub fn time_s(&self) -> Option<f64> {
+        match self {
+            SimulationError::Kinematics { t, .. }
+            | SimulationError::Controller { t, .. }
+            | SimulationError::ActuatorLimit { t, .. } => Some(*t),
+            SimulationError::Motion { error, .. } => error.time_s(),
+            _ => None,
+        }
+    }
+}
+
+/// A command as the errors name it: `the reorientation`, `retarget 2` (the
+/// second given, counting from 1), `the stop`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CommandName {
+    /// The scenario's reorientation.
+    Reorientation,
+    /// The retarget given in this place, from 1.
+    Retarget(usize),
+    /// The stop.
+    Stop,
+}
+
+impl core::fmt::Display for CommandName {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            CommandName::Reorientation => f.write_str("the reorientation"),
+            CommandName::Retarget(n) => write!(f, "retarget {n}"),
+            CommandName::Stop => f.write_str("the stop"),
+        }
+    }
+}
+
+/// Why the commands of a scenario cannot be scheduled.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum CommandError {
+    /// Retargets and stops change the paper's reorientation while it runs;
+    /// a procedure plans its motions in full instead.
+    #[error("retargets and stops apply to a single reorientation, not to a procedure's motions")]
+    InProcedure,
+    /// A time or an angle is NaN or infinite.
+    #[error("{command}: {what} = {} is not a finite number", Shortest(*value))]
+    NonFinite {
+        /// The command.
+        command: CommandName,
+        /// `"t"`, `"psi"` or `"theta"`.
+        what: &'static str,
+        /// The value.
+        value: f64,
+    },
+    /// A time is negative.
+    #[error("{command}: t = {} s is before the start (t = 0)", Shortest(*t))]
+    BeforeStart {
+        /// The command.
+        command: CommandName,
+        /// Its time, s.
+        t: f64,
+    },
+    /// The retargets are not given in time order.
+    #[error(
+        "{command} at t = {} s comes before {previous} at t = {} s: give the retargets in time order",
+        Shortest(*t),
+        Shortest(*previous_t)
+    )]
+    OutOfOrder {
+        /// The retarget out of order.
+        command: CommandName,
+        /// Its time, s.
+        t: f64,
+        /// The retarget given before it.
+        previous: CommandName,
+        /// That one's time, s.
+        previous_t: f64,
+    },
+    /// Two commands take effect at the same sample: the first would never
+    /// be active, and the output could not show it.
+    #[error(
+        "{command} at t = {} s takes effect at the same sample as {previous} at t = {} s (t = {} s at {} Hz): give each command a sample of its own",
+        Shortest(*t),
+        Shortest(*previous_t),
+        Shortest(*sample_t),
+        Shortest(*rate)
+    )]
+    SameSample {
+        /// The later command.
+        command: CommandName,
+        /// Its time, s.
+        t: f64,
+        /// The command before it.
+        previous: CommandName,
+        /// That one's time, s.
+        previous_t: f64,
+        /// The sample's time, s.
+        sample_t: f64,
+        /// The sampling rate, Hz.
+        rate: f64,
+    },
+}
+
+/// A run's failure: the engine's, or the sink's.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError<E> {
+    /// The engine failed.
+    #[error(transparent)]
+    Simulation(#[from] SimulationError),
+    /// The sink failed (for instance, an I/O error while writing); its
+    /// message says what it was writing.
+    #[error("{0}")]
+    Sink(E),
+}

@@ -1,0 +1,265 @@
+//! The records of a simulation, computed one at a time: the planned
+//! turn's, the procedure's and the online run's samples through the
+//! controller's step.
+
+use super::procedure::ProcedurePlan;
+use parasils::kin::MarginTracker;
+use parasils::kin::{ControlStep, Controller, PlatformState};
+use parasils::supervisor::{MarginSet, Margins};
+use parasils::traj::Sampler;
+use parasils::{MotionKind, OnCycle, OnlineController, Reorientation};
+
+use crate::timing::OptimalReorientation;
+
+use crate::record::Record;
+use crate::scenario::CommandKind;
+
+use super::error::SimulationError;
+use super::schedule::apply;
+use super::simulation::{Context, Simulation, online_error};
+
+/// The records of a [`Simulation`], computed one at a time
+/// ([`Simulation::samples`]).
+#[derive(Debug)]
+pub struct Records<'a> {
+    pub(super) sim: &'a Simulation,
+    pub(super) inner: Inner,
+}
+
+#[derive(Debug)]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "one per run, never in a collection"
+)]
+pub(super) enum Inner {
+    Rest {
+        sampler: Sampler<f64, OnCycle<Reorientation<f64>, f64>>,
+        tracker: MarginTracker<f64>,
+    },
+    Online(OnlineRun),
+    Procedure(ProcedureRun),
+    Optimal {
+        sampler: Sampler<f64, OnCycle<OptimalReorientation, f64>>,
+        tracker: MarginTracker<f64>,
+    },
+}
+
+/// The record of a planned reorientation's sample `k` at `t` in `state`:
+/// the controller's step, checked against the actuators' limits.
+pub(super) fn planned_record(
+    sim: &Simulation,
+    tracker: &mut MarginTracker<f64>,
+    k: usize,
+    t: f64,
+    state: &PlatformState<f64>,
+) -> Result<Record, SimulationError> {
+    let controller = &sim.controller;
+    let out = controller
+        .step(state, &sim.tips, tracker)
+        .map_err(|error| SimulationError::Kinematics {
+            t,
+            sample: Some(k),
+            error,
+        })?;
+    check_limits(controller, &out, t, k)?;
+    Ok(sim.record(
+        k,
+        t,
+        state,
+        &out,
+        &sim.tips,
+        Context::command(0, CommandKind::Reorient, MarginSet::EMPTY),
+    ))
+}
+
+/// `step` against the actuators' limits of `controller`.
+pub(super) fn check_limits(
+    controller: &Controller<f64>,
+    step: &ControlStep<f64>,
+    t: f64,
+    k: usize,
+) -> Result<(), SimulationError> {
+    controller
+        .limits
+        .check(step)
+        .map_err(|error| SimulationError::ActuatorLimit {
+            t,
+            sample: Some(k),
+            error,
+        })
+}
+
+/// A procedure's run under way.
+#[derive(Debug)]
+pub(super) struct ProcedureRun {
+    pub(super) sampler: Sampler<f64, ProcedurePlan>,
+    pub(super) controller: Controller<f64>,
+    pub(super) tracker: MarginTracker<f64>,
+    pub(super) done: bool,
+}
+
+impl ProcedureRun {
+    pub(super) fn new(sampler: Sampler<f64, ProcedurePlan>, controller: Controller<f64>) -> Self {
+        Self {
+            sampler,
+            controller,
+            tracker: MarginTracker::new(),
+            done: false,
+        }
+    }
+
+    /// The next record with its margins; after a failure, nothing more.
+    pub(super) fn next(
+        &mut self,
+        sim: &Simulation,
+    ) -> Option<Result<(Record, Margins<f64>), SimulationError>> {
+        if self.done {
+            return None;
+        }
+        let s = self.sampler.next()?;
+        let (t, k) = (s.time, s.index);
+        let (m, sample) = s.state;
+        let plan = self.sampler.motion();
+        let planned = plan.motions.get(m);
+        let in_motion = |error: SimulationError| SimulationError::Motion {
+            motion: Box::new(planned.map_or_else(
+                || crate::motion::MotionName {
+                    index: m,
+                    motion_type: parasils::motions::MotionType::Reorient,
+                    stop: false,
+                    name: None,
+                },
+                |p| p.name.clone(),
+            )),
+            t_motion: t - planned.map_or(0.0, |p| p.start_s),
+            error: Box::new(error),
+        };
+        let fail = |error| {
+            in_motion(SimulationError::Kinematics {
+                t,
+                sample: Some(k),
+                error,
+            })
+        };
+        let result = (|| {
+            let out = self
+                .controller
+                .step_commanded(
+                    &sample.platform,
+                    &sample.left,
+                    &sample.right,
+                    &mut self.tracker,
+                )
+                .map_err(fail)?;
+            let endoscope_tip = self
+                .controller
+                .endoscope
+                .tip(&out.frame, sample.endoscope.position)
+                .map_err(fail)?;
+            self.controller.limits.check(&out).map_err(|error| {
+                in_motion(SimulationError::ActuatorLimit {
+                    t,
+                    sample: Some(k),
+                    error,
+                })
+            })?;
+            let margins = Margins::of(&out);
+            let targets = super::procedure::commanded_tips(&self.controller, &sample, &out.frame);
+            let motion_type = plan
+                .motions
+                .get(m)
+                .map_or(4, |p| p.motion.motion_type().number());
+            let context = Context {
+                command: 0,
+                kind: CommandKind::Reorient,
+                warnings: sim.supervisor.check(&margins).warnings,
+                motion: u32::try_from(m).unwrap_or(u32::MAX),
+                motion_type,
+                endoscope_depth: sample.endoscope.position,
+                endoscope_tip,
+            };
+            let record = sim.record(k, t, &sample.platform, &out, &targets, context);
+            Ok((record, margins))
+        })();
+        if result.is_err() {
+            self.done = true;
+        }
+        Some(result)
+    }
+}
+
+/// An online run under way.
+#[derive(Debug)]
+pub(super) struct OnlineRun {
+    pub(super) controller: OnlineController<f64>,
+    pub(super) rate: f64,
+    /// The next sample's index.
+    pub(super) next: usize,
+    /// The next scheduled command to give.
+    pub(super) pending: usize,
+    /// What the active command is.
+    pub(super) kind: CommandKind,
+    /// Whether the last record has been given (or a failure).
+    pub(super) done: bool,
+}
+
+impl Iterator for Records<'_> {
+    type Item = Result<Record, SimulationError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        let sim = self.sim;
+        match &mut self.inner {
+            Inner::Rest { sampler, tracker } => {
+                let s = sampler.next()?;
+                Some(planned_record(sim, tracker, s.index, s.time, &s.state))
+            }
+            Inner::Optimal { sampler, tracker } => {
+                let s = sampler.next()?;
+                Some(planned_record(sim, tracker, s.index, s.time, &s.state))
+            }
+            Inner::Procedure(run) => run.next(sim).map(|r| r.map(|(record, _)| record)),
+            Inner::Online(run) => {
+                if run.done {
+                    return None;
+                }
+                let r = run.step(sim);
+                if r.is_err() {
+                    run.done = true;
+                }
+                Some(r)
+            }
+        }
+    }
+}
+
+impl OnlineRun {
+    /// The next sample: the commands due at it given, then one cycle.
+    pub(super) fn step(&mut self, sim: &Simulation) -> Result<Record, SimulationError> {
+        let k = self.next;
+        let t = k as f64 / self.rate;
+        while let Some(s) = sim.schedule.get(self.pending).filter(|s| s.sample <= k) {
+            apply(&mut self.controller, s, &sim.scenario).map_err(|e| online_error(e, t, k))?;
+            self.kind = s.command.kind;
+            self.pending += 1;
+        }
+        let cycle = self.controller.tick(t).map_err(|e| online_error(e, t, k))?;
+        check_limits(self.controller.controller(), &cycle.step, t, k)?;
+        if cycle.kind == MotionKind::SupervisorStop {
+            self.kind = CommandKind::SupervisorStop;
+        }
+        let record = sim.record(
+            k,
+            t,
+            &cycle.state,
+            &cycle.step,
+            &sim.tips,
+            Context::command(cycle.command, self.kind, cycle.warnings),
+        );
+        let finished = self.pending >= sim.schedule.len() && self.controller.is_at_rest(t);
+        match k.checked_add(1) {
+            Some(next) if !finished => self.next = next,
+            _ => self.done = true,
+        }
+        Ok(record)
+    }
+}

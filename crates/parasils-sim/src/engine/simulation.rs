@@ -1,0 +1,499 @@
+//! [`Simulation`]: a scenario validated and planned, before any record.
+
+use super::procedure::{ProcedureCheck, ProcedurePlan};
+use nalgebra::Vector3;
+use parasils::kin::MarginTracker;
+use parasils::kin::{
+    AssemblyMode, ControlStep, Controller, Instrument, InstrumentSolution, PlatformState,
+    TipTargets,
+};
+use parasils::supervisor::{MarginSet, Margins};
+use parasils::traj::Sampler;
+use parasils::{OnCycle, OnlineController, Reorientation, Supervisor};
+
+use crate::scenario::Timing;
+use crate::timing::{OptimalReorientation, TimingOptions};
+
+use crate::record::{InstrumentRecord, Module1Record, Record};
+use crate::scenario::{CommandKind, Scenario};
+use crate::sink::Sink;
+
+use super::error::{CommandError, RunError, SimulationError};
+use super::records::{Inner, OnlineRun, ProcedureRun, Records};
+use super::schedule::{Scheduled, apply, first_sample, schedule};
+
+/// How the samples are computed.
+#[derive(Debug, Clone)]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "one per simulation, never in a collection"
+)]
+pub(super) enum Plan {
+    /// Without commands: the rest-to-rest reorientation.
+    Rest(Sampler<f64, OnCycle<Reorientation<f64>, f64>>),
+    /// With commands: the online controller, at rest at the start, and the
+    /// sampling rate.
+    Online(OnlineController<f64>, f64),
+    /// A procedure: its motions on one time line.
+    Procedure(Sampler<f64, ProcedurePlan>),
+    /// Without commands, timed to the actuators' limits.
+    Optimal(Sampler<f64, OnCycle<OptimalReorientation, f64>>),
+}
+
+/// What a record says besides the kinematics: the command and motion it
+/// belongs to, the supervisor's warnings, the endoscope.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Context {
+    pub(super) command: u32,
+    pub(super) kind: CommandKind,
+    pub(super) warnings: MarginSet,
+    pub(super) motion: u32,
+    pub(super) motion_type: u8,
+    pub(super) endoscope_depth: f64,
+    pub(super) endoscope_tip: Vector3<f64>,
+}
+
+impl Context {
+    /// A run without a procedure: motion 0, of type 4.
+    pub(super) fn command(command: u32, kind: CommandKind, warnings: MarginSet) -> Self {
+        Self {
+            command,
+            kind,
+            warnings,
+            motion: 0,
+            motion_type: 4,
+            endoscope_depth: 0.0,
+            endoscope_tip: Vector3::zeros(),
+        }
+    }
+}
+
+/// A scenario, validated and planned, ready to run.
+#[derive(Debug, Clone)]
+pub struct Simulation {
+    pub(super) scenario: Scenario,
+    pub(super) controller: Controller<f64>,
+    pub(super) tips: TipTargets<f64>,
+    pub(super) plan: Plan,
+    pub(super) schedule: Vec<Scheduled>,
+    pub(super) count: usize,
+    pub(super) duration: f64,
+    /// The start's Euler angles, deg (the user's) and rad.
+    pub(super) start_deg: [f64; 3],
+    pub(super) start_rad: [f64; 3],
+    /// The margin supervisor whose warnings a procedure's records carry.
+    pub(super) supervisor: Supervisor<f64>,
+    /// A procedure's check, made in [`Simulation::new`].
+    pub(super) check: Option<ProcedureCheck>,
+}
+
+/// The supervisor of `scenario` on `controller`: [`supervisor_for`] with the
+/// thresholds the robot file sets, validated.
+pub(super) fn scenario_supervisor(
+    scenario: &Scenario,
+    controller: &Controller<f64>,
+) -> Result<Supervisor<f64>, SimulationError> {
+    let s = scenario.supervisor.apply(supervisor_for(controller));
+    s.validate(&Margins::hard(controller))
+        .map_err(SimulationError::Supervisor)?;
+    Ok(s)
+}
+
+/// The supervisor of `controller`: [`Supervisor::default`], each stop
+/// threshold raised to at least 3 times the solvers' hard one and each
+/// warning threshold to at least 10 times, so that a robot file with higher
+/// hard thresholds than the paper's robot keeps the same proportions.
+pub(super) fn supervisor_for(controller: &Controller<f64>) -> Supervisor<f64> {
+    let hard = Margins::hard(controller);
+    let mut s = Supervisor::<f64>::default();
+    for (k, h) in hard.0.iter().enumerate() {
+        if let (Some(stop), Some(warn)) = (s.stop.0.get_mut(k), s.warn.0.get_mut(k)) {
+            *stop = stop.max(3.0 * h);
+            *warn = warn.max(10.0 * h);
+        }
+    }
+    s
+}
+
+/// The kinematics' error of an online call at sample `k`, time `t`.
+pub(super) fn online_error(error: parasils::Error, t: f64, k: usize) -> SimulationError {
+    match error {
+        parasils::Error::Kinematics(error) => SimulationError::Kinematics {
+            t,
+            sample: Some(k),
+            error,
+        },
+        parasils::Error::Trajectory(e) => SimulationError::Trajectory(e),
+        error => SimulationError::Controller {
+            t,
+            sample: Some(k),
+            error,
+        },
+    }
+}
+
+impl Simulation {
+    /// Validates the scenario and plans the trajectory: through
+    /// [`Reorientation::new`] without commands; with commands, through an
+    /// [`OnlineController`] given every command at its sample (the kinematics
+    /// solved once, at the start pose), which tells the run's length.
+    ///
+    /// # Errors
+    /// [`SimulationError::Geometry`] for an invalid robot,
+    /// [`SimulationError::Trajectory`] for angles, limits or a rate that
+    /// cannot be planned, [`SimulationError::Kinematics`] for a non-finite
+    /// tip target (or, with commands, a start pose that cannot be solved),
+    /// [`SimulationError::Commands`] for commands that cannot be scheduled.
+    pub fn new(scenario: Scenario) -> Result<Self, SimulationError> {
+        let controller =
+            Controller::from_geometry(&scenario.robot).map_err(SimulationError::Geometry)?;
+        let start = scenario.start();
+        let reorientation = Reorientation::new(
+            start,
+            scenario.goal_rad(),
+            [scenario.limits(); 2],
+            scenario.sync,
+        )
+        .map_err(SimulationError::Trajectory)?;
+        let tips = scenario.tips();
+        for (what, v) in [("left tip", tips.left), ("right tip", tips.right)] {
+            if let Some(value) = v.iter().copied().find(|x| !x.is_finite()) {
+                return Err(SimulationError::Kinematics {
+                    t: 0.0,
+                    sample: None,
+                    error: parasils::kin::Error::NonFinite { what, value },
+                });
+            }
+        }
+        let procedure = !scenario.motions.is_empty();
+        let (plan, schedule, count, duration) = if procedure {
+            if scenario.has_commands() {
+                return Err(SimulationError::Commands(CommandError::InProcedure));
+            }
+            let plan = ProcedurePlan::new(&scenario, &controller)?;
+            let duration = plan.duration();
+            let sampler =
+                Sampler::new(plan, scenario.rate_hz).map_err(SimulationError::Trajectory)?;
+            let schedule = vec![Scheduled {
+                command: scenario.commands()[0],
+                goal_rad: None,
+                sample: 0,
+                t_s: 0.0,
+            }];
+            (
+                Plan::Procedure(sampler.clone()),
+                schedule,
+                sampler.sample_count(),
+                duration,
+            )
+        } else if let Timing::Optimal { angular } = scenario.timing {
+            if scenario.has_commands() {
+                return Err(SimulationError::Unsupported(
+                    "the time-optimal timing plans one reorientation from rest to rest: it does not take retargets or a stop",
+                ));
+            }
+            let options = TimingOptions {
+                angular: angular.then(|| [scenario.limits(); 2]),
+                ..TimingOptions::default()
+            };
+            let plan = OptimalReorientation::plan(
+                &controller,
+                start,
+                scenario.goal_rad(),
+                tips,
+                &controller.limits,
+                &options,
+            )
+            .map_err(SimulationError::Timing)?;
+            let plan = OnCycle::new(plan, scenario.rate_hz).map_err(SimulationError::Trajectory)?;
+            let duration = plan.stretch().duration();
+            let sampler =
+                Sampler::new(plan, scenario.rate_hz).map_err(SimulationError::Trajectory)?;
+            let schedule = vec![Scheduled {
+                command: scenario.commands()[0],
+                goal_rad: Some(scenario.goal_rad()),
+                sample: 0,
+                t_s: 0.0,
+            }];
+            let count = sampler.sample_count();
+            (Plan::Optimal(sampler), schedule, count, duration)
+        } else if scenario.has_commands() {
+            Self::plan_online(&scenario, controller, tips)?
+        } else {
+            let turn = OnCycle::new(reorientation, scenario.rate_hz)
+                .map_err(SimulationError::Trajectory)?;
+            let duration = turn.stretch().duration();
+            let sampler =
+                Sampler::new(turn, scenario.rate_hz).map_err(SimulationError::Trajectory)?;
+            let schedule = vec![Scheduled {
+                command: scenario.commands()[0],
+                goal_rad: Some(scenario.goal_rad()),
+                sample: 0,
+                t_s: 0.0,
+            }];
+            let count = sampler.sample_count();
+            (Plan::Rest(sampler), schedule, count, duration)
+        };
+        let [_, _, _, psi, theta, phi] = scenario.start_mm_deg;
+        let mut sim = Self {
+            start_deg: [psi, theta, phi],
+            start_rad: [start.psi, start.theta, start.phi],
+            supervisor: scenario_supervisor(&scenario, &controller)?,
+            scenario,
+            controller,
+            tips,
+            plan,
+            schedule,
+            count,
+            duration,
+            check: None,
+        };
+        if let Plan::Procedure(sampler) = &sim.plan {
+            // Plan, then check, then write: every sample computed once here,
+            // so that a failure is known before the first byte of output.
+            let mut check = ProcedureCheck::new(sampler.motion());
+            let mut run = ProcedureRun::new(sampler.clone(), controller);
+            while let Some(r) = run.next(&sim) {
+                let (record, margins) = r?;
+                check.push(&record, &margins, &sim.supervisor, &controller.limits);
+            }
+            if let Some(e) = sampler.motion().failure() {
+                return Err(e.clone());
+            }
+            sim.check = Some(check);
+        }
+        Ok(sim)
+    }
+
+    /// A procedure's check (per motion: duration, peak rates, smallest
+    /// margins; the supervisor's warnings), made before any output; `None`
+    /// for a run without motions.
+    pub fn procedure_check(&self) -> Option<&ProcedureCheck> {
+        self.check.as_ref()
+    }
+
+    /// The time-optimal law, for a run timed with [`Timing::Optimal`].
+    pub fn optimal(&self) -> Option<&OptimalReorientation> {
+        match &self.plan {
+            Plan::Optimal(sampler) => Some(sampler.motion().motion()),
+            _ => None,
+        }
+    }
+
+    /// A procedure's plan; `None` for a run without motions.
+    pub fn procedure(&self) -> Option<&ProcedurePlan> {
+        match &self.plan {
+            Plan::Procedure(sampler) => Some(sampler.motion()),
+            _ => None,
+        }
+    }
+
+    /// The margin supervisor whose thresholds a procedure's warnings use.
+    pub fn supervisor(&self) -> &Supervisor<f64> {
+        &self.supervisor
+    }
+
+    /// The online plan: the commands validated and scheduled, the
+    /// controller at rest at the start, the planned sample count and the
+    /// time the last motion comes to rest.
+    fn plan_online(
+        scenario: &Scenario,
+        controller: Controller<f64>,
+        tips: TipTargets<f64>,
+    ) -> Result<(Plan, Vec<Scheduled>, usize, f64), SimulationError> {
+        let rate = scenario.rate_hz;
+        if !(rate.is_finite() && rate > 0.0) {
+            return Err(SimulationError::Trajectory(
+                parasils::traj::Error::InvalidRate { value: rate },
+            ));
+        }
+        let schedule = schedule(scenario)?;
+        let online = OnlineController::new(
+            controller,
+            tips,
+            scenario.start(),
+            [scenario.limits(); 2],
+            scenario_supervisor(scenario, &controller)?,
+        )
+        .map_err(|e| online_error(e, 0.0, 0))?;
+        // The run planned: every command at its sample, no cycle run (the
+        // supervisor, which needs the kinematics, can only end it sooner
+        // or start a later command from rest).
+        let mut dry = online;
+        for s in &schedule {
+            apply(&mut dry, s, scenario).map_err(|e| online_error(e, s.t_s, s.sample))?;
+        }
+        let too_many = |duration: f64| {
+            SimulationError::Trajectory(parasils::traj::Error::TooManySamples { duration, rate })
+        };
+        let last = schedule.last().map_or(0, |s| s.sample);
+        let end = dry.motion_end();
+        let n = first_sample(rate, last, end, |t| dry.is_at_rest(t)).ok_or(too_many(end))?;
+        let count = n.checked_add(1).ok_or(too_many(end))?;
+        Ok((Plan::Online(online, rate), schedule, count, end))
+    }
+
+    /// The scenario.
+    pub fn scenario(&self) -> &Scenario {
+        &self.scenario
+    }
+
+    /// Whether module 1's geometry is the assumed one (not the real robot's).
+    pub fn module1_assumed(&self) -> bool {
+        self.scenario.robot.module1.assumed
+    }
+
+    /// The tips held still, mm, fixed frame.
+    pub fn tips(&self) -> &TipTargets<f64> {
+        &self.tips
+    }
+
+    /// The controller (the geometry of every module).
+    pub fn controller(&self) -> &Controller<f64> {
+        &self.controller
+    }
+
+    /// The commands with the samples they take effect at: the reorientation
+    /// at sample 0, then, in a run with commands, each retarget and the stop
+    /// in time order.
+    pub fn schedule(&self) -> &[Scheduled] {
+        &self.schedule
+    }
+
+    /// The motion's duration, s: the reorientation's; with commands, the
+    /// time the last motion comes to rest as planned (a stop demanded by
+    /// the supervisor can change it).
+    pub fn duration(&self) -> f64 {
+        self.duration
+    }
+
+    /// The number of records: `t = k / rate` for `k = 0..n`, the last one at
+    /// the end of the motion (see `parasils_traj::sampler`); with commands,
+    /// the first sample at which every command has taken effect and the last
+    /// motion is at rest, as planned (a stop demanded by the supervisor can
+    /// change it).
+    pub fn sample_count(&self) -> usize {
+        self.count
+    }
+
+    /// The records, computed one at a time. Each call starts the controller
+    /// afresh (module 1's margin tracked from the first sample).
+    pub fn samples(&self) -> Records<'_> {
+        let inner = match &self.plan {
+            Plan::Rest(sampler) => Inner::Rest {
+                sampler: sampler.clone(),
+                tracker: MarginTracker::new(),
+            },
+            Plan::Procedure(sampler) => {
+                Inner::Procedure(ProcedureRun::new(sampler.clone(), self.controller))
+            }
+            Plan::Optimal(sampler) => Inner::Optimal {
+                sampler: sampler.clone(),
+                tracker: MarginTracker::new(),
+            },
+            Plan::Online(online, rate) => Inner::Online(OnlineRun {
+                controller: *online,
+                rate: *rate,
+                next: 0,
+                pending: 0,
+                kind: CommandKind::Reorient,
+                done: false,
+            }),
+        };
+        Records { sim: self, inner }
+    }
+
+    /// Runs the whole motion into `sink`, record by record; stops at the
+    /// first failure.
+    ///
+    /// # Errors
+    /// [`RunError::Simulation`] when the kinematics fail at a sample,
+    /// [`RunError::Sink`] when the sink does.
+    pub fn run<S: Sink + ?Sized>(&self, sink: &mut S) -> Result<(), RunError<S::Error>> {
+        for record in self.samples() {
+            sink.push(&record?).map_err(RunError::Sink)?;
+        }
+        Ok(())
+    }
+
+    /// The record of sample `index` at `t`: the platform `state` and the
+    /// controller's `out` for it, the tips commanded `targets`, in `context`.
+    pub(super) fn record(
+        &self,
+        index: usize,
+        t: f64,
+        state: &PlatformState<f64>,
+        out: &ControlStep<f64>,
+        targets: &TipTargets<f64>,
+        context: Context,
+    ) -> Record {
+        let module = |m: &Instrument<f64>,
+                      sol: &InstrumentSolution<f64>,
+                      mode: AssemblyMode,
+                      target: Vector3<f64>| {
+            // The tip by forward kinematics from the joints, placed with the
+            // step's own platform frame (the rotation `Instrument::fk` would
+            // evaluate again from the Euler angles, the same numbers): `q`
+            // and the frame are finite, the step checked them.
+            let tip = out.frame.to_fixed(&m.fk_platform(&sol.q));
+            // `cos qs2` signed: `|cos qs2|` from the step's margins, positive
+            // in mode A and negative in mode B (the IK keeps the mode).
+            let cos_qs2 = match mode {
+                AssemblyMode::A => sol.margins.cos_qs2,
+                AssemblyMode::B => -sol.margins.cos_qs2,
+            };
+            InstrumentRecord {
+                q: sol.q.to_array(),
+                q_dot: sol.q_dot.to_array(),
+                q_ddot: sol.q_ddot.to_array(),
+                cos_qs2,
+                tip,
+                tip_err: (tip - target).norm(),
+            }
+        };
+        let p = &state.pose;
+        let m1 = &out.module1;
+        Record {
+            index,
+            t,
+            pose: p.to_array(),
+            angles_deg: Record::degrees_from_start(
+                [p.psi, p.theta, p.phi],
+                self.start_deg,
+                self.start_rad,
+            ),
+            euler_dot: [state.velocity.psi, state.velocity.theta, state.velocity.phi],
+            euler_ddot: [
+                state.acceleration.psi,
+                state.acceleration.theta,
+                state.acceleration.phi,
+            ],
+            module1: Module1Record {
+                q: m1.q.to_array(),
+                q_dot: m1.q_dot.to_array(),
+                q_ddot: m1.q_ddot.to_array(),
+                serial_margin: m1.margins.serial_min,
+                parallel_margin: m1.margins.parallel,
+            },
+            left: module(
+                &self.controller.left,
+                &out.left,
+                self.controller.modes[0],
+                targets.left,
+            ),
+            right: module(
+                &self.controller.right,
+                &out.right,
+                self.controller.modes[1],
+                targets.right,
+            ),
+            command: context.command,
+            kind: context.kind,
+            warnings: context.warnings,
+            motion: context.motion,
+            motion_type: context.motion_type,
+            endoscope_depth: context.endoscope_depth,
+            endoscope_tip: context.endoscope_tip,
+        }
+    }
+}
