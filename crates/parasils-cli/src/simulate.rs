@@ -78,7 +78,7 @@ impl Sink for Progress {
 /// A size check's error; over the cap, it says how to write anyway.
 pub(crate) fn force_hint(e: output::OutputError) -> anyhow::Error {
     match e {
-        e @ output::OutputError::OverCap { .. } => {
+        e @ output::OutputError::File(parasils_io::WriteError::OverCap { .. }) => {
             anyhow::anyhow!("{e}: give --force to write it anyway")
         }
         e => e.into(),

@@ -12,7 +12,7 @@ use core::convert::Infallible;
 use std::path::PathBuf;
 
 use numpy::IntoPyArray;
-use parasils_io::AtTime;
+use parasils_io::{AtTime, WriteError};
 use parasils_sim::input::{self, ProcedureSource, RobotSource};
 use parasils_sim::procedure;
 use parasils_sim::scenario::Retarget;
@@ -58,12 +58,12 @@ fn fixed<const N: usize>(value: Option<ArrayArg<'_>>, name: &str) -> PyResult<Op
 fn output_error(py: Python<'_>, error: &OutputError, path: &std::path::Path) -> PyErr {
     let text = error.to_string();
     match error {
-        OutputError::NoSpace { .. } => {
+        OutputError::File(WriteError::NoSpace { .. }) => {
             // ENOSPC: the file would not fit (refused before writing).
             const ENOSPC: i32 = 28;
             return PyOSError::new_err((ENOSPC, text, path.display().to_string()));
         }
-        OutputError::OverCap { .. } => {
+        OutputError::File(WriteError::OverCap { .. }) => {
             return PyValueError::new_err(format!("{text}: pass force=True to write it anyway"));
         }
         _ => {}
@@ -181,10 +181,10 @@ fn run(
             return Err(match e.downcast::<OutputError>() {
                 Ok(e) => Failure::Output(*e, path),
                 Err(other) => Failure::Output(
-                    OutputError::Io {
+                    OutputError::File(WriteError::Io {
                         path: path.clone(),
                         error: std::io::Error::other(other.to_string()),
-                    },
+                    }),
                     path,
                 ),
             });

@@ -15,7 +15,7 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 use parasils_io::AtomicFile;
-use parasils_io::file::{Bytes, WriteError, check_bytes, written_directly};
+use parasils_io::file::{WriteError, check_bytes, written_directly};
 
 use crate::csv::CsvSink;
 use crate::mcap::{McapError, McapSink};
@@ -69,58 +69,11 @@ pub enum OutputError {
         /// The path.
         path: PathBuf,
     },
-    /// The target is a folder.
-    #[error("{} is a folder: give a file name", path.display())]
-    IsFolder {
-        /// The target.
-        path: PathBuf,
-    },
-    /// The file would not fit in the free space of its file system.
-    #[error(
-        "{} would take about {} ({samples} samples), more than the {} free on its file system",
-        path.display(), Bytes(*estimate), Bytes(*free)
-    )]
-    NoSpace {
-        /// The target.
-        path: PathBuf,
-        /// The number of samples.
-        samples: usize,
-        /// The estimated size, bytes ([`estimate_bytes`]).
-        estimate: u64,
-        /// The free space, bytes.
-        free: u64,
-    },
-    /// The file would be larger than the cap, and `force` was not given.
-    #[error(
-        "{} would take about {} ({samples} samples), more than the {} cap",
-        path.display(), Bytes(*estimate), Bytes(*cap)
-    )]
-    OverCap {
-        /// The target.
-        path: PathBuf,
-        /// The number of samples.
-        samples: usize,
-        /// The estimated size, bytes ([`estimate_bytes`]).
-        estimate: u64,
-        /// The cap, bytes ([`parasils_io::file::cap_bytes`]).
-        cap: u64,
-    },
-    /// The temporary file cannot be created in the target's folder.
-    #[error("cannot write in {}: {error}", dir.display())]
-    Create {
-        /// The folder.
-        dir: PathBuf,
-        /// The operating system's error.
-        error: std::io::Error,
-    },
-    /// Writing failed.
-    #[error("writing {}: {error}", path.display())]
-    Io {
-        /// The target.
-        path: PathBuf,
-        /// The operating system's error.
-        error: std::io::Error,
-    },
+    /// The file itself: a folder given as the target, no room for it, over
+    /// the cap, its folder not writable, or a write that failed (the
+    /// variants of `parasils_io`'s [`WriteError`]).
+    #[error(transparent)]
+    File(#[from] WriteError),
     /// The CSV writer failed.
     #[error("writing {}: {error}", path.display())]
     Csv {
@@ -144,16 +97,13 @@ impl OutputError {
     /// full disk).
     pub fn io_error(&self) -> Option<&std::io::Error> {
         match self {
-            OutputError::Create { error, .. } | OutputError::Io { error, .. } => Some(error),
+            OutputError::File(error) => error.io_error(),
             OutputError::Csv { error, .. } => match error.kind() {
                 csv::ErrorKind::Io(e) => Some(e),
                 _ => None,
             },
             OutputError::Mcap { error, .. } => error.io_error(),
-            OutputError::UnknownFormat { .. }
-            | OutputError::IsFolder { .. }
-            | OutputError::NoSpace { .. }
-            | OutputError::OverCap { .. } => None,
+            OutputError::UnknownFormat { .. } => None,
         }
     }
 
@@ -161,52 +111,10 @@ impl OutputError {
     /// written in.
     pub fn path(&self) -> &Path {
         match self {
+            OutputError::File(error) => error.path(),
             OutputError::UnknownFormat { path }
-            | OutputError::IsFolder { path }
-            | OutputError::NoSpace { path, .. }
-            | OutputError::OverCap { path, .. }
-            | OutputError::Io { path, .. }
             | OutputError::Csv { path, .. }
             | OutputError::Mcap { path, .. } => path,
-            OutputError::Create { dir, .. } => dir,
-        }
-    }
-}
-
-impl From<WriteError> for OutputError {
-    fn from(e: WriteError) -> Self {
-        match e {
-            WriteError::IsFolder { path } => OutputError::IsFolder { path },
-            WriteError::NoSpace {
-                path,
-                samples,
-                estimate,
-                free,
-            } => OutputError::NoSpace {
-                path,
-                samples,
-                estimate,
-                free,
-            },
-            WriteError::OverCap {
-                path,
-                samples,
-                estimate,
-                cap,
-            } => OutputError::OverCap {
-                path,
-                samples,
-                estimate,
-                cap,
-            },
-            WriteError::Create { dir, error } => OutputError::Create { dir, error },
-            WriteError::Io { path, error } => OutputError::Io { path, error },
-            // `WriteError` is non-exhaustive: a variant added later keeps its
-            // message.
-            e => OutputError::Io {
-                path: e.path().to_owned(),
-                error: std::io::Error::other(e.to_string()),
-            },
         }
     }
 }
@@ -249,8 +157,9 @@ pub fn estimate_bytes(format: Format, samples: usize) -> u64 {
 /// Returns the estimate.
 ///
 /// # Errors
-/// [`OutputError::IsFolder`] when the target is a folder,
-/// [`OutputError::NoSpace`] and [`OutputError::OverCap`].
+/// [`OutputError::File`] when the target is a folder
+/// ([`WriteError::IsFolder`]), does not fit ([`WriteError::NoSpace`]) or
+/// is over the cap ([`WriteError::OverCap`]).
 pub fn check_size(
     path: &Path,
     format: Format,
@@ -302,7 +211,7 @@ impl Flushed {
     /// Renames the file to its path; returns the path.
     ///
     /// # Errors
-    /// [`OutputError::Io`] when the rename fails.
+    /// [`OutputError::File`] ([`WriteError::Io`]) when the rename fails.
     pub fn persist(self) -> Result<PathBuf, OutputError> {
         Ok(self.file.persist()?)
     }
@@ -315,8 +224,9 @@ impl OutputFile {
     /// here: see [`check_size`].
     ///
     /// # Errors
-    /// [`OutputError::IsFolder`] when the target is a folder,
-    /// [`OutputError::Create`] when the folder cannot be written in, and the
+    /// [`OutputError::File`] when the target is a folder
+    /// ([`WriteError::IsFolder`]) or its folder cannot be written in
+    /// ([`WriteError::Create`]), and the
     /// writers' errors.
     pub fn create(path: &Path, format: Format, scenario: &Scenario) -> Result<Self, OutputError> {
         let (atomic, file) = AtomicFile::create(path)?;
@@ -359,9 +269,11 @@ impl OutputFile {
     /// The writers' and the operating system's errors.
     pub fn flush(self) -> Result<Flushed, OutputError> {
         let path = self.path;
-        let io = |error| OutputError::Io {
-            path: path.clone(),
-            error,
+        let io = |error| {
+            OutputError::File(WriteError::Io {
+                path: path.clone(),
+                error,
+            })
         };
         match self.writer {
             Writer::Csv(w) => w.finish().map_err(io)?.flush().map_err(io)?,

@@ -132,6 +132,16 @@ pub(super) fn online_error(error: parasils::Error, t: f64, k: usize) -> Simulati
     }
 }
 
+/// The schedule of a run without commands: its turn, at sample 0.
+fn turn_schedule(scenario: &Scenario) -> Vec<Scheduled> {
+    vec![Scheduled {
+        command: scenario.commands()[0],
+        goal_rad: Some(scenario.goal_rad()),
+        sample: 0,
+        t_s: 0.0,
+    }]
+}
+
 impl Simulation {
     /// Validates the scenario and plans the trajectory: through
     /// [`Reorientation::new`] without commands; with commands, through an
@@ -209,12 +219,7 @@ impl Simulation {
             let duration = plan.stretch().duration();
             let sampler =
                 Sampler::new(plan, scenario.rate_hz).map_err(SimulationError::Trajectory)?;
-            let schedule = vec![Scheduled {
-                command: scenario.commands()[0],
-                goal_rad: Some(scenario.goal_rad()),
-                sample: 0,
-                t_s: 0.0,
-            }];
+            let schedule = turn_schedule(&scenario);
             let count = sampler.sample_count();
             (Plan::Optimal(sampler), schedule, count, duration)
         } else if scenario.has_commands() {
@@ -225,12 +230,7 @@ impl Simulation {
             let duration = turn.stretch().duration();
             let sampler =
                 Sampler::new(turn, scenario.rate_hz).map_err(SimulationError::Trajectory)?;
-            let schedule = vec![Scheduled {
-                command: scenario.commands()[0],
-                goal_rad: Some(scenario.goal_rad()),
-                sample: 0,
-                t_s: 0.0,
-            }];
+            let schedule = turn_schedule(&scenario);
             let count = sampler.sample_count();
             (Plan::Rest(sampler), schedule, count, duration)
         };
