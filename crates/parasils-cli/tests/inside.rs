@@ -109,10 +109,12 @@ fn states(stdout: &str) -> Vec<String> {
     stdout
         .lines()
         .filter(|l| l.contains(':') && l.trim_start().starts_with(char::is_numeric))
-        .map(|l| match l.find(" outside").or_else(|| l.find(" inside:")) {
-            Some(k) => l[k + 1..].to_string(),
-            None => String::from("?"),
-        })
+        .map(
+            |l| match l.find(" outside").or_else(|| l.find(" inside:")) {
+                Some(k) => l[k + 1..].to_string(),
+                None => String::from("?"),
+            },
+        )
         .collect()
 }
 
@@ -124,7 +126,12 @@ fn retract_reposition_passes_check_and_its_table_shows_each_motions_state() {
         .run()
         .ok();
     assert!(stdout.starts_with("procedure OK: 8 motions"), "{stdout}");
-    assert!(stdout.lines().nth(2).is_some_and(|l| l.ends_with(" inside")));
+    assert!(
+        stdout
+            .lines()
+            .nth(2)
+            .is_some_and(|l| l.ends_with(" inside"))
+    );
     assert_eq!(
         states(&stdout),
         [

@@ -371,7 +371,12 @@ mod tests {
         assert_eq!(s(false, true, false).verb(), "is");
         assert_eq!(s(false, false, false).to_string(), "outside");
         assert_eq!(s(true, false, true).to_string(), "inside: endoscope, right");
-        let text = refusal(InsideRule::TurnsAboutAxis, &s(false, true, false), 0.0, 30.0);
+        let text = refusal(
+            InsideRule::TurnsAboutAxis,
+            &s(false, true, false),
+            0.0,
+            30.0,
+        );
         assert!(
             text.starts_with("turns about the endoscope's axis while the left instrument is inside: phi would turn by 30.000 deg"),
             "{text}"

@@ -39,10 +39,7 @@ fn reorient(psi_deg: f64, theta_deg: f64) -> MotionSpec {
 const PORT: [f64; 6] = [15.0, 20.0, -500.0, -15.0, 10.0, -60.0];
 
 fn simulate(motions: Vec<MotionSpec>) -> core::result::Result<Simulation, SimulationError> {
-    Simulation::new(Scenario {
-        motions,
-        ..start()
-    })
+    Simulation::new(Scenario { motions, ..start() })
 }
 
 fn plan(sim: &Simulation) -> Result<&ProcedurePlan> {
