@@ -110,7 +110,7 @@ pub use engine::{
 };
 pub use input::{Input, InputError, InputField, ProcedureSource, RobotSource, TimingKind};
 pub use mcap::{McapError, McapOptions, McapSink, SceneGeometry};
-pub use motion::{MotionGoal, MotionLimits, MotionName, MotionSpec};
+pub use motion::{Inside, InsideRule, MotionGoal, MotionLimits, MotionName, MotionSpec};
 pub use output::{Flushed, Format, OutputError, OutputFile};
 #[cfg(feature = "plot")]
 pub use plot::PlotSink;

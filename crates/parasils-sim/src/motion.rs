@@ -220,3 +220,166 @@ impl core::fmt::Display for MotionName {
         f.write_str(")")
     }
 }
+
+/// `P` counts as moved when it leaves the incision point by more than
+/// this, mm.
+pub(crate) const MOVE_TOLERANCE_MM: f64 = 1e-6;
+
+/// `phi` counts as turned when it leaves its value by more than this, deg.
+pub(crate) const TURN_TOLERANCE_DEG: f64 = 1e-6;
+
+/// What is inside the patient before a motion starts, and where the
+/// incision is (see docs/model.md, *Inside or outside the patient*): the
+/// endoscope while its depth is above 0 mm; an instrument once an insertion
+/// of it ended deeper than at the procedure's start, until one ends at most
+/// at that depth.
+///
+/// `Display` writes `outside`, or `inside: ` and what is inside
+/// (`inside: endoscope, left`), as the `--check` table shows it.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Inside {
+    /// Whether the endoscope is inside (its depth above 0 mm).
+    pub endoscope: bool,
+    /// Whether the left instrument is inside (inserted deeper than at the
+    /// procedure's start).
+    pub left: bool,
+    /// Whether the right instrument is inside.
+    pub right: bool,
+    /// The incision point, mm, fixed frame: `P` (the platform's origin, the
+    /// endoscope's remote centre of motion) when the first insertion began;
+    /// `None` while everything is outside.
+    pub incision_mm: Option<[f64; 3]>,
+}
+
+impl Inside {
+    /// Whether anything is inside.
+    pub fn any(&self) -> bool {
+        self.endoscope || self.left || self.right
+    }
+
+    /// What is inside, in words: `the endoscope`, `the endoscope and the
+    /// left instrument`, `the endoscope, the left and the right
+    /// instruments`; `nothing` when everything is outside.
+    pub fn what(&self) -> &'static str {
+        match (self.endoscope, self.left, self.right) {
+            (true, false, false) => "the endoscope",
+            (true, true, false) => "the endoscope and the left instrument",
+            (true, false, true) => "the endoscope and the right instrument",
+            (true, true, true) => "the endoscope, the left and the right instruments",
+            (false, true, false) => "the left instrument",
+            (false, false, true) => "the right instrument",
+            (false, true, true) => "the left and the right instruments",
+            (false, false, false) => "nothing",
+        }
+    }
+
+    /// The verb that goes with [`Inside::what`]: `is` or `are`.
+    fn verb(&self) -> &'static str {
+        if usize::from(self.endoscope) + usize::from(self.left) + usize::from(self.right) > 1 {
+            "are"
+        } else {
+            "is"
+        }
+    }
+}
+
+impl core::fmt::Display for Inside {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        if !self.any() {
+            return f.write_str("outside");
+        }
+        f.write_str("inside:")?;
+        let mut sep = " ";
+        for (is, what) in [
+            (self.endoscope, "endoscope"),
+            (self.left, "left"),
+            (self.right, "right"),
+        ] {
+            if is {
+                write!(f, "{sep}{what}")?;
+                sep = ", ";
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A rule the paper states for motions while anything is inside the
+/// patient.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum InsideRule {
+    /// The motion moves `P` off the incision point (type 1 moves the
+    /// platform outside the patient only).
+    MovesIncision,
+    /// The motion changes `phi`, turning the platform about the endoscope's
+    /// axis, which would twist the port at the skin (`phi` is held once
+    /// anything is in).
+    TurnsAboutAxis,
+}
+
+impl core::fmt::Display for InsideRule {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            InsideRule::MovesIncision => "moves the incision point",
+            InsideRule::TurnsAboutAxis => "turns about the endoscope's axis",
+        })
+    }
+}
+
+/// A refusal's words after the motion's name: the rule, what is inside,
+/// how far the motion would go, and what to do instead.
+pub(crate) fn refusal(rule: InsideRule, inside: &Inside, moved_mm: f64, turned_deg: f64) -> String {
+    use parasils_io::Fixed;
+    let turn = || format!("phi would turn by {} deg", Fixed(turned_deg, 3));
+    let amounts = match rule {
+        InsideRule::MovesIncision if turned_deg > TURN_TOLERANCE_DEG => format!(
+            "P would leave the incision point by {} mm and {}",
+            Fixed(moved_mm, 3),
+            turn()
+        ),
+        InsideRule::MovesIncision => format!(
+            "P would leave the incision point by {} mm",
+            Fixed(moved_mm, 3)
+        ),
+        InsideRule::TurnsAboutAxis => format!("{}, twisting the port at the skin", turn()),
+    };
+    format!(
+        "{rule} while {} {} inside: {amounts}; retract everything first (the endoscope to depth 0, each instrument to its start depth)",
+        inside.what(),
+        inside.verb()
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn what_is_inside_in_words() {
+        let s = |endoscope, left, right| Inside {
+            endoscope,
+            left,
+            right,
+            incision_mm: None,
+        };
+        assert_eq!(
+            s(true, true, true).what(),
+            "the endoscope, the left and the right instruments"
+        );
+        assert_eq!(s(true, true, false).verb(), "are");
+        assert_eq!(s(false, true, false).verb(), "is");
+        assert_eq!(s(false, false, false).to_string(), "outside");
+        assert_eq!(s(true, false, true).to_string(), "inside: endoscope, right");
+        let text = refusal(
+            InsideRule::TurnsAboutAxis,
+            &s(false, true, false),
+            0.0,
+            30.0,
+        );
+        assert!(
+            text.starts_with("turns about the endoscope's axis while the left instrument is inside: phi would turn by 30.000 deg"),
+            "{text}"
+        );
+    }
+}

@@ -312,7 +312,8 @@ impl fmt::Display for Usage<'_> {
 
 /// A procedure's motions as a table (type, name, start, duration on the
 /// time line, the law's planned and stretched durations, peak
-/// rates, smallest margins, largest tip error), then every supervisor
+/// rates, smallest margins, largest tip error, what is inside the patient
+/// when it starts), then every supervisor
 /// warning with its motion and times.
 struct MotionTable<'a>(&'a ProcedureCheck);
 
@@ -321,7 +322,7 @@ impl fmt::Display for MotionTable<'_> {
         use parasils::supervisor::Margin;
         writeln!(
             f,
-            "motion type        name                         start_s duration_s planned_s stretched_s q_rate_mm_s qs12_rate_deg_s qs3_rate_mm_s min_cos_qs2 min_serial min_parallel min_stroke_mm tip_err_mm"
+            "motion type        name                         start_s duration_s planned_s stretched_s q_rate_mm_s qs12_rate_deg_s qs3_rate_mm_s min_cos_qs2 min_serial min_parallel min_stroke_mm tip_err_mm inside"
         )?;
         for m in &self.0.motions {
             let s = &m.smallest;
@@ -335,7 +336,7 @@ impl fmt::Display for MotionTable<'_> {
                 .collect();
             writeln!(
                 f,
-                "{:>6} {}:{:<10} {:<28} {:>7} {:>10} {:>9} {:>11} {:>11} {:>15} {:>13} {:>11} {:>10} {:>12} {:>13} {:>10.3e}",
+                "{:>6} {}:{:<10} {:<28} {:>7} {:>10} {:>9} {:>11} {:>11} {:>15} {:>13} {:>11} {:>10} {:>12} {:>13} {:>10.3e} {}",
                 m.name.index,
                 m.name.motion_type.number(),
                 m.name.type_name(),
@@ -351,7 +352,8 @@ impl fmt::Display for MotionTable<'_> {
                 Fixed(s[Margin::Serial], 4),
                 Fixed(s[Margin::Parallel], 4),
                 Fixed(s[Margin::Stroke], 3),
-                m.tip_err_mm
+                m.tip_err_mm,
+                m.inside
             )?;
         }
         if self.0.warnings.is_empty() {

@@ -28,23 +28,24 @@ const DEPTH_MM: f64 = 13.3;
 const POSE: [f64; 6] = [22.0, 14.0, -483.456, -8.0, 11.5, -59.0];
 const TURN_DEG: [f64; 2] = [4.1, -3.3];
 
-/// Types 3, 2, 1 and 4, each with a duration that is no whole number of
-/// milliseconds under the trapezoids: the manipulation's arc length
-/// `|(12, 15, -30)| = sqrt(1269)` mm; the insertion's triangle
-/// `2 sqrt(13.3 / 20)` s; the positioning's `psi` by 7 deg, a triangle of
-/// `2 sqrt(7 / 5)` s, slower than its `z` (2.1728 s); the turn's triangle
-/// `2 sqrt(4.1 / 5)` s.
+/// Types 3, 1, 2 and 4 (the positioning before the insertion: once the
+/// instrument is inside, the platform's `P` stays on the incision), each
+/// with a duration that is no whole number of milliseconds under the
+/// trapezoids: the manipulation's arc length `|(12, 15, -30)| = sqrt(1269)`
+/// mm; the positioning's `psi` by 7 deg, a triangle of `2 sqrt(7 / 5)` s,
+/// slower than its `z` (2.1728 s); the insertion's triangle
+/// `2 sqrt(13.3 / 20)` s; the turn's triangle `2 sqrt(4.1 / 5)` s.
 fn motions() -> Vec<MotionSpec> {
     vec![
         MotionSpec::new(MotionGoal::Manipulate {
             tip_left_mm: Some(TIP),
             tip_right_mm: None,
         }),
+        MotionSpec::new(MotionGoal::Position { pose_mm_deg: POSE }),
         MotionSpec::new(MotionGoal::Insert {
             port: Port::Left,
             depth_mm: DEPTH_MM,
         }),
-        MotionSpec::new(MotionGoal::Position { pose_mm_deg: POSE }),
         MotionSpec::new(MotionGoal::Reorient {
             psi_deg: TURN_DEG[0],
             theta_deg: TURN_DEG[1],
@@ -132,14 +133,15 @@ fn check(timing: Timing) -> Result {
     };
     assert_eq!(tip.position, Vector3::from(TIP));
     assert!((r.left.tip - Vector3::from(TIP)).norm() < 1e-9);
-    // Type 2: qs3 deeper by the depth, from where the manipulation left it.
-    let (r, _) = last_of(1);
-    let before = last_of(0).0;
-    assert_eq!(r.left.q[2], before.left.q[2] + DEPTH_MM);
     // Type 1: the pose.
     let goal = Pose::<f64>::from_mm_deg(POSE[0], POSE[1], POSE[2], POSE[3], POSE[4], POSE[5]);
-    let (r, _) = last_of(2);
+    let (r, _) = last_of(1);
     assert_eq!(r.pose, goal.to_array());
+    // Type 2: qs3 deeper by the depth, from where the manipulation left it
+    // (the positioning holds the joints).
+    let (r, _) = last_of(2);
+    let before = last_of(0).0;
+    assert_eq!(r.left.q[2], before.left.q[2] + DEPTH_MM);
     // Type 4: the angles turned from the positioning's goal.
     let (r, _) = last_of(3);
     assert_eq!(r.pose[3], goal.psi + TURN_DEG[0].to_radians());

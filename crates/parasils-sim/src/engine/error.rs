@@ -4,7 +4,7 @@ use parasils::kin::LimitError;
 
 use crate::timing::TimingError;
 
-use crate::motion::MotionName;
+use crate::motion::{Inside, InsideRule, MotionName, refusal};
 use parasils_io::{AtTime, Fixed, Shortest};
 
 /// What can stop a simulation.
@@ -65,6 +65,24 @@ pub enum SimulationError {
         sample: Option<usize>,
         /// Which actuator, the value and the limit.
         error: LimitError,
+    },
+    /// A motion of a procedure breaks a rule the paper states for motions
+    /// while anything is inside the patient (see [`InsideRule`]): refused
+    /// while the procedure is planned, before any output.
+    #[error("{motion}: {}", refusal(*rule, inside, *moved_mm, *turned_deg))]
+    Inside {
+        /// The motion (its index, type and name).
+        motion: Box<MotionName>,
+        /// The first rule it breaks (the incision point before the turn).
+        rule: InsideRule,
+        /// What is inside when it starts.
+        inside: Inside,
+        /// How far `P` would leave the incision point, mm (the largest
+        /// distance over the motion's rows).
+        moved_mm: f64,
+        /// How far `phi` would turn from its value at the motion's start,
+        /// deg (the largest over the motion's rows).
+        turned_deg: f64,
     },
     /// The time-optimal law cannot be computed.
     #[error("time-optimal timing: {0}")]

@@ -10,7 +10,7 @@ use parasils::motions::MotionSample;
 use parasils::supervisor::{Margin, Margins};
 
 use super::plan::ProcedurePlan;
-use crate::motion::MotionName;
+use crate::motion::{Inside, MotionName};
 use crate::record::Record;
 
 /// What the check of a procedure found in one motion: its duration, its
@@ -40,6 +40,8 @@ pub struct MotionCheck {
     /// The largest distance between a tip by forward kinematics and its
     /// command, mm.
     pub tip_err_mm: f64,
+    /// What is inside the patient when it starts.
+    pub inside: Inside,
 }
 
 /// A margin below its warning threshold during a motion: from when, until
@@ -95,6 +97,7 @@ impl ProcedureCheck {
                     peak_qs3_mm_s: 0.0,
                     smallest: Margins::splat(f64::INFINITY),
                     tip_err_mm: 0.0,
+                    inside: m.inside,
                 })
                 .collect(),
             warnings: Vec::new(),

@@ -1,9 +1,12 @@
 //! A procedure planned: its motions one after the other on one time line,
 //! each from the state the previous one ended in, each lasting a whole
-//! number of periods (`plan`), and the checks made before any output
-//! (`check`; see [`Simulation::new`](crate::engine::Simulation::new)).
+//! number of periods (`plan`), what is inside the patient before each and
+//! the rules for motions while anything is (`inside`), and the checks made
+//! before any output (`check`; see
+//! [`Simulation::new`](crate::engine::Simulation::new)).
 
 mod check;
+mod inside;
 mod plan;
 
 pub(crate) use check::commanded_tips;

@@ -13,8 +13,9 @@ use parasils::motions::{
 use parasils::traj::Synchronization;
 use parasils::{Reorientation, Stretch, TimeScaled};
 
+use super::inside;
 use crate::engine::error::SimulationError;
-use crate::motion::{MotionGoal, MotionLimits, MotionName, MotionSpec};
+use crate::motion::{Inside, MotionGoal, MotionLimits, MotionName, MotionSpec};
 use crate::scenario::Scenario;
 use crate::scenario::Timing;
 use crate::timing::{MotionPath, OptimalMotion, TimingError, TimingOptions};
@@ -50,6 +51,8 @@ pub struct PlannedMotion {
     /// The time-optimal law that times it instead of `motion`'s profile,
     /// under `--timing optimal` (`motion` then gives its type and path).
     pub optimal: Option<OptimalMotion>,
+    /// What is inside the patient when it starts, and the incision point.
+    pub inside: Inside,
 }
 
 impl PlannedMotion {
@@ -154,7 +157,10 @@ impl ProcedurePlan {
     ///
     /// # Errors
     /// [`SimulationError::Motion`] naming the motion whose profile cannot be
-    /// planned or that cannot follow the one before; [`SimulationError::Kinematics`]
+    /// planned or that cannot follow the one before;
+    /// [`SimulationError::Inside`] naming the first motion that would move
+    /// the incision point or turn about the endoscope's axis while anything
+    /// is inside the patient; [`SimulationError::Kinematics`]
     /// at `t = 0` when the start cannot be solved;
     /// [`SimulationError::Trajectory`] for a rate that is not positive and
     /// finite.
@@ -183,6 +189,7 @@ impl ProcedurePlan {
             endoscope_depth: scenario.endoscope_depth_mm,
         };
         let mut state = start;
+        let mut inside_now = inside::at_start(&start);
         let mut next_sample = 0usize;
         let mut motions: Vec<PlannedMotion> = Vec::with_capacity(scenario.motions.len());
         // The previous motion's moving state when it was cut short, with
@@ -289,7 +296,14 @@ impl ProcedurePlan {
                 stretch,
                 name,
                 optimal,
+                inside: inside_now,
             };
+            inside::check_motion(
+                &inside_now,
+                &placed.name,
+                &state.pose,
+                (0..=periods).map(|j| placed.sample_index(j).platform.pose),
+            )?;
             let end = placed.sample_index(periods);
             let out =
                 match solver.step_commanded(&end.platform, &end.left, &end.right, &mut tracker) {
@@ -320,6 +334,11 @@ impl ProcedurePlan {
                 joints: [out.left.q, out.right.q],
                 endoscope_depth: end.endoscope.position,
             };
+            let inserted = match &placed.motion {
+                Motion::Insert(i) => Some(i.port()),
+                _ => None,
+            };
+            inside_now = inside::after(&inside_now, inserted, &state, &start);
             moving = cut.then(|| (placed.moving_at_row(periods), spec.limits));
             next_sample = placed.next_sample();
             motions.push(placed);
