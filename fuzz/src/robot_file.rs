@@ -35,7 +35,10 @@ pub fn check_text(text: &str) {
         "the geometry changed through its own file:\n{written}"
     );
     let bits = |r: &parasils_sim::Robot| -> Vec<(&str, u64)> {
-        r.supervisor.given().map(|(k, v)| (k, v.to_bits())).collect()
+        r.supervisor
+            .given()
+            .map(|(k, v)| (k, v.to_bits()))
+            .collect()
     };
     assert_eq!(
         bits(&back),

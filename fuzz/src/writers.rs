@@ -7,12 +7,12 @@ use std::io::Cursor;
 
 use nalgebra::Vector3;
 use parasils::supervisor::MarginSet;
+use parasils_sim::Sink;
 use parasils_sim::columns::{self, Column};
 use parasils_sim::csv::CsvSink;
 use parasils_sim::mcap::{McapError, McapOptions, McapSink};
-use parasils_sim::{InstrumentRecord, Module1Record, Record};
 use parasils_sim::scenario::{CommandKind, Scenario};
-use parasils_sim::Sink;
+use parasils_sim::{InstrumentRecord, Module1Record, Record};
 
 use crate::input::Input;
 
