@@ -12,18 +12,22 @@ use core::hint::black_box;
 
 use criterion::Criterion;
 use parasils::Real;
+use parasils::geometry::RobotState;
 use parasils::kin::{ActuatorLimits, Controller, Pose, TipTargets};
-use parasils::path::{PATH_ROWS, ReorientationPath, row_limits};
+use parasils::path::{MotionPath, PATH_ROWS, row_limits};
 use parasils::traj::optimal::{self, Knot};
 
-fn paper_path<T: Real>() -> ReorientationPath<T> {
+fn paper_path<T: Real>() -> MotionPath<T> {
     let lit = T::lit;
-    ReorientationPath::new(
-        &Controller::paper(),
-        Pose::paper_start(),
-        [lit(15f64.to_radians()), lit(25f64.to_radians())],
-        TipTargets::paper(),
-    )
+    let c = Controller::paper();
+    let tips = TipTargets::paper();
+    let start = RobotState::solved(&c, Pose::paper_start(), &tips, T::zero())
+        .expect("the paper's start is in reach");
+    let goal = [
+        start.pose.psi + lit(15f64.to_radians()),
+        start.pose.theta + lit(25f64.to_radians()),
+    ];
+    MotionPath::turning(&c, &start, goal, [tips.left, tips.right])
 }
 
 fn bench_solve<T: Real>(c: &mut Criterion, name: &str, sizes: &[usize]) {

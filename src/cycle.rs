@@ -69,9 +69,9 @@
 //! ```
 
 use crate::Real;
+use crate::geometry::{MotionSample, Moving};
 use crate::kin::nalgebra::ComplexField;
 use crate::kin::{ModuleCommand, PlatformState, PoseRate};
-use crate::motions::{MotionSample, Moving};
 use crate::traj::{Error, Motion, State};
 
 /// What a time scaling by `r` does to a motion's output: velocities times

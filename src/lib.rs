@@ -18,6 +18,7 @@ pub use parasils_traj as traj;
 
 pub mod cycle;
 mod error;
+pub mod geometry;
 pub mod margin;
 pub mod motions;
 pub mod online;
@@ -28,13 +29,11 @@ pub mod supervisor;
 
 pub use cycle::{OnCycle, Stretch, TimeScaled};
 pub use error::Error;
+pub use geometry::{Geometry, MotionSample, MotionType, Moving, Port, RobotState};
 pub use margin::Margin;
-pub use motions::{
-    Insertion, Manipulation, Motion, MotionSample, MotionType, Moving, Port, Positioning,
-    RobotState, Turning,
-};
+pub use motions::{Insertion, Manipulation, Motion, Positioning, Turning};
 pub use online::{MotionKind, OnlineController, Setpoint};
-pub use path::{MotionPath, PathPoint, ReorientationPath};
+pub use path::{MotionPath, PathPoint};
 pub use reorientation::Reorientation;
 pub use supervisor::{MarginSet, Margins, Supervisor, Verdict};
 

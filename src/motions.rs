@@ -41,148 +41,54 @@
 //! [`Controller::step_commanded`]: crate::kin::Controller::step_commanded
 
 use crate::Real;
+use crate::geometry::Geometry;
+pub use crate::geometry::{MotionSample, MotionType, Moving, Port, RobotState};
 use crate::kin::nalgebra::Vector3;
-use crate::kin::{JointMotion, Joints, ModuleCommand, PlatformState, Pose, PoseRate, TipMotion};
-use crate::reorientation::{Reorientation, turned};
+use crate::kin::{Pose, TipMotion};
+use crate::reorientation::Reorientation;
 use crate::traj::{
-    Limits, Motion as Profile, Multi, OnlineMulti, OnlineTrapezoid, State, Synchronization,
-    Trapezoid,
+    DoubleS, JerkLimits, Limits, Motion as Profile, Multi, OnlineMulti, OnlineTrapezoid, State,
+    Synchronization, Trapezoid,
 };
 
-/// A profile planned from rest (`R`) or from a moving state (`O`, an online
-/// profile: after a motion cut short, the next one starts where it was, at
-/// its speed).
+/// How a motion's own coordinates move in time: a profile planned from rest
+/// (`R`), an online profile from a moving state (`O`: after a motion cut
+/// short, the next one starts where it was, at its speed), or a law `s(t)`
+/// along the geometry's straight line (the jerk-limited double S).
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum Planned<R, O> {
+enum Law<T, R, O> {
     Rest(R),
     Online(O),
+    Path(DoubleS<T>),
 }
 
-impl<R, O> Planned<R, O> {
-    fn duration<T: Real>(&self) -> T
-    where
-        R: Profile<T>,
-        O: Profile<T>,
-    {
+impl<T: Real, R: Profile<T>, O: Profile<T>> Law<T, R, O> {
+    fn duration(&self) -> T {
         match self {
-            Planned::Rest(p) => p.duration(),
-            Planned::Online(p) => p.duration(),
-        }
-    }
-
-    fn sample<T: Real>(&self, t: T) -> R::Output
-    where
-        R: Profile<T>,
-        O: Profile<T, Output = R::Output>,
-    {
-        match self {
-            Planned::Rest(p) => p.sample(t),
-            Planned::Online(p) => p.sample(t),
+            Law::Rest(p) => p.duration(),
+            Law::Online(p) => p.duration(),
+            Law::Path(p) => p.duration(),
         }
     }
 }
 
-/// A motion's own coordinates at an instant, with their rates: what a motion
-/// cut short hands to the next one ([`Motion::moving_at`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Moving<T> {
-    /// Type 1: `x, y, z` (mm), `psi, theta, phi` (rad).
-    Pose([State<T>; 6]),
-    /// Type 2: what is inserted, and its `qs3` (or depth), mm.
-    Depth(Port, State<T>),
-    /// Type 3: both tips, `x, y, z` each, mm, fixed frame (left first).
-    Tips([State<T>; 6]),
-    /// Type 4: `psi, theta`, rad.
-    Angles([State<T>; 2]),
-}
-
-impl<T: Real> Moving<T> {
-    /// Whether every coordinate is at rest (zero velocity).
-    pub fn at_rest(&self) -> bool {
-        let still = |s: &[State<T>]| s.iter().all(|a| a.velocity == T::zero());
-        match self {
-            Moving::Pose(s) | Moving::Tips(s) => still(s),
-            Moving::Depth(_, s) => still(core::slice::from_ref(s)),
-            Moving::Angles(s) => still(s),
+/// The coordinates of `law` at `t`: `rest` or `online` read a profile's
+/// sample, a path law is the geometry's straight line at `s(t)`.
+fn coordinates<T: Real, R: Profile<T>, O: Profile<T>>(
+    law: &Law<T, R, O>,
+    geometry: &Geometry<T>,
+    t: T,
+    rest: impl FnOnce(R::Output) -> Moving<T>,
+    online: impl FnOnce(O::Output) -> Moving<T>,
+) -> Moving<T> {
+    match law {
+        Law::Rest(p) => rest(p.sample(t)),
+        Law::Online(p) => online(p.sample(t)),
+        Law::Path(p) => {
+            let s = p.sample(t);
+            geometry.along(s.position, s.velocity, s.acceleration)
         }
     }
-}
-
-/// The paper's motion types, numbered as in its section 2.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum MotionType {
-    /// 1: the platform positioned outside the patient.
-    Position = 1,
-    /// 2: an instrument or the endoscope inserted along its axis.
-    Insert = 2,
-    /// 3: an instrument tip moved.
-    Manipulate = 3,
-    /// 4: the endoscope reoriented, both tips held.
-    Reorient = 4,
-}
-
-impl MotionType {
-    /// The type's number, 1 to 4.
-    pub const fn number(self) -> u8 {
-        self as u8
-    }
-
-    /// The name procedures use: `"position"`, `"insert"`, `"manipulate"`,
-    /// `"reorient"`.
-    pub const fn name(self) -> &'static str {
-        match self {
-            MotionType::Position => "position",
-            MotionType::Insert => "insert",
-            MotionType::Manipulate => "manipulate",
-            MotionType::Reorient => "reorient",
-        }
-    }
-}
-
-/// What an insertion moves along its own axis.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Port {
-    /// The left instrument (`qs3`).
-    Left,
-    /// The right instrument (`qs3`).
-    Right,
-    /// The endoscope (its depth).
-    Endoscope,
-}
-
-impl Port {
-    /// `"left"`, `"right"` or `"endoscope"`.
-    pub const fn name(self) -> &'static str {
-        match self {
-            Port::Left => "left",
-            Port::Right => "right",
-            Port::Endoscope => "endoscope",
-        }
-    }
-}
-
-/// The robot's state between motions: at rest.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct RobotState<T> {
-    /// The platform's pose, mm and rad.
-    pub pose: Pose<T>,
-    /// Both instrument modules' joints, `[left, right]` (rad, rad, mm).
-    pub joints: [Joints<T>; 2],
-    /// The endoscope's insertion depth, mm (0 at its port, positive inwards).
-    pub endoscope_depth: T,
-}
-
-/// One instant of a motion: what the controller is given.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MotionSample<T: Real> {
-    /// The platform's pose, rates and accelerations.
-    pub platform: PlatformState<T>,
-    /// The left module's command.
-    pub left: ModuleCommand<T>,
-    /// The right module's command.
-    pub right: ModuleCommand<T>,
-    /// The endoscope's depth (mm), with its rate and acceleration.
-    pub endoscope: State<T>,
 }
 
 /// Motion type 1: the platform from its pose to `goal` on a straight line in
@@ -190,8 +96,8 @@ pub struct MotionSample<T: Real> {
 /// instrument joints and the endoscope's depth held.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Positioning<T: Real> {
-    start: RobotState<T>,
-    profile: Planned<Multi<T, 6>, OnlineMulti<T, 6>>,
+    geometry: Geometry<T>,
+    law: Law<T, Multi<T, 6>, OnlineMulti<T, 6>>,
 }
 
 impl<T: Real> Positioning<T> {
@@ -217,8 +123,8 @@ impl<T: Real> Positioning<T> {
             Synchronization::Phase,
         )?;
         Ok(Self {
-            start: *start,
-            profile: Planned::Rest(profile),
+            geometry: Geometry::positioning(start, goal),
+            law: Law::Rest(profile),
         })
     }
 
@@ -241,8 +147,8 @@ impl<T: Real> Positioning<T> {
         let limits = [linear, linear, linear, angular, angular, angular];
         let profile = OnlineMulti::new(pose, goal.to_array(), limits, Synchronization::Phase)?;
         Ok(Self {
-            start: *start,
-            profile: Planned::Online(profile),
+            geometry: Geometry::positioning(start, goal),
+            law: Law::Online(profile),
         })
     }
 
@@ -259,42 +165,21 @@ impl<T: Real> Positioning<T> {
         angular: Limits<T>,
     ) -> Result<Self, crate::traj::Error> {
         let limits = [linear, linear, linear, angular, angular, angular];
+        let profile = OnlineMulti::stop(pose, limits)?;
+        let end = Pose::from_array(profile.sample(profile.duration()).map(|a| a.position));
         Ok(Self {
-            start: *start,
-            profile: Planned::Online(OnlineMulti::stop(pose, limits)?),
+            geometry: Geometry::positioning(start, end),
+            law: Law::Online(profile),
         })
     }
 
     /// The duration, s.
     pub fn duration(&self) -> T {
-        self.profile.duration()
+        self.law.duration()
     }
 
-    fn sample(&self, t: T) -> MotionSample<T> {
-        let s = self.profile.sample(t);
-        let pose = Pose::from_array(s.map(|a| a.position));
-        let [vx, vy, vz, vpsi, vtheta, vphi] = s.map(|a| a.velocity);
-        let [ax, ay, az, apsi, atheta, aphi] = s.map(|a| a.acceleration);
-        held(
-            &self.start,
-            PlatformState {
-                pose,
-                velocity: PoseRate::new(vx, vy, vz, vpsi, vtheta, vphi),
-                acceleration: PoseRate::new(ax, ay, az, apsi, atheta, aphi),
-            },
-        )
-    }
-}
-
-/// The platform in `platform`, both modules' joints and the endoscope held
-/// at `start`.
-fn held<T: Real>(start: &RobotState<T>, platform: PlatformState<T>) -> MotionSample<T> {
-    let [l, r] = start.joints;
-    MotionSample {
-        platform,
-        left: ModuleCommand::Joints(JointMotion::held(l)),
-        right: ModuleCommand::Joints(JointMotion::held(r)),
-        endoscope: State::rest(start.endoscope_depth),
+    fn moving(&self, t: T) -> Moving<T> {
+        coordinates(&self.law, &self.geometry, t, Moving::Pose, Moving::Pose)
     }
 }
 
@@ -304,9 +189,9 @@ fn held<T: Real>(start: &RobotState<T>, platform: PlatformState<T>) -> MotionSam
 /// its port.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Insertion<T: Real> {
-    start: RobotState<T>,
+    geometry: Geometry<T>,
     port: Port,
-    profile: Planned<Trapezoid<T>, OnlineTrapezoid<T>>,
+    law: Law<T, Trapezoid<T>, OnlineTrapezoid<T>>,
 }
 
 impl<T: Real> Insertion<T> {
@@ -329,9 +214,9 @@ impl<T: Real> Insertion<T> {
         };
         let profile = Trapezoid::new(from, from + depth, limits)?;
         Ok(Self {
-            start: *start,
+            geometry: Geometry::insertion(start, port, depth),
             port,
-            profile: Planned::Rest(profile),
+            law: Law::Rest(profile),
         })
     }
 
@@ -350,9 +235,9 @@ impl<T: Real> Insertion<T> {
     ) -> Result<Self, crate::traj::Error> {
         let profile = OnlineTrapezoid::new(state, state.position + depth, limits)?;
         Ok(Self {
-            start: *start,
+            geometry: Geometry::insertion(start, port, depth),
             port,
-            profile: Planned::Online(profile),
+            law: Law::Online(profile),
         })
     }
 
@@ -366,10 +251,12 @@ impl<T: Real> Insertion<T> {
         state: State<T>,
         limits: Limits<T>,
     ) -> Result<Self, crate::traj::Error> {
+        let profile = OnlineTrapezoid::stop(state, limits)?;
+        let by = profile.sample(profile.duration()).position - state.position;
         Ok(Self {
-            start: *start,
+            geometry: Geometry::insertion(start, port, by),
             port,
-            profile: Planned::Online(OnlineTrapezoid::stop(state, limits)?),
+            law: Law::Online(profile),
         })
     }
 
@@ -380,26 +267,18 @@ impl<T: Real> Insertion<T> {
 
     /// The duration, s.
     pub fn duration(&self) -> T {
-        self.profile.duration()
+        self.law.duration()
     }
 
-    fn sample(&self, t: T) -> MotionSample<T> {
-        let s = self.profile.sample(t);
-        let mut out = held(&self.start, PlatformState::at_rest(self.start.pose));
-        let zero = T::zero();
-        let driven = |q: Joints<T>| {
-            ModuleCommand::Joints(JointMotion {
-                q: Joints::new(q.qs1, q.qs2, s.position),
-                q_dot: Joints::new(zero, zero, s.velocity),
-                q_ddot: Joints::new(zero, zero, s.acceleration),
-            })
-        };
-        match self.port {
-            Port::Left => out.left = driven(self.start.joints[0]),
-            Port::Right => out.right = driven(self.start.joints[1]),
-            Port::Endoscope => out.endoscope = s,
-        }
-        out
+    fn moving(&self, t: T) -> Moving<T> {
+        let port = self.port;
+        coordinates(
+            &self.law,
+            &self.geometry,
+            t,
+            |s| Moving::Depth(port, s),
+            |s| Moving::Depth(port, s),
+        )
     }
 }
 
@@ -409,7 +288,7 @@ impl<T: Real> Insertion<T> {
 /// target is held still.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Manipulation<T: Real> {
-    start: RobotState<T>,
+    geometry: Geometry<T>,
     from: [Vector3<T>; 2],
     /// Each tip's displacement, mm (zero for a tip held).
     delta: [Vector3<T>; 2],
@@ -419,7 +298,7 @@ pub struct Manipulation<T: Real> {
     length: [T; 2],
     /// From rest: the arc lengths, from 0 to `length`; from a moving state:
     /// `x, y, z` of both tips.
-    profile: Planned<Multi<T, 2>, OnlineMulti<T, 6>>,
+    law: Law<T, Multi<T, 2>, OnlineMulti<T, 6>>,
 }
 
 impl<T: Real> Manipulation<T> {
@@ -435,17 +314,18 @@ impl<T: Real> Manipulation<T> {
         to: [Option<Vector3<T>>; 2],
         limits: Limits<T>,
     ) -> Result<Self, crate::traj::Error> {
+        let geometry = Geometry::manipulation(start, from, to);
         let to = [0, 1].map(|i| to[i].unwrap_or(from[i]));
         let delta = [to[0] - from[0], to[1] - from[1]];
         let length = delta.map(|d| d.norm());
         let profile = Multi::new([T::zero(); 2], length, [limits; 2], Synchronization::Phase)?;
         Ok(Self {
-            start: *start,
+            geometry,
             from,
             delta,
             to,
             length,
-            profile: Planned::Rest(profile),
+            law: Law::Rest(profile),
         })
     }
 
@@ -489,6 +369,8 @@ impl<T: Real> Manipulation<T> {
         Self::online(start, tips, OnlineMulti::stop(tips, [limits; 6])?)
     }
 
+    /// From a moving state both tips are commanded by position: a tip may
+    /// move on the way even where it ends where it started.
     fn online(
         start: &RobotState<T>,
         tips: [State<T>; 6],
@@ -502,38 +384,35 @@ impl<T: Real> Manipulation<T> {
         let to = [at(&end, 0), at(&end, 1)];
         let delta = [to[0] - from[0], to[1] - from[1]];
         Ok(Self {
-            start: *start,
+            geometry: Geometry::manipulation_driven(start, from, to, [true; 2]),
             from,
             delta,
             to,
             length: delta.map(|d| d.norm()),
-            profile: Planned::Online(profile),
+            law: Law::Online(profile),
         })
     }
 
     /// The duration, s.
     pub fn duration(&self) -> T {
-        self.profile.duration()
+        self.law.duration()
     }
 
     /// Both tips' `x, y, z` with their rates at `t` (left first).
-    fn tips_at(&self, t: T) -> [State<T>; 6] {
-        match &self.profile {
-            Planned::Online(p) => p.sample(t),
-            Planned::Rest(p) => {
-                let [l, r] = p.sample(t);
-                let [a, b] = [self.tip(0, &l), self.tip(1, &r)];
-                core::array::from_fn(|k| {
-                    let m = if k < 3 { &a } else { &b };
-                    let i = k % 3;
-                    State {
-                        position: m.position[i],
-                        velocity: m.velocity[i],
-                        acceleration: m.acceleration[i],
-                    }
-                })
-            }
-        }
+    fn moving(&self, t: T) -> Moving<T> {
+        let rest = |[l, r]: [State<T>; 2]| {
+            let [a, b] = [self.tip(0, &l), self.tip(1, &r)];
+            Moving::Tips(core::array::from_fn(|k| {
+                let m = if k < 3 { &a } else { &b };
+                let i = k % 3;
+                State {
+                    position: m.position[i],
+                    velocity: m.velocity[i],
+                    acceleration: m.acceleration[i],
+                }
+            }))
+        };
+        coordinates(&self.law, &self.geometry, t, rest, Moving::Tips)
     }
 
     /// Each tip's path length, `[left, right]`, mm.
@@ -568,64 +447,40 @@ impl<T: Real> Manipulation<T> {
             acceleration: u * s.acceleration,
         }
     }
-
-    fn sample(&self, t: T) -> MotionSample<T> {
-        let mut out = held(&self.start, PlatformState::at_rest(self.start.pose));
-        match &self.profile {
-            Planned::Rest(p) => {
-                let [l, r] = p.sample(t);
-                if self.length[0] > T::zero() {
-                    out.left = ModuleCommand::Tip(self.tip(0, &l));
-                }
-                if self.length[1] > T::zero() {
-                    out.right = ModuleCommand::Tip(self.tip(1, &r));
-                }
-            }
-            Planned::Online(p) => {
-                let s = p.sample(t);
-                let tip = |i: usize| {
-                    let v = |f: fn(&State<T>) -> T| {
-                        Vector3::from_fn(|k, _| s.get(3 * i + k).map_or(T::zero(), f))
-                    };
-                    ModuleCommand::Tip(TipMotion {
-                        position: v(|a| a.position),
-                        velocity: v(|a| a.velocity),
-                        acceleration: v(|a| a.acceleration),
-                    })
-                };
-                out.left = tip(0);
-                out.right = tip(1);
-            }
-        }
-        out
-    }
 }
 
 /// Motion type 4 as a procedure plans it: the turn, from rest
 /// ([`Reorientation`]) or from a moving `(psi, theta)` (a turn cut short),
-/// with the tips it holds and the endoscope's depth.
+/// with the tips it holds; the endoscope's depth is the start's.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Turning<T: Real> {
-    start: Pose<T>,
-    profile: Planned<Reorientation<T>, OnlineMulti<T, 2>>,
-    tips: [Vector3<T>; 2],
-    depth: T,
+    geometry: Geometry<T>,
+    law: Law<T, Reorientation<T>, OnlineMulti<T, 2>>,
 }
 
 impl<T: Real> Turning<T> {
-    /// The turn `reorientation`, holding `tips` (`[left, right]`, mm, fixed
-    /// frame), the endoscope at `depth` (mm).
-    pub fn new(reorientation: Reorientation<T>, tips: [Vector3<T>; 2], depth: T) -> Self {
-        Self {
-            start: *reorientation.start(),
-            profile: Planned::Rest(reorientation),
-            tips,
-            depth,
-        }
+    /// The turn of `start.pose` to `goal` (`[psi, theta]`, rad), each angle
+    /// within `limits` (rad/s, rad/s^2), the two timed together as `sync`
+    /// says, holding `tips` (`[left, right]`, mm, fixed frame).
+    ///
+    /// # Errors
+    /// A [`parasils_traj::Error`] for non-finite angles or invalid limits.
+    pub fn new(
+        start: &RobotState<T>,
+        goal: [T; 2],
+        limits: [Limits<T>; 2],
+        sync: Synchronization,
+        tips: [Vector3<T>; 2],
+    ) -> Result<Self, crate::traj::Error> {
+        let turn = Reorientation::new(start.pose, goal, limits, sync)?;
+        Ok(Self {
+            geometry: Geometry::turning(start, goal, tips),
+            law: Law::Rest(turn),
+        })
     }
 
     /// The turn from the moving `angles` (`psi`, `theta`, rad, with their
-    /// rates) at `pose` to rest at `goal` (rad), time-optimal under
+    /// rates) at `start` to rest at `goal` (rad), time-optimal under
     /// `limits`, as the online controller replans (see
     /// [`OnlineController`](crate::OnlineController)).
     ///
@@ -633,19 +488,16 @@ impl<T: Real> Turning<T> {
     /// A [`parasils_traj::Error`] for a non-finite state or goal, or invalid
     /// limits.
     pub fn from_moving(
-        pose: Pose<T>,
+        start: &RobotState<T>,
         angles: [State<T>; 2],
         goal: [T; 2],
         limits: Limits<T>,
         tips: [Vector3<T>; 2],
-        depth: T,
     ) -> Result<Self, crate::traj::Error> {
         let profile = OnlineMulti::new(angles, goal, [limits; 2], Synchronization::Phase)?;
         Ok(Self {
-            start: pose,
-            profile: Planned::Online(profile),
-            tips,
-            depth,
+            geometry: Geometry::turning(start, goal, tips),
+            law: Law::Online(profile),
         })
     }
 
@@ -654,47 +506,45 @@ impl<T: Real> Turning<T> {
     /// # Errors
     /// As [`Turning::from_moving`].
     pub fn stop(
-        pose: Pose<T>,
+        start: &RobotState<T>,
         angles: [State<T>; 2],
         limits: Limits<T>,
         tips: [Vector3<T>; 2],
-        depth: T,
     ) -> Result<Self, crate::traj::Error> {
+        let profile = OnlineMulti::stop(angles, [limits; 2])?;
+        let goal = profile.sample(profile.duration()).map(|a| a.position);
         Ok(Self {
-            start: pose,
-            profile: Planned::Online(OnlineMulti::stop(angles, [limits; 2])?),
-            tips,
-            depth,
+            geometry: Geometry::turning(start, goal, tips),
+            law: Law::Online(profile),
         })
     }
 
     /// The duration, s.
     pub fn duration(&self) -> T {
-        match &self.profile {
-            Planned::Rest(r) => r.duration(),
-            Planned::Online(p) => p.duration(),
-        }
+        self.law.duration()
     }
 
-    fn angles(&self, t: T) -> [State<T>; 2] {
-        match &self.profile {
-            Planned::Rest(r) => r.profile().sample(t),
-            Planned::Online(p) => p.sample(t),
-        }
-    }
-
-    fn sample(&self, t: T) -> MotionSample<T> {
-        let [left, right] = self.tips;
-        MotionSample {
-            platform: turned(&self.start, self.angles(t)),
-            left: ModuleCommand::still(left),
-            right: ModuleCommand::still(right),
-            endoscope: State::rest(self.depth),
-        }
+    fn moving(&self, t: T) -> Moving<T> {
+        let rest = |s: crate::kin::PlatformState<T>| {
+            Moving::Angles([
+                State {
+                    position: s.pose.psi,
+                    velocity: s.velocity.psi,
+                    acceleration: s.acceleration.psi,
+                },
+                State {
+                    position: s.pose.theta,
+                    velocity: s.velocity.theta,
+                    acceleration: s.acceleration.theta,
+                },
+            ])
+        };
+        coordinates(&self.law, &self.geometry, t, rest, Moving::Angles)
     }
 }
 
-/// One planned motion of any type.
+/// One planned motion of any type: its [`Geometry`] and how its coordinates
+/// move in time.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Motion<T: Real> {
     /// Type 1.
@@ -708,13 +558,94 @@ pub enum Motion<T: Real> {
 }
 
 impl<T: Real> Motion<T> {
+    /// The motion along `geometry`'s straight line timed by the
+    /// jerk-limited double S from rest to rest: `s(t)` from 0 to 1 within
+    /// the limits of `s` that keep every coordinate within its own
+    /// ([`Geometry::path_limits`]: `linear` for lengths, mm/s, mm/s^2,
+    /// mm/s^3; `angular` for angles, rad/s, rad/s^2, rad/s^3). Velocity and
+    /// acceleration are continuous, the jerk bounded.
+    ///
+    /// ```
+    /// use parasils::geometry::{Geometry, Port, RobotState};
+    /// use parasils::kin::{Joints, Pose};
+    /// use parasils::motions::Motion;
+    /// use parasils::traj::JerkLimits;
+    ///
+    /// let start = RobotState {
+    ///     pose: Pose::<f64>::paper_start(),
+    ///     joints: [Joints::from_deg_mm(3.0, -10.0, 120.0), Joints::from_deg_mm(-3.0, 10.0, 120.0)],
+    ///     endoscope_depth: 0.0,
+    /// };
+    /// // 30 mm at most 20 mm/s, 20 mm/s^2, 40 mm/s^3.
+    /// let linear = JerkLimits::new(20.0, 20.0, 40.0);
+    /// let angular = JerkLimits::new(0.2, 0.1, 0.2);
+    /// let m = Motion::jerk_limited(Geometry::insertion(&start, Port::Left, 30.0), linear, angular)?;
+    /// // Hand-derived: v_max is reached (a^2/j = 10 mm/s < 20), t_j = a/j = 0.5 s,
+    /// // t_a = v/a + t_j = 1.5 s, cruise (30 - 20 * 1.5) / 20 = 0 s: 3 s in all.
+    /// assert!((m.duration() - 3.0).abs() < 1e-12);
+    /// let end = m.moving_at(m.duration());
+    /// assert!(end.at_rest());
+    /// # Ok::<(), parasils::traj::Error>(())
+    /// ```
+    ///
+    /// # Errors
+    /// A [`parasils_traj::Error`] for limits that are not positive and
+    /// finite, or a path that cannot be timed.
+    pub fn jerk_limited(
+        geometry: Geometry<T>,
+        linear: JerkLimits<T>,
+        angular: JerkLimits<T>,
+    ) -> Result<Self, crate::traj::Error> {
+        let zero = T::zero();
+        // The limits as given, checked by the profile's own validation.
+        DoubleS::new(zero, zero, linear)?;
+        DoubleS::new(zero, zero, angular)?;
+        let path = match geometry.path_limits(linear, angular) {
+            Some(limits) => DoubleS::new(zero, T::one(), limits)?,
+            None => DoubleS::new(zero, zero, linear)?,
+        };
+        Ok(match geometry.motion_type() {
+            MotionType::Position => Motion::Position(Positioning {
+                geometry,
+                law: Law::Path(path),
+            }),
+            MotionType::Insert => Motion::Insert(Insertion {
+                geometry,
+                port: geometry.port().unwrap_or(Port::Endoscope),
+                law: Law::Path(path),
+            }),
+            MotionType::Manipulate => {
+                let (from, to) = geometry.tips_line();
+                let delta = [to[0] - from[0], to[1] - from[1]];
+                Motion::Manipulate(Manipulation {
+                    geometry,
+                    from,
+                    delta,
+                    to,
+                    length: delta.map(|d| d.norm()),
+                    law: Law::Path(path),
+                })
+            }
+            MotionType::Reorient => Motion::Reorient(Turning {
+                geometry,
+                law: Law::Path(path),
+            }),
+        })
+    }
+
     /// Its type.
     pub fn motion_type(&self) -> MotionType {
+        self.geometry().motion_type()
+    }
+
+    /// Its geometry: the start, the target, the map from its coordinates
+    /// to the robot.
+    pub fn geometry(&self) -> &Geometry<T> {
         match self {
-            Motion::Position(_) => MotionType::Position,
-            Motion::Insert(_) => MotionType::Insert,
-            Motion::Manipulate(_) => MotionType::Manipulate,
-            Motion::Reorient(_) => MotionType::Reorient,
+            Motion::Position(m) => &m.geometry,
+            Motion::Insert(m) => &m.geometry,
+            Motion::Manipulate(m) => &m.geometry,
+            Motion::Reorient(m) => &m.geometry,
         }
     }
 
@@ -729,24 +660,20 @@ impl<T: Real> Motion<T> {
     }
 
     /// The motion at `t` (s from its start): at rest at its start for
-    /// `t <= 0` and at its end for `t >= duration`.
+    /// `t <= 0` and at its end for `t >= duration`. Its coordinates at `t`
+    /// through its geometry's one map ([`Geometry::at`]).
     pub fn sample(&self, t: T) -> MotionSample<T> {
-        match self {
-            Motion::Position(m) => m.sample(t),
-            Motion::Insert(m) => m.sample(t),
-            Motion::Manipulate(m) => m.sample(t),
-            Motion::Reorient(m) => m.sample(t),
-        }
+        self.geometry().at(&self.moving_at(t))
     }
 
     /// The motion's own coordinates and their rates at `t`: what the next
     /// motion starts from when this one is cut short at `t`.
     pub fn moving_at(&self, t: T) -> Moving<T> {
         match self {
-            Motion::Position(m) => Moving::Pose(m.profile.sample(t)),
-            Motion::Insert(m) => Moving::Depth(m.port, m.profile.sample(t)),
-            Motion::Manipulate(m) => Moving::Tips(m.tips_at(t)),
-            Motion::Reorient(m) => Moving::Angles(m.angles(t)),
+            Motion::Position(m) => m.moving(t),
+            Motion::Insert(m) => m.moving(t),
+            Motion::Manipulate(m) => m.moving(t),
+            Motion::Reorient(m) => m.moving(t),
         }
     }
 }

@@ -1,37 +1,37 @@
-//! Motion type 4 as a geometric path, for time-optimal timing: `s in [0, 1]`
-//! turns the platform from its start pose along the straight line
-//! `(psi, theta) = (psi_0 + s dpsi, theta_0 + s dtheta)`, `P` and `phi`
-//! still, both tips held.
+//! Any motion type as a geometric path, for time-optimal timing: `s in
+//! [0, 1]` runs along its [`Geometry`]'s straight line in the motion's own
+//! coordinates (for type 4, `(psi, theta) = (psi_0 + s dpsi, theta_0 +
+//! s dtheta)`, `P` and `phi` still, both tips held).
 //!
 //! Along the path, each actuator is a function `q(s)`. Its derivatives come
 //! from the controller's own cycle ([`Controller::step_commanded`], the same
-//! call a control loop makes, with a fresh margin tracker): the platform
-//! state at `s` with `s_dot = 1`, `s_ddot = 0` (Euler rates
+//! call a control loop makes, with a fresh margin tracker): the robot at
+//! `s` with `s_dot = 1`, `s_ddot = 0` (for type 4, Euler rates
 //! `(dpsi, dtheta)`, no Euler acceleration) gives actuator velocities
 //! `q'(s)` and accelerations `q''(s)`, since `q_dot = q' s_dot` and
 //! `q_ddot = q' s_ddot + q'' s_dot^2`. No finite difference, no spline, and
-//! no second copy of the cycle: a point of the path is what the controller
-//! accepts (strokes, joint limits, singularity thresholds, the parallel
-//! margin included).
+//! no second copy of the cycle or of the geometry: a point of the path is
+//! what the controller accepts (strokes, joint limits, singularity
+//! thresholds, the parallel margin included).
 //!
 //! The path has [`PATH_ROWS`] rows for the solver
 //! ([`parasils_traj::optimal`]): the twelve actuators in the order of
-//! [`Actuator::ALL`](crate::kin::Actuator::ALL), then `psi` and `theta`
-//! themselves (rad), so that the paper's angular limits can bind too when
-//! asked ([`row_limits`]).
+//! [`Actuator::ALL`](crate::kin::Actuator::ALL), then the motion's own two
+//! rows (for type 4, `psi` and `theta` themselves, rad), so that the
+//! paper's angular limits can bind too when asked ([`row_limits`]).
 //!
 //! ```
+//! use parasils::geometry::RobotState;
 //! use parasils::kin::{ActuatorLimits, Controller, Pose, TipTargets};
-//! use parasils::path::{ReorientationPath, row_limits};
+//! use parasils::path::{MotionPath, row_limits};
 //! use parasils::traj::optimal::{self, Knot};
 //!
 //! let deg = core::f64::consts::PI / 180.0;
-//! let path = ReorientationPath::new(
-//!     &Controller::paper(),
-//!     Pose::paper_start(),
-//!     [15.0 * deg, 25.0 * deg],
-//!     TipTargets::paper(),
-//! );
+//! let controller = Controller::paper();
+//! let tips = TipTargets::paper();
+//! let start = RobotState::solved(&controller, Pose::paper_start(), &tips, 0.0)?;
+//! let goal = [start.pose.psi + 15.0 * deg, start.pose.theta + 25.0 * deg];
+//! let path = MotionPath::turning(&controller, &start, goal, [tips.left, tips.right]);
 //! let limits = row_limits(&ActuatorLimits::assumed(), None);
 //! let mut knots = vec![Knot::default(); 1000];
 //! let (schedule, _) = optimal::plan(&path, &limits, &mut knots, 10)?;
@@ -41,16 +41,14 @@
 //! ```
 
 use crate::Real;
+use crate::geometry::{Geometry, MotionSample, MotionType, Port, RobotState};
 use crate::kin::nalgebra::Vector3;
 use crate::kin::{
-    ACTUATOR_COUNT, ActuatorLimits, ControlStep, Controller, JointMotion, Joints, MarginTracker,
-    ModuleCommand, PlatformState, Pose, PoseRate, TipMotion, TipTargets, step_positions,
+    ACTUATOR_COUNT, ActuatorLimits, ControlStep, Controller, MarginTracker, Pose, step_positions,
     step_rates,
 };
-use crate::motions::{MotionSample, MotionType, Port, RobotState};
-use crate::reorientation::turned;
+use crate::traj::Limits;
 use crate::traj::optimal::{Derivatives, Path, RowLimits};
-use crate::traj::{Limits, State};
 
 /// The rows of a reorientation path: twelve actuators, then `psi`, `theta`.
 pub const PATH_ROWS: usize = ACTUATOR_COUNT + 2;
@@ -93,84 +91,6 @@ impl<T: Real> PathPoint<T> {
     }
 }
 
-/// Motion type 4's straight turn as a path `s in [0, 1]`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ReorientationPath<T: Real> {
-    controller: Controller<T>,
-    start: Pose<T>,
-    increment: [T; 2],
-    tips: TipTargets<T>,
-}
-
-impl<T: Real> ReorientationPath<T> {
-    /// The turn by `increment = [dpsi, dtheta]` (rad) from `start`, tips held
-    /// at `tips`, on `controller`'s robot and assembly modes.
-    pub fn new(
-        controller: &Controller<T>,
-        start: Pose<T>,
-        increment: [T; 2],
-        tips: TipTargets<T>,
-    ) -> Self {
-        Self {
-            controller: *controller,
-            start,
-            increment,
-            tips,
-        }
-    }
-
-    /// The start pose.
-    pub fn start(&self) -> &Pose<T> {
-        &self.start
-    }
-
-    /// `[dpsi, dtheta]`, rad.
-    pub fn increment(&self) -> [T; 2] {
-        self.increment
-    }
-
-    /// The tips held.
-    pub fn tips(&self) -> &TipTargets<T> {
-        &self.tips
-    }
-
-    /// The platform at `s` moving with path speed `s_dot` (1/s) and path
-    /// acceleration `s_ddot` (1/s^2): what the controller steps through.
-    pub fn state(&self, s: T, s_dot: T, s_ddot: T) -> PlatformState<T> {
-        let [dpsi, dtheta] = self.increment;
-        let mut pose = self.start;
-        pose.psi = self.start.psi + s * dpsi;
-        pose.theta = self.start.theta + s * dtheta;
-        PlatformState::reorientation(
-            pose,
-            [dpsi * s_dot, dtheta * s_dot],
-            [dpsi * s_ddot, dtheta * s_ddot],
-        )
-    }
-
-    /// The actuators and their derivatives in `s` at `s`.
-    ///
-    /// # Errors
-    /// The kinematics' error where the path leaves the robot's workspace: a
-    /// leg out of reach, a serial singularity, a stroke or joint limit, a tip
-    /// out of reach, an instrument singularity, a non-finite number.
-    pub fn point(&self, s: T) -> Result<PathPoint<T>, crate::kin::Error> {
-        let state = self.state(s, T::one(), T::zero());
-        let step = self
-            .controller
-            .step(&state, &self.tips, &mut MarginTracker::new())?;
-        Ok(PathPoint::of(&step))
-    }
-}
-
-impl<T: Real> Path<T, PATH_ROWS> for ReorientationPath<T> {
-    type Error = crate::kin::Error;
-
-    fn derivatives(&self, s: T) -> Result<Derivatives<T, PATH_ROWS>, crate::kin::Error> {
-        Ok(self.point(s)?.derivatives(self.increment))
-    }
-}
-
 /// The solver's limits for a reorientation path: the actuators' (mm, rad
 /// per s and s^2), and, when `angular` is given, `psi`'s and `theta`'s
 /// (`[psi, theta]`, rad/s and rad/s^2, each axis on its own, as the
@@ -194,46 +114,11 @@ pub fn row_limits<T: Real>(
     rows
 }
 
-/// What a [`MotionPath`] moves: each type by its target, so that `s = 1`
-/// is the target itself, not a sum that rounding could leave short of it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Geometry<T: Real> {
-    /// Type 1: the pose to `(x, y, z, psi, theta, phi)` (mm, rad).
-    Position([T; 6]),
-    /// Type 2: `qs3` of a module, or the endoscope's depth, by `depth` mm.
-    Insert(Port, T),
-    /// Type 3: the tips from `from` to `to` (mm, fixed frame).
-    Manipulate {
-        from: [Vector3<T>; 2],
-        to: [Vector3<T>; 2],
-    },
-    /// Type 4: `(psi, theta)` to `goal` (rad), the tips held.
-    Reorient { goal: [T; 2], tips: [Vector3<T>; 2] },
-}
-
-/// The point `s` of the way from `from` to `to`: `from + s (to - from)`,
-/// and `to` itself from `s = 1` on.
-fn lerp<T: Real>(from: T, to: T, s: T) -> T {
-    if s >= T::one() {
-        to
-    } else {
-        from + s * (to - from)
-    }
-}
-
-/// The displacement of a [`MotionPath`]'s own coordinates over the path.
-enum Delta<T: Real> {
-    Position([T; 6]),
-    Insert(T),
-    Manipulate([Vector3<T>; 2]),
-    Reorient([T; 2]),
-}
-
 /// Any of the paper's four motion types from rest to rest as a geometric
 /// path `s in [0, 1]`, for time-optimal timing: the same straight line its
 /// [`Motion`](crate::motions::Motion) follows, with the time law left open.
 ///
-/// Rows 0 to 11 are the twelve actuators, as in [`ReorientationPath`]; rows
+/// Rows 0 to 11 are the twelve actuators (see the module's documentation); rows
 /// 12 and 13 are the motion's own coordinates, so that the limits a
 /// procedure states for the motion can bind as well:
 ///
@@ -276,15 +161,15 @@ enum Delta<T: Real> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MotionPath<T: Real> {
     controller: Controller<T>,
-    start: RobotState<T>,
     geometry: Geometry<T>,
 }
 
 impl<T: Real> MotionPath<T> {
-    fn on(controller: &Controller<T>, start: &RobotState<T>, geometry: Geometry<T>) -> Self {
+    /// `geometry`'s straight line on `controller`'s robot and assembly
+    /// modes.
+    pub fn new(controller: &Controller<T>, geometry: Geometry<T>) -> Self {
         Self {
             controller: *controller,
-            start: *start,
             geometry,
         }
     }
@@ -292,7 +177,7 @@ impl<T: Real> MotionPath<T> {
     /// Type 1: the platform from `start.pose` to `goal` on the straight
     /// line in pose space, the instrument joints and the endoscope held.
     pub fn positioning(controller: &Controller<T>, start: &RobotState<T>, goal: Pose<T>) -> Self {
-        Self::on(controller, start, Geometry::Position(goal.to_array()))
+        Self::new(controller, Geometry::positioning(start, goal))
     }
 
     /// Type 2: `port`'s `qs3` (or the endoscope's depth) by `depth` mm,
@@ -303,7 +188,7 @@ impl<T: Real> MotionPath<T> {
         port: Port,
         depth: T,
     ) -> Self {
-        Self::on(controller, start, Geometry::Insert(port, depth))
+        Self::new(controller, Geometry::insertion(start, port, depth))
     }
 
     /// Type 3: the tips from `from` (`[left, right]`, mm, fixed frame:
@@ -315,8 +200,7 @@ impl<T: Real> MotionPath<T> {
         from: [Vector3<T>; 2],
         to: [Option<Vector3<T>>; 2],
     ) -> Self {
-        let to = [0, 1].map(|i| to[i].unwrap_or(from[i]));
-        Self::on(controller, start, Geometry::Manipulate { from, to })
+        Self::new(controller, Geometry::manipulation(start, from, to))
     }
 
     /// Type 4: `(psi, theta)` from `start.pose`'s to `goal` (rad), the tips
@@ -327,160 +211,59 @@ impl<T: Real> MotionPath<T> {
         goal: [T; 2],
         tips: [Vector3<T>; 2],
     ) -> Self {
-        Self::on(controller, start, Geometry::Reorient { goal, tips })
+        Self::new(controller, Geometry::turning(start, goal, tips))
     }
 
-    /// The displacement of the motion's coordinates along the whole path
-    /// (`d q / d s` of each): the pose's six, the inserted depth, each tip's
-    /// `x, y, z`, `(psi, theta)`.
-    fn delta(&self) -> Delta<T> {
-        let p = self.start.pose.to_array();
-        match &self.geometry {
-            Geometry::Position(goal) => Delta::Position(core::array::from_fn(|k| goal[k] - p[k])),
-            Geometry::Insert(_, d) => Delta::Insert(*d),
-            Geometry::Manipulate { from, to } => {
-                Delta::Manipulate([to[0] - from[0], to[1] - from[1]])
-            }
-            Geometry::Reorient { goal, .. } => Delta::Reorient([
-                goal[0] - self.start.pose.psi,
-                goal[1] - self.start.pose.theta,
-            ]),
-        }
+    /// Its geometry.
+    pub fn geometry(&self) -> &Geometry<T> {
+        &self.geometry
     }
 
     /// The motion's type.
     pub fn motion_type(&self) -> MotionType {
-        match self.geometry {
-            Geometry::Position(_) => MotionType::Position,
-            Geometry::Insert(..) => MotionType::Insert,
-            Geometry::Manipulate { .. } => MotionType::Manipulate,
-            Geometry::Reorient { .. } => MotionType::Reorient,
-        }
+        self.geometry.motion_type()
     }
 
     /// The state it starts from.
     pub fn start(&self) -> &RobotState<T> {
-        &self.start
+        self.geometry.start()
     }
 
     /// Whether nothing moves along it (a displacement of zero): it takes no
     /// time.
     pub fn is_still(&self) -> bool {
-        let zero = T::zero();
-        match self.delta() {
-            Delta::Position(d) => d.iter().all(|&x| x == zero),
-            Delta::Insert(d) => d == zero,
-            Delta::Manipulate(delta) => delta.iter().all(|d| d.iter().all(|&x| x == zero)),
-            Delta::Reorient(increment) => increment.iter().all(|&x| x == zero),
-        }
+        self.geometry.is_still()
     }
 
     /// The motion's own coordinates' derivatives in `s` (rows 12 and 13,
     /// see [`MotionPath`]).
     pub fn own_rates(&self) -> [T; 2] {
-        let zero = T::zero();
-        let largest = |d: &[T]| {
-            d.iter().fold(zero, |m, &x| {
-                let x = if x < zero { -x } else { x };
-                if x > m { x } else { m }
-            })
-        };
-        match self.delta() {
-            Delta::Position(d) => [largest(&d[..3]), largest(&d[3..])],
-            Delta::Insert(d) => [d, zero],
-            Delta::Manipulate(delta) => delta.map(|d| d.norm()),
-            Delta::Reorient(increment) => increment,
-        }
+        self.geometry.own_rates()
     }
 
     /// The robot at `s` moving with path speed `s_dot` (1/s) and path
     /// acceleration `s_ddot` (1/s^2): what
-    /// [`Controller::step_commanded`] takes, as
-    /// [`Motion::sample`](crate::motions::Motion::sample) gives it.
+    /// [`Controller::step_commanded`] takes, through the geometry's one map
+    /// ([`Geometry::sample`]).
     pub fn sample(&self, s: T, s_dot: T, s_ddot: T) -> MotionSample<T> {
-        let start = &self.start;
-        let [l, r] = start.joints;
-        let mut out = MotionSample {
-            platform: PlatformState::at_rest(start.pose),
-            left: ModuleCommand::Joints(JointMotion::held(l)),
-            right: ModuleCommand::Joints(JointMotion::held(r)),
-            endoscope: State::rest(start.endoscope_depth),
-        };
-        let along = |from: T, to: T| {
-            let by = to - from;
-            State {
-                position: lerp(from, to, s),
-                velocity: s_dot * by,
-                acceleration: s_ddot * by,
-            }
-        };
-        match &self.geometry {
-            Geometry::Position(goal) => {
-                let p = start.pose.to_array();
-                let c: [State<T>; 6] = core::array::from_fn(|k| along(p[k], goal[k]));
-                out.platform = PlatformState {
-                    pose: Pose::from_array(c.map(|a| a.position)),
-                    velocity: PoseRate::new(
-                        c[0].velocity,
-                        c[1].velocity,
-                        c[2].velocity,
-                        c[3].velocity,
-                        c[4].velocity,
-                        c[5].velocity,
-                    ),
-                    acceleration: PoseRate::new(
-                        c[0].acceleration,
-                        c[1].acceleration,
-                        c[2].acceleration,
-                        c[3].acceleration,
-                        c[4].acceleration,
-                        c[5].acceleration,
-                    ),
-                };
-            }
-            Geometry::Insert(port, depth) => {
-                let driven = |q: Joints<T>| {
-                    let a = along(q.qs3, q.qs3 + *depth);
-                    let zero = T::zero();
-                    ModuleCommand::Joints(JointMotion {
-                        q: Joints::new(q.qs1, q.qs2, a.position),
-                        q_dot: Joints::new(zero, zero, a.velocity),
-                        q_ddot: Joints::new(zero, zero, a.acceleration),
-                    })
-                };
-                match port {
-                    Port::Left => out.left = driven(l),
-                    Port::Right => out.right = driven(r),
-                    Port::Endoscope => {
-                        out.endoscope =
-                            along(start.endoscope_depth, start.endoscope_depth + *depth);
-                    }
-                }
-            }
-            Geometry::Manipulate { from, to } => {
-                let tip = |i: usize| {
-                    let delta = to[i] - from[i];
-                    ModuleCommand::Tip(TipMotion {
-                        position: Vector3::from_fn(|k, _| lerp(from[i][k], to[i][k], s)),
-                        velocity: delta * s_dot,
-                        acceleration: delta * s_ddot,
-                    })
-                };
-                if from[0] != to[0] {
-                    out.left = tip(0);
-                }
-                if from[1] != to[1] {
-                    out.right = tip(1);
-                }
-            }
-            Geometry::Reorient { goal, tips } => {
-                let p = &start.pose;
-                out.platform = turned(p, [along(p.psi, goal[0]), along(p.theta, goal[1])]);
-                out.left = ModuleCommand::still(tips[0]);
-                out.right = ModuleCommand::still(tips[1]);
-            }
-        }
-        out
+        self.geometry.sample(s, s_dot, s_ddot)
+    }
+
+    /// The actuators and their derivatives in `s` at `s`.
+    ///
+    /// # Errors
+    /// The kinematics' error where the path leaves the robot's workspace: a
+    /// leg out of reach, a serial singularity, a stroke or joint limit, a tip
+    /// out of reach, an instrument singularity, a non-finite number.
+    pub fn point(&self, s: T) -> Result<PathPoint<T>, crate::kin::Error> {
+        let at = self.sample(s, T::one(), T::zero());
+        let step = self.controller.step_commanded(
+            &at.platform,
+            &at.left,
+            &at.right,
+            &mut MarginTracker::new(),
+        )?;
+        Ok(PathPoint::of(&step))
     }
 }
 
@@ -491,13 +274,6 @@ impl<T: Real> Path<T, PATH_ROWS> for MotionPath<T> {
     /// the robot at `s` moving with `s_dot = 1`, `s_ddot = 0` (see the
     /// module's documentation), then the motion's own rows.
     fn derivatives(&self, s: T) -> Result<Derivatives<T, PATH_ROWS>, crate::kin::Error> {
-        let at = self.sample(s, T::one(), T::zero());
-        let step = self.controller.step_commanded(
-            &at.platform,
-            &at.left,
-            &at.right,
-            &mut MarginTracker::new(),
-        )?;
-        Ok(PathPoint::of(&step).derivatives(self.own_rates()))
+        Ok(self.point(s)?.derivatives(self.own_rates()))
     }
 }

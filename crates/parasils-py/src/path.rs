@@ -6,7 +6,7 @@ use numpy::IntoPyArray;
 use numpy::ndarray::{Array1, Array2};
 use parasils_kin::nalgebra::Vector3;
 use parasils_kin::{Controller, Pose, TipTargets, mirror_across_platform, presets};
-use parasils_sim::timing::{OptimalReorientation, ReorientationPath, TimingError, TimingOptions};
+use parasils_sim::timing::{MotionPath, OptimalMotion, RobotState, TimingError, TimingOptions};
 use parasils_traj::Limits;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -68,7 +68,10 @@ pub(crate) fn reorientation_path<'py>(
         )));
     }
     let (start, tips) = pose_and_tips(&pose, tips.as_ref())?;
-    let path = ReorientationPath::new(controller, start, [dpsi, dtheta], tips);
+    let state = RobotState::solved(controller, start, &tips, 0.0)
+        .map_err(|e| errors::kinematics(py, &e, None, None, "path at s = 0: "))?;
+    let goal = [start.psi + dpsi, start.theta + dtheta];
+    let path = MotionPath::turning(controller, &state, goal, [tips.left, tips.right]);
     let s: Vec<f64> = s.as_array().iter().copied().collect();
     let n = s.len();
     let rows = py.detach(|| -> Result<Vec<f64>, (f64, parasils_kin::Error)> {
@@ -144,7 +147,7 @@ pub(crate) fn optimal_reorientation<'py>(
     };
     let goal = [start.psi + dpsi, start.theta + dtheta];
     let plan = py
-        .detach(|| OptimalReorientation::plan(controller, start, goal, tips, &limits, &options))
+        .detach(|| OptimalMotion::turn(controller, start, goal, tips, &limits, &options))
         .map_err(|e| match e {
             TimingError::Kinematics { s, error } => {
                 errors::kinematics(py, &error, None, None, &format!("path at s = {s}: "))

@@ -125,6 +125,5 @@ pub use sink::{BoxError, Sink, Tee};
 pub use summary::{CheckReport, Summary};
 pub use supervisor::SupervisorTable;
 pub use timing::{
-    Binding, OptimalLaw, OptimalMotion, OptimalReorientation, PhasePlane, PhaseSummary,
-    TimingError, TimingOptions,
+    Binding, OptimalLaw, OptimalMotion, PhasePlane, PhaseSummary, TimingError, TimingOptions,
 };

@@ -1,7 +1,7 @@
 //! Time-optimal timing under the actuators' limits (see `docs/model.md`,
-//! *Time-optimal timing*): the straight turn of [`ReorientationPath`]
-//! ([`OptimalReorientation`], the paper's scenario), or any motion type's
-//! [`MotionPath`] ([`OptimalMotion`], a procedure's motions), solved by
+//! *Time-optimal timing*): any motion type's [`MotionPath`]
+//! ([`OptimalMotion`]: a procedure's motions, and the paper's turn through
+//! [`OptimalMotion::turn`]), solved by
 //! [`parasils::traj::optimal`] on a grid of [`TimingOptions::knots`]
 //! points, checked [`TimingOptions::checks`] times denser, and sampled like
 //! any planned motion.
@@ -9,11 +9,11 @@
 //! ```
 //! use parasils::kin::{ActuatorLimits, Controller, Pose, TipTargets};
 //! use parasils::traj::Motion;
-//! use parasils_sim::timing::{OptimalReorientation, TimingOptions};
+//! use parasils_sim::timing::{OptimalMotion, TimingOptions};
 //!
 //! let start = Pose::paper_start();
 //! let goal = [start.psi + 15f64.to_radians(), start.theta + 25f64.to_radians()];
-//! let plan = OptimalReorientation::plan(
+//! let plan = OptimalMotion::turn(
 //!     &Controller::paper(),
 //!     start,
 //!     goal,
@@ -25,20 +25,20 @@
 //! let first = plan.phases()[0];
 //! assert_eq!(first.binding.to_string(), "module 1 q6");
 //! for sample in (&plan).sampler(1000.0)? {
-//!     let _state = sample.state; // a PlatformState for Controller::step
+//!     let _robot = sample.state; // a MotionSample for Controller::step_commanded
 //! }
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 use core::fmt;
 
+pub use parasils::geometry::RobotState;
+use parasils::geometry::{MotionSample, MotionType};
 use parasils::kin::{
-    ACTUATOR_COUNT, Actuator, ActuatorLimits, Controller, LimitError, PlatformState, Pose,
-    RateKind, TipTargets,
+    ACTUATOR_COUNT, Actuator, ActuatorLimits, Controller, LimitError, Pose, RateKind, TipTargets,
 };
-use parasils::motions::{MotionSample, MotionType};
 use parasils::path::row_limits;
-pub use parasils::path::{MotionPath, PATH_ROWS, PathPoint, ReorientationPath};
+pub use parasils::path::{MotionPath, PATH_ROWS, PathPoint};
 use parasils::traj::optimal::{self, Certificate, Knot, RowLimits, Schedule};
 use parasils::traj::{LimitKind, Limits, Motion, State};
 
@@ -175,9 +175,8 @@ impl fmt::Display for PhaseSummary {
 }
 
 /// A path timed to be as fast as its limits allow: the path, the solver's
-/// limits (one per row), and the solved knots. [`OptimalReorientation`]
-/// (motion type 4, the paper's run) and [`OptimalMotion`] (any motion type,
-/// a procedure's motions) are its two kinds.
+/// limits (one per row), and the solved knots: [`OptimalMotion`], any
+/// motion type's path (the paper's turn, a procedure's motions).
 #[derive(Debug, Clone)]
 pub struct OptimalLaw<P> {
     path: P,
@@ -185,11 +184,6 @@ pub struct OptimalLaw<P> {
     knots: Vec<Knot<f64, PATH_ROWS>>,
     certificate: Option<Certificate<f64>>,
 }
-
-/// Motion type 4 timed to be as fast as the actuators' limits allow: a
-/// [`Motion`] of [`PlatformState`]s, sampled like
-/// [`parasils::Reorientation`].
-pub type OptimalReorientation = OptimalLaw<ReorientationPath<f64>>;
 
 /// Any motion type timed to be as fast as the actuators' limits (and the
 /// limits given for its own coordinates) allow: a [`Motion`] of
@@ -277,17 +271,19 @@ impl<P: optimal::Path<f64, PATH_ROWS, Error = parasils::kin::Error>> OptimalLaw<
     }
 }
 
-impl OptimalReorientation {
+impl OptimalMotion {
     /// The fastest rest-to-rest turn from `start` to `goal = [psi, theta]`
-    /// (rad) along the straight line in `(psi, theta)`, tips held at `tips`,
-    /// within `actuators` (and `options.angular` when given). A turn of zero
-    /// length takes no time.
+    /// (rad) along the straight line in `(psi, theta)`, tips held at `tips`
+    /// (the paper's scenario), within `actuators` (and `options.angular`,
+    /// on `psi` and `theta`, when given). A turn of zero length takes no
+    /// time.
     ///
     /// # Errors
     /// [`TimingError::Limits`] for an invalid limit,
-    /// [`TimingError::Kinematics`] where the line leaves the workspace,
-    /// [`TimingError::Solver`] for invalid options.
-    pub fn plan(
+    /// [`TimingError::Kinematics`] where the line leaves the workspace (its
+    /// start included, at `s = 0`), [`TimingError::Solver`] for invalid
+    /// options.
+    pub fn turn(
         controller: &Controller<f64>,
         start: Pose<f64>,
         goal: [f64; 2],
@@ -296,26 +292,15 @@ impl OptimalReorientation {
         options: &TimingOptions,
     ) -> Result<Self, TimingError> {
         actuators.validate()?;
-        let increment = [goal[0] - start.psi, goal[1] - start.theta];
-        let path = ReorientationPath::new(controller, start, increment, tips);
-        let limits = row_limits(actuators, options.angular);
-        Self::solve(path, limits, increment == [0.0, 0.0], options)
+        let state = RobotState::solved(controller, start, &tips, 0.0)
+            .map_err(|error| TimingError::Kinematics { s: 0.0, error })?;
+        let path = MotionPath::turning(controller, &state, goal, [tips.left, tips.right]);
+        let own = options
+            .angular
+            .map_or([None, None], |[psi, theta]| [Some(psi), Some(theta)]);
+        Self::plan(path, actuators, own, options)
     }
 
-    /// The platform's state at `t` (s): at rest at the start for `t <= 0`,
-    /// at rest at the goal for `t >= duration`.
-    pub fn state_at(&self, t: f64) -> PlatformState<f64> {
-        let st = self.path_state(t);
-        self.path.state(st.position, st.velocity, st.acceleration)
-    }
-
-    /// The phases, in time order, each with what limits it.
-    pub fn phases(&self) -> Vec<PhaseSummary> {
-        phases(&self.schedule(), &self.limits, MotionType::Reorient)
-    }
-}
-
-impl OptimalMotion {
     /// The fastest rest-to-rest law along `path` within `actuators` and,
     /// for the motion's own coordinates (rows 12 and 13, see
     /// [`MotionPath`]), `own` where given. A path along which nothing
@@ -409,7 +394,7 @@ pub struct PhasePlane {
     pub phases: Vec<(f64, f64, String)>,
 }
 
-impl OptimalReorientation {
+impl OptimalMotion {
     /// The phase plane of this law (empty for a turn of zero length).
     pub fn phase_plane(&self) -> PhasePlane {
         let knots = &self.knots;
@@ -441,28 +426,13 @@ impl OptimalReorientation {
     }
 }
 
-impl Motion<f64> for OptimalReorientation {
-    type Output = PlatformState<f64>;
-
-    fn duration(&self) -> f64 {
-        OptimalLaw::duration(self)
-    }
-
-    fn sample(&self, t: f64) -> PlatformState<f64> {
-        self.state_at(t)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn plan(
-        goal_deg: [f64; 2],
-        options: &TimingOptions,
-    ) -> Result<OptimalReorientation, TimingError> {
+    fn plan(goal_deg: [f64; 2], options: &TimingOptions) -> Result<OptimalMotion, TimingError> {
         let start = Pose::paper_start();
-        OptimalReorientation::plan(
+        OptimalMotion::turn(
             &Controller::paper(),
             start,
             [
@@ -480,15 +450,18 @@ mod tests {
         let p = plan([0.0, 0.0], &TimingOptions::default())?;
         assert_eq!(p.duration(), 0.0);
         assert!(p.phases().is_empty() && p.certificate().is_none());
-        let st = p.state_at(1.0);
-        assert_eq!(st, PlatformState::at_rest(Pose::paper_start()));
+        let st = p.sample_at(1.0).platform;
+        assert_eq!(
+            st,
+            parasils::kin::PlatformState::at_rest(Pose::paper_start())
+        );
         Ok(())
     }
 
     #[test]
     fn the_paper_turn_ends_on_its_goal_at_rest() -> Result<(), TimingError> {
         let p = plan([15.0, 25.0], &TimingOptions::default())?;
-        let end = p.state_at(p.duration());
+        let end = p.sample_at(p.duration()).platform;
         let start = Pose::<f64>::paper_start();
         assert!((end.pose.psi - (start.psi + 15f64.to_radians())).abs() < 1e-15);
         assert!((end.pose.theta - (start.theta + 25f64.to_radians())).abs() < 1e-15);
@@ -583,7 +556,7 @@ mod tests {
         let mut limits = ActuatorLimits::assumed();
         limits.velocity[3] = -1.0;
         let start = Pose::paper_start();
-        let e = OptimalReorientation::plan(
+        let e = OptimalMotion::turn(
             &Controller::paper(),
             start,
             [start.psi, start.theta + 0.1],

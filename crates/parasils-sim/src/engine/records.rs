@@ -9,7 +9,7 @@ use parasils::supervisor::{MarginSet, Margins};
 use parasils::traj::Sampler;
 use parasils::{MotionKind, OnCycle, OnlineController, Reorientation};
 
-use crate::timing::OptimalReorientation;
+use crate::timing::OptimalMotion;
 
 use crate::record::Record;
 use crate::scenario::CommandKind;
@@ -39,7 +39,7 @@ pub(super) enum Inner {
     Online(OnlineRun),
     Procedure(ProcedureRun),
     Optimal {
-        sampler: Sampler<f64, OnCycle<OptimalReorientation, f64>>,
+        sampler: Sampler<f64, OnCycle<OptimalMotion, f64>>,
         tracker: MarginTracker<f64>,
     },
 }
@@ -215,7 +215,13 @@ impl Iterator for Records<'_> {
             }
             Inner::Optimal { sampler, tracker } => {
                 let s = sampler.next()?;
-                Some(planned_record(sim, tracker, s.index, s.time, &s.state))
+                Some(planned_record(
+                    sim,
+                    tracker,
+                    s.index,
+                    s.time,
+                    &s.state.platform,
+                ))
             }
             Inner::Procedure(run) => run.next(sim).map(|r| r.map(|(record, _)| record)),
             Inner::Online(run) => {

@@ -12,7 +12,7 @@ use parasils::traj::Sampler;
 use parasils::{OnCycle, OnlineController, Reorientation, Supervisor};
 
 use crate::scenario::Timing;
-use crate::timing::{OptimalReorientation, TimingOptions};
+use crate::timing::{OptimalMotion, TimingOptions};
 
 use crate::record::{InstrumentRecord, Module1Record, Record};
 use crate::scenario::{CommandKind, Scenario};
@@ -37,7 +37,7 @@ pub(super) enum Plan {
     /// A procedure: its motions on one time line.
     Procedure(Sampler<f64, ProcedurePlan>),
     /// Without commands, timed to the actuators' limits.
-    Optimal(Sampler<f64, OnCycle<OptimalReorientation, f64>>),
+    Optimal(Sampler<f64, OnCycle<OptimalMotion, f64>>),
 }
 
 /// What a record says besides the kinematics: the command and motion it
@@ -206,7 +206,7 @@ impl Simulation {
                 angular: angular.then(|| [scenario.limits(); 2]),
                 ..TimingOptions::default()
             };
-            let plan = OptimalReorientation::plan(
+            let plan = OptimalMotion::turn(
                 &controller,
                 start,
                 scenario.goal_rad(),
@@ -273,7 +273,7 @@ impl Simulation {
     }
 
     /// The time-optimal law, for a run timed with [`Timing::Optimal`].
-    pub fn optimal(&self) -> Option<&OptimalReorientation> {
+    pub fn optimal(&self) -> Option<&OptimalMotion> {
         match &self.plan {
             Plan::Optimal(sampler) => Some(sampler.motion().motion()),
             _ => None,

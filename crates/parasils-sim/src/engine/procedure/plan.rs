@@ -11,7 +11,7 @@ use parasils::motions::{
     RobotState, Turning,
 };
 use parasils::traj::Synchronization;
-use parasils::{Reorientation, Stretch, TimeScaled};
+use parasils::{Stretch, TimeScaled};
 
 use super::inside;
 use crate::engine::error::SimulationError;
@@ -483,12 +483,13 @@ fn plan(
                 absolute,
                 [state.pose.psi, state.pose.theta],
             );
-            let turn = Reorientation::new(state.pose, goal, [angular; 2], Synchronization::Phase)?;
             Motion::Reorient(Turning::new(
-                turn,
+                state,
+                goal,
+                [angular; 2],
+                Synchronization::Phase,
                 tips_of(controller, &state.pose, &state.joints),
-                state.endoscope_depth,
-            ))
+            )?)
         }
     })
 }
@@ -608,13 +609,9 @@ fn continued(
         (MotionGoal::Stop, Moving::Tips(s)) => {
             Motion::Manipulate(Manipulation::stop(state, s, linear)?)
         }
-        (MotionGoal::Stop, Moving::Angles(a)) => Motion::Reorient(Turning::stop(
-            state.pose,
-            a,
-            angular,
-            tips(),
-            state.endoscope_depth,
-        )?),
+        (MotionGoal::Stop, Moving::Angles(a)) => {
+            Motion::Reorient(Turning::stop(state, a, angular, tips())?)
+        }
         (MotionGoal::Position { pose_mm_deg: p }, Moving::Pose(s)) => {
             Motion::Position(Positioning::from_moving(
                 state,
@@ -651,14 +648,7 @@ fn continued(
             Moving::Angles(a),
         ) => {
             let goal = reorient_goal(psi_deg, theta_deg, absolute, [a[0].position, a[1].position]);
-            Motion::Reorient(Turning::from_moving(
-                state.pose,
-                a,
-                goal,
-                angular,
-                tips(),
-                state.endoscope_depth,
-            )?)
+            Motion::Reorient(Turning::from_moving(state, a, goal, angular, tips())?)
         }
         (goal, m) => {
             let was = match m {
