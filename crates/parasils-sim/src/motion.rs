@@ -57,6 +57,14 @@ pub struct MotionLimits {
     pub velocity_deg_s: f64,
     /// deg/s^2 (default the paper's 5 deg/s^2).
     pub acceleration_deg_s2: f64,
+    /// mm/s^3: given, the motion is timed by the jerk-limited double S
+    /// along its straight line instead of the trapezoid (see
+    /// [`MotionLimits::jerk`]); `None` by default.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jerk_mm_s3: Option<f64>,
+    /// deg/s^3: as [`MotionLimits::jerk_mm_s3`], for the Euler angles.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jerk_deg_s3: Option<f64>,
 }
 
 impl MotionLimits {
@@ -74,6 +82,27 @@ impl MotionLimits {
     }
 }
 
+impl MotionLimits {
+    /// The limits of the double S in library units, `[linear, angular]`
+    /// (mm/s, mm/s^2, mm/s^3; rad/s, rad/s^2, rad/s^3), when the motion
+    /// gives a jerk limit: its law is then the double S in `s` along its
+    /// straight line ([`parasils::Motion::jerk_limited`]), velocity and
+    /// acceleration continuous. A group without its jerk limit does not
+    /// move in such a motion (procedure files give type 1 both), so its
+    /// acceleration limit stands in for it and never binds.
+    pub fn jerk(&self) -> Option<[parasils::traj::JerkLimits<f64>; 2]> {
+        if self.jerk_mm_s3.is_none() && self.jerk_deg_s3.is_none() {
+            return None;
+        }
+        let linear = self.jerk_mm_s3.unwrap_or(self.acceleration_mm_s2);
+        let angular = self.jerk_deg_s3.unwrap_or(self.acceleration_deg_s2);
+        Some([
+            parasils::traj::JerkLimits::from_limits(self.linear(), linear),
+            parasils::traj::JerkLimits::from_limits(self.angular(), angular.to_radians()),
+        ])
+    }
+}
+
 impl Default for MotionLimits {
     fn default() -> Self {
         Self {
@@ -81,6 +110,8 @@ impl Default for MotionLimits {
             acceleration_mm_s2: ACCELERATION_MM_S2,
             velocity_deg_s: parasils::paper::OMEGA_MAX_DEG_S,
             acceleration_deg_s2: parasils::paper::EPS_MAX_DEG_S2,
+            jerk_mm_s3: None,
+            jerk_deg_s3: None,
         }
     }
 }

@@ -37,7 +37,10 @@
 //! Each motion may also give `name` and its limits: `velocity_mm_s` and
 //! `acceleration_mm_s2` (types 1 to 3), `velocity_deg_s` and
 //! `acceleration_deg_s2` (types 1 and 4); see
-//! [`MotionLimits`] for the defaults. `until_s = T` hands over to the next
+//! [`MotionLimits`] for the defaults. A jerk limit, `jerk_mm_s3` (types 1
+//! to 3) or `jerk_deg_s3` (types 1 and 4; type 1 gives both), times the
+//! motion by the jerk-limited double S along its straight line instead of
+//! the trapezoid, under either timing. `until_s = T` hands over to the next
 //! motion `T` s after the motion's start: before its end, the motion is cut
 //! short and the next one (`type = "stop"`, the controlled stop, or a motion
 //! of the same type, replanned from the moving state) starts at its speed;
@@ -139,6 +142,8 @@ struct MotionFile {
     acceleration_mm_s2: Option<f64>,
     velocity_deg_s: Option<f64>,
     acceleration_deg_s2: Option<f64>,
+    jerk_mm_s3: Option<f64>,
+    jerk_deg_s3: Option<f64>,
     until_s: Option<f64>,
 }
 
@@ -347,7 +352,7 @@ fn build(
 }
 
 /// The keys of a motion that are given, with their names.
-fn given(m: &MotionFile) -> [(&'static str, bool); 13] {
+fn given(m: &MotionFile) -> [(&'static str, bool); 15] {
     [
         ("pose", m.pose.is_some()),
         ("instrument", m.instrument.is_some()),
@@ -362,14 +367,19 @@ fn given(m: &MotionFile) -> [(&'static str, bool); 13] {
         ("acceleration_mm_s2", m.acceleration_mm_s2.is_some()),
         ("velocity_deg_s", m.velocity_deg_s.is_some()),
         ("acceleration_deg_s2", m.acceleration_deg_s2.is_some()),
+        ("jerk_mm_s3", m.jerk_mm_s3.is_some()),
+        ("jerk_deg_s3", m.jerk_deg_s3.is_some()),
     ]
 }
 
 /// The keys each type takes (besides `type`, `name` and `until_s`); `None`
 /// is the stop, which takes the limits.
 fn applies(t: Option<MotionType>, key: &str) -> bool {
-    let linear = matches!(key, "velocity_mm_s" | "acceleration_mm_s2");
-    let angular = matches!(key, "velocity_deg_s" | "acceleration_deg_s2");
+    let linear = matches!(key, "velocity_mm_s" | "acceleration_mm_s2" | "jerk_mm_s3");
+    let angular = matches!(
+        key,
+        "velocity_deg_s" | "acceleration_deg_s2" | "jerk_deg_s3"
+    );
     match t {
         Some(MotionType::Position) => key == "pose" || linear || angular,
         Some(MotionType::Insert) => matches!(key, "instrument" | "depth_mm") || linear,
@@ -382,7 +392,8 @@ fn applies(t: Option<MotionType>, key: &str) -> bool {
         Some(MotionType::Reorient) => {
             matches!(key, "psi_deg" | "theta_deg" | "absolute") || angular
         }
-        None => linear || angular,
+        // A stop is timed by the online profile, which has no jerk limit.
+        None => (linear || angular) && !key.starts_with("jerk"),
     }
 }
 
@@ -509,7 +520,29 @@ fn motion(errors: &Errors<'_>, k: usize, m: MotionFile) -> Result<MotionSpec, Pr
             m.acceleration_deg_s2,
             d.acceleration_deg_s2,
         )?,
+        jerk_mm_s3: m
+            .jerk_mm_s3
+            .map(|v| errors.positive(k, "jerk_mm_s3", Some(v), v))
+            .transpose()?,
+        jerk_deg_s3: m
+            .jerk_deg_s3
+            .map(|v| errors.positive(k, "jerk_deg_s3", Some(v), v))
+            .transpose()?,
     };
+    if motion_type == Some(MotionType::Position)
+        && limits.jerk_mm_s3.is_some() != limits.jerk_deg_s3.is_some()
+    {
+        let key = if limits.jerk_mm_s3.is_some() {
+            "jerk_deg_s3"
+        } else {
+            "jerk_mm_s3"
+        };
+        return Err(errors.at(
+            at,
+            key,
+            String::from("missing: a \"position\" motion moves lengths and angles, so a jerk-limited one gives jerk_mm_s3 and jerk_deg_s3 together"),
+        ));
+    }
     let until_s = match m.until_s {
         None => None,
         Some(t) if t.is_finite() && t > 0.0 => Some(t),

@@ -11,7 +11,7 @@ use parasils::motions::{
     RobotState, Turning,
 };
 use parasils::traj::Synchronization;
-use parasils::{Stretch, TimeScaled};
+use parasils::{Geometry, Stretch, TimeScaled};
 
 use super::inside;
 use crate::engine::error::SimulationError;
@@ -246,10 +246,13 @@ impl ProcedurePlan {
                 })?,
             };
             name.motion_type = motion.motion_type();
+            // A motion that gives a jerk limit keeps its double S.
             let optimal = match scenario.timing {
-                Timing::Optimal { .. } => optimal_plan(controller, &state, spec)
-                    .map_err(|e| fail(&name, 0.0, SimulationError::Timing(e)))?,
-                Timing::Trapezoid => None,
+                Timing::Optimal { .. } if spec.limits.jerk().is_none() => {
+                    optimal_plan(controller, &state, spec)
+                        .map_err(|e| fail(&name, 0.0, SimulationError::Timing(e)))?
+                }
+                Timing::Optimal { .. } | Timing::Trapezoid => None,
             };
             let planned = optimal.as_ref().map_or(motion.duration(), |o| o.duration());
             let stretch = if from_moving {
@@ -438,12 +441,54 @@ fn held_at(state: &RobotState<f64>) -> MotionSample<f64> {
     }
 }
 
-/// The motion `spec` from `state`, at rest.
+/// The geometry of the motion `spec` from `state` (`None` for a stop).
+fn geometry_of(
+    controller: &Controller<f64>,
+    state: &RobotState<f64>,
+    spec: &MotionSpec,
+) -> Option<Geometry<f64>> {
+    let tips = || tips_of(controller, &state.pose, &state.joints);
+    Some(match spec.goal {
+        MotionGoal::Position { pose_mm_deg: p } => {
+            Geometry::positioning(state, Pose::from_mm_deg(p[0], p[1], p[2], p[3], p[4], p[5]))
+        }
+        MotionGoal::Insert { port, depth_mm } => Geometry::insertion(state, port, depth_mm),
+        MotionGoal::Manipulate {
+            tip_left_mm,
+            tip_right_mm,
+        } => Geometry::manipulation(
+            state,
+            tips(),
+            [
+                tip_left_mm.map(Vector3::from),
+                tip_right_mm.map(Vector3::from),
+            ],
+        ),
+        MotionGoal::Reorient {
+            psi_deg,
+            theta_deg,
+            absolute,
+        } => {
+            let from = [state.pose.psi, state.pose.theta];
+            let goal = reorient_goal(psi_deg, theta_deg, absolute, from);
+            Geometry::turning(state, goal, tips())
+        }
+        MotionGoal::Stop => return None,
+    })
+}
+
+/// The motion `spec` from `state`, at rest: the double S along its
+/// geometry when it gives a jerk limit, its trapezoid otherwise.
 fn plan(
     controller: &Controller<f64>,
     state: &RobotState<f64>,
     spec: &MotionSpec,
 ) -> Result<Motion<f64>, Continue> {
+    if let (Some([linear, angular]), Some(geometry)) =
+        (spec.limits.jerk(), geometry_of(controller, state, spec))
+    {
+        return Ok(Motion::jerk_limited(geometry, linear, angular)?);
+    }
     let (linear, angular) = (spec.limits.linear(), spec.limits.angular());
     Ok(match spec.goal {
         MotionGoal::Position { pose_mm_deg: p } => Motion::Position(Positioning::new(
@@ -509,52 +554,19 @@ fn optimal_plan(
     let [linear_stated, angular_stated] = spec.stated;
     let stated_linear = linear_stated.then_some(linear);
     let stated_angular = angular_stated.then_some(angular);
-    let tips = || tips_of(controller, &state.pose, &state.joints);
-    let (path, own) = match spec.goal {
-        MotionGoal::Position { pose_mm_deg: p } => (
-            MotionPath::positioning(
-                controller,
-                state,
-                Pose::from_mm_deg(p[0], p[1], p[2], p[3], p[4], p[5]),
-            ),
-            [stated_linear, stated_angular],
-        ),
-        MotionGoal::Insert { port, depth_mm } => (
-            MotionPath::insertion(controller, state, port, depth_mm),
-            [
-                (linear_stated || port == Port::Endoscope).then_some(linear),
-                None,
-            ],
-        ),
-        MotionGoal::Manipulate {
-            tip_left_mm,
-            tip_right_mm,
-        } => (
-            MotionPath::manipulation(
-                controller,
-                state,
-                tips(),
-                [
-                    tip_left_mm.map(Vector3::from),
-                    tip_right_mm.map(Vector3::from),
-                ],
-            ),
-            [stated_linear; 2],
-        ),
-        MotionGoal::Reorient {
-            psi_deg,
-            theta_deg,
-            absolute,
-        } => {
-            let from = [state.pose.psi, state.pose.theta];
-            let goal = reorient_goal(psi_deg, theta_deg, absolute, from);
-            (
-                MotionPath::turning(controller, state, goal, tips()),
-                [stated_angular; 2],
-            )
-        }
-        MotionGoal::Stop => return Ok(None),
+    let Some(geometry) = geometry_of(controller, state, spec) else {
+        return Ok(None);
     };
+    let own = match spec.goal {
+        MotionGoal::Insert { port, .. } => [
+            (linear_stated || port == Port::Endoscope).then_some(linear),
+            None,
+        ],
+        MotionGoal::Manipulate { .. } => [stated_linear; 2],
+        MotionGoal::Reorient { .. } => [stated_angular; 2],
+        MotionGoal::Position { .. } | MotionGoal::Stop => [stated_linear, stated_angular],
+    };
+    let path = MotionPath::new(controller, geometry);
     OptimalMotion::plan(path, &controller.limits, own, &TimingOptions::default()).map(Some)
 }
 
@@ -597,6 +609,11 @@ fn continued(
     } else {
         spec.limits
     };
+    if spec.limits.jerk().is_some() {
+        return Err(Continue::Mismatch(String::from(
+            "the motion before was cut short while moving (its until_s): the motion continuing it is timed by the online profile from that moving state, which takes no jerk limit (jerk_mm_s3, jerk_deg_s3 time motions from rest)",
+        )));
+    }
     let (linear, angular) = (l.linear(), l.angular());
     let tips = || tips_of(controller, &state.pose, &state.joints);
     Ok(match (spec.goal, m) {
