@@ -9,7 +9,7 @@ use std::path::Path;
 use anyhow::{Context, Result, bail};
 use parasils_io::ImageFormat;
 use parasils_io::file::{persist, temp_beside};
-use parasils_tolerance::output::Format;
+use parasils_tolerance::output::TableFormat;
 use parasils_tolerance::{Report, Spec, Study, Trace};
 
 use crate::args::ToleranceArgs;
@@ -33,7 +33,7 @@ pub fn tolerance(args: &ToleranceArgs) -> Result<()> {
     }
     // Every argument is checked before the first robot runs.
     let format = match &args.output {
-        Some(path) => Some(Format::from_path(path).with_context(|| {
+        Some(path) => Some(TableFormat::from_path(path).with_context(|| {
             format!(
                 "cannot tell the output format of {}: use a .csv or .parquet extension",
                 path.display()

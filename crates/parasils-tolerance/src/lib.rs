@@ -61,7 +61,7 @@ pub mod study;
 pub mod trace;
 
 pub use linear::{LinearError, Linearisation, Sensitivity};
-pub use output::Format;
+pub use output::TableFormat;
 pub use perturbation::{InstrumentDeviation, Perturbation};
 pub use replay::{Deviation, ReplayFailure, replay};
 pub use report::{Histogram, Report, Stats};

@@ -25,9 +25,10 @@ pub const COLUMNS: [&str; 6] = [
     "failed",
 ];
 
-/// The output formats.
+/// The formats of a study's table of results (not a simulation's output
+/// formats, `parasils_sim::Format`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Format {
+pub enum TableFormat {
     /// Comma-separated text, `failed` as 0 or 1, failed rows' deviations
     /// `NaN`.
     Csv,
@@ -36,13 +37,13 @@ pub enum Format {
     Parquet,
 }
 
-impl Format {
+impl TableFormat {
     /// The format of `path`'s extension (`.csv`, `.parquet`), `None` for
     /// any other.
     pub fn from_path(path: &Path) -> Option<Self> {
         match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
-            "csv" => Some(Format::Csv),
-            "parquet" => Some(Format::Parquet),
+            "csv" => Some(TableFormat::Csv),
+            "parquet" => Some(TableFormat::Parquet),
             _ => None,
         }
     }
@@ -51,16 +52,16 @@ impl Format {
 /// An upper bound on a row's size, bytes: CSV (the largest index, four
 /// shortest round-trip doubles, the flag, separators), and uncompressed
 /// Parquet (8 bytes per number, a bit for the flag, page overhead).
-const fn row_bytes(format: Format) -> u64 {
+const fn row_bytes(format: TableFormat) -> u64 {
     match format {
-        Format::Csv => 20 + 4 * 25 + 7,
-        Format::Parquet => 48,
+        TableFormat::Csv => 20 + 4 * 25 + 7,
+        TableFormat::Parquet => 48,
     }
 }
 
 /// The estimated size of a file of `rows` rows, bytes (at or above the real
 /// size).
-pub fn estimate_bytes(format: Format, rows: u64) -> u64 {
+pub fn estimate_bytes(format: TableFormat, rows: u64) -> u64 {
     rows.saturating_mul(row_bytes(format))
         .saturating_add(64 * 1024)
 }
@@ -74,7 +75,12 @@ pub fn estimate_bytes(format: Format, rows: u64) -> u64 {
 /// # Errors
 /// [`WriteError::IsFolder`], [`WriteError::NoSpace`],
 /// [`WriteError::OverCap`].
-pub fn check_size(path: &Path, format: Format, rows: u64, force: bool) -> Result<u64, WriteError> {
+pub fn check_size(
+    path: &Path,
+    format: TableFormat,
+    rows: u64,
+    force: bool,
+) -> Result<u64, WriteError> {
     let estimate = estimate_bytes(format, rows);
     if written_directly(path)? {
         return Ok(estimate);
@@ -92,7 +98,7 @@ pub fn check_size(path: &Path, format: Format, rows: u64, force: bool) -> Result
 /// # Errors
 /// [`WriteError`]: the target is a folder, its folder cannot be written in,
 /// or a write fails.
-pub fn write(results: &Results, path: &Path, format: Format) -> Result<(), WriteError> {
+pub fn write(results: &Results, path: &Path, format: TableFormat) -> Result<(), WriteError> {
     let (atomic, file) = AtomicFile::create(path)?;
     let io = |error: std::io::Error| WriteError::Io {
         path: path.to_owned(),
@@ -100,12 +106,12 @@ pub fn write(results: &Results, path: &Path, format: Format) -> Result<(), Write
     };
     let sync = file.try_clone().map_err(io)?;
     match format {
-        Format::Csv => {
+        TableFormat::Csv => {
             let mut w = BufWriter::new(file);
             write_csv(results, &mut w).map_err(io)?;
             w.flush().map_err(io)?;
         }
-        Format::Parquet => write_parquet(results, file)
+        TableFormat::Parquet => write_parquet(results, file)
             .map_err(|e| io(std::io::Error::other(format!("the Parquet writer: {e}"))))?,
     }
     if atomic.is_replaced() {
