@@ -90,6 +90,7 @@
 #[cfg(feature = "std")]
 extern crate std;
 
+pub mod camera;
 mod check;
 pub mod controller;
 pub mod endoscope;
@@ -104,6 +105,7 @@ pub mod presets;
 pub mod real;
 mod side;
 
+pub use camera::{Camera, CameraError, ImagePoint};
 pub use controller::{
     ControlStep, Controller, ModuleCommand, RobotGeometry, TipTargets, mirror_across_platform,
     step_positions, step_rates,
