@@ -20,6 +20,7 @@
 
 use nalgebra::Vector3;
 
+use crate::camera::{Camera, CameraError};
 use crate::error::Error;
 use crate::frame::PlatformFrame;
 use crate::interval::Interval;
@@ -32,6 +33,8 @@ use crate::real::Real;
 pub struct EndoscopeGeometry<T> {
     /// The insertion depth's range, mm (default **assumed** `[0, 250]`).
     pub depth: Interval<T>,
+    /// The camera at its tip (default [`Camera::assumed`]).
+    pub camera: Camera<T>,
 }
 
 impl<T: Real> EndoscopeGeometry<T> {
@@ -41,11 +44,13 @@ impl<T: Real> EndoscopeGeometry<T> {
         let [min, max] = presets::ENDOSCOPE_DEPTH_MM;
         Self {
             depth: Interval::new(T::lit(min), T::lit(max)),
+            camera: Camera::assumed(),
         }
     }
 
     /// [`Error::InvalidParameter`] `"endoscope.depth"` unless the range's
-    /// bounds are finite and `min <= max`.
+    /// bounds are finite and `min <= max`, `"camera.*"` for an invalid
+    /// camera (see [`Camera::validate`]).
     pub fn validate(&self) -> Result<(), Error> {
         let Interval { min, max } = self.depth;
         for v in [min, max] {
@@ -62,7 +67,20 @@ impl<T: Real> EndoscopeGeometry<T> {
                 value: min.to_f64(),
             });
         }
-        Ok(())
+        match self.camera.validate() {
+            Err(CameraError::InvalidParameter { what, value, .. }) => {
+                Err(Error::InvalidParameter {
+                    what: match what {
+                        "horizontal_fov" => "camera.horizontal_fov",
+                        "aspect_ratio" => "camera.aspect_ratio",
+                        "oblique" => "camera.oblique",
+                        _ => "camera.oblique_direction",
+                    },
+                    value,
+                })
+            }
+            _ => Ok(()),
+        }
     }
 
     /// [`Error::EndoscopeDepth`] when `depth` (mm) is outside its range,

@@ -110,7 +110,9 @@ pub use engine::{
 };
 pub use input::{Input, InputError, InputField, ProcedureSource, RobotSource, TimingKind};
 pub use mcap::{McapError, McapOptions, McapSink, SceneGeometry};
-pub use motion::{Inside, InsideRule, MotionGoal, MotionLimits, MotionName, MotionSpec};
+pub use motion::{
+    Inside, InsideRule, LookAt, LookAtTips, MotionGoal, MotionLimits, MotionName, MotionSpec,
+};
 pub use output::{Flushed, Format, OutputError, OutputFile};
 #[cfg(feature = "plot")]
 pub use plot::PlotSink;
@@ -118,7 +120,8 @@ pub use procedure::ProcedureError;
 pub use record::{InstrumentRecord, Module1Record, Record};
 pub use robot::Robot;
 pub use robot_file::{
-    EndoscopeFile, GuideFile, InstrumentFile, LegFile, Module1File, RobotFile, RobotFileError,
+    CameraFile, EndoscopeFile, GuideFile, InstrumentFile, LegFile, Module1File, RobotFile,
+    RobotFileError,
 };
 pub use scenario::{Command, CommandKind, LibraryUnits, Retarget, RetargetUnits, Scenario, Timing};
 pub use sink::{BoxError, Sink, Tee};

@@ -116,6 +116,43 @@ impl Default for MotionLimits {
     }
 }
 
+/// What a type-4 motion looks at: a point, or the tips where the motion
+/// starts (they are held, so they stay where the camera aims).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub enum LookAt {
+    /// A point, mm, fixed frame (`look_at_mm = [x, y, z]`).
+    #[serde(rename = "look_at_mm")]
+    Point([f64; 3]),
+    /// The midpoint of both tips (`look_at = "tips"`).
+    #[serde(rename = "look_at")]
+    Tips(LookAtTips),
+}
+
+/// Which tips a [`LookAt::Tips`] aims at.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LookAtTips {
+    /// The midpoint of both.
+    Tips,
+    /// The left tip.
+    Left,
+    /// The right tip.
+    Right,
+}
+
+impl LookAt {
+    /// The point looked at, mm, fixed frame, given both tips.
+    pub fn point(&self, tips: [[f64; 3]; 2]) -> [f64; 3] {
+        let [l, r] = tips;
+        match self {
+            LookAt::Point(p) => *p,
+            LookAt::Tips(LookAtTips::Tips) => core::array::from_fn(|k| 0.5 * (l[k] + r[k])),
+            LookAt::Tips(LookAtTips::Left) => l,
+            LookAt::Tips(LookAtTips::Right) => r,
+        }
+    }
+}
+
 /// What one motion does, in user units.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 #[serde(tag = "type", rename_all = "lowercase")]
@@ -149,6 +186,16 @@ pub enum MotionGoal {
     /// limits of the motion it stops (or its own, when it gives them). It
     /// keeps the type of the motion it stops.
     Stop,
+    /// Type 4 defined by what the camera looks at: the platform turned
+    /// (`phi` held) so that `target` is on the view axis
+    /// ([`parasils::kin::Camera::look_at`], the solution nearest the
+    /// orientation the motion starts from), both tips held.
+    #[serde(rename = "reorient")]
+    LookAt {
+        /// What to look at.
+        #[serde(flatten)]
+        target: LookAt,
+    },
     /// Type 4: the platform turned by `psi_deg`, `theta_deg` (increments, or
     /// final angles with `absolute`), both tips held.
     Reorient {
@@ -169,7 +216,7 @@ impl MotionGoal {
             MotionGoal::Position { .. } => Some(MotionType::Position),
             MotionGoal::Insert { .. } => Some(MotionType::Insert),
             MotionGoal::Manipulate { .. } => Some(MotionType::Manipulate),
-            MotionGoal::Reorient { .. } => Some(MotionType::Reorient),
+            MotionGoal::Reorient { .. } | MotionGoal::LookAt { .. } => Some(MotionType::Reorient),
             MotionGoal::Stop => None,
         }
     }

@@ -32,6 +32,9 @@
 //! type = "reorient"                   # 4: increments, or final angles with absolute = true
 //! psi_deg = 15
 //! theta_deg = 25
+//! [[motion]]
+//! type = "reorient"                   # 4, aimed: look_at_mm = [x, y, z], or
+//! look_at = "tips"                    #    look_at = "tips", "left" or "right"
 //! ```
 //!
 //! Each motion may also give `name` and its limits: `velocity_mm_s` and
@@ -53,7 +56,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use crate::motion::{MotionGoal, MotionLimits, MotionSpec, MotionType, Port};
+use crate::motion::{LookAt, LookAtTips, MotionGoal, MotionLimits, MotionSpec, MotionType, Port};
 use crate::robot_file::{self, RobotFileError};
 use crate::scenario::Scenario;
 use parasils_io::Shortest;
@@ -138,6 +141,8 @@ struct MotionFile {
     psi_deg: Option<f64>,
     theta_deg: Option<f64>,
     absolute: Option<bool>,
+    look_at_mm: Option<[f64; 3]>,
+    look_at: Option<String>,
     velocity_mm_s: Option<f64>,
     acceleration_mm_s2: Option<f64>,
     velocity_deg_s: Option<f64>,
@@ -352,7 +357,7 @@ fn build(
 }
 
 /// The keys of a motion that are given, with their names.
-fn given(m: &MotionFile) -> [(&'static str, bool); 15] {
+fn given(m: &MotionFile) -> [(&'static str, bool); 17] {
     [
         ("pose", m.pose.is_some()),
         ("instrument", m.instrument.is_some()),
@@ -363,6 +368,8 @@ fn given(m: &MotionFile) -> [(&'static str, bool); 15] {
         ("psi_deg", m.psi_deg.is_some()),
         ("theta_deg", m.theta_deg.is_some()),
         ("absolute", m.absolute.is_some()),
+        ("look_at_mm", m.look_at_mm.is_some()),
+        ("look_at", m.look_at.is_some()),
         ("velocity_mm_s", m.velocity_mm_s.is_some()),
         ("acceleration_mm_s2", m.acceleration_mm_s2.is_some()),
         ("velocity_deg_s", m.velocity_deg_s.is_some()),
@@ -390,7 +397,10 @@ fn applies(t: Option<MotionType>, key: &str) -> bool {
             ) || linear
         }
         Some(MotionType::Reorient) => {
-            matches!(key, "psi_deg" | "theta_deg" | "absolute") || angular
+            matches!(
+                key,
+                "psi_deg" | "theta_deg" | "absolute" | "look_at_mm" | "look_at"
+            ) || angular
         }
         // A stop is timed by the online profile, which has no jerk limit.
         None => (linear || angular) && !key.starts_with("jerk"),
@@ -493,6 +503,44 @@ fn motion(errors: &Errors<'_>, k: usize, m: MotionFile) -> Result<MotionSpec, Pr
                     }
                 }
             }
+        }
+        Some(MotionType::Reorient) if m.look_at.is_some() || m.look_at_mm.is_some() => {
+            let both = |key: &str| {
+                errors.at(
+                    at,
+                    key,
+                    String::from(
+                        "does not apply with a look-at target: give psi_deg and theta_deg, or look_at_mm, or look_at",
+                    ),
+                )
+            };
+            for (key, given) in [
+                ("psi_deg", m.psi_deg.is_some()),
+                ("theta_deg", m.theta_deg.is_some()),
+                ("absolute", m.absolute.is_some()),
+            ] {
+                if given {
+                    return Err(both(key));
+                }
+            }
+            let target = match (m.look_at_mm, m.look_at.as_deref()) {
+                (Some(_), Some(_)) => return Err(both("look_at")),
+                (Some(p), None) => LookAt::Point(errors.finite(at, "look_at_mm", p)?),
+                (None, Some("tips")) => LookAt::Tips(LookAtTips::Tips),
+                (None, Some("left")) => LookAt::Tips(LookAtTips::Left),
+                (None, Some("right")) => LookAt::Tips(LookAtTips::Right),
+                (None, Some(other)) => {
+                    return Err(errors.at(
+                        at,
+                        "look_at",
+                        format!(
+                            "{other:?} is not one of \"tips\", \"left\", \"right\" (a point is look_at_mm = [x, y, z])"
+                        ),
+                    ));
+                }
+                (None, None) => return Err(missing("look_at")),
+            };
+            MotionGoal::LookAt { target }
         }
         Some(MotionType::Reorient) => {
             let psi = m.psi_deg.ok_or_else(|| missing("psi_deg"))?;

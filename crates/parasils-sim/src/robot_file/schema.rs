@@ -5,8 +5,9 @@
 use nalgebra::Vector3;
 use parasils::kin::limits;
 use parasils::kin::{
-    ActuatorLimits, Branch, Calibration, EndoscopeGeometry, FkOptions, Guide, InstrumentGeometry,
-    Interval, JointLimits, ParallelGeometry, ParallelThresholds, RobotGeometry, Side, Thresholds,
+    ActuatorLimits, Branch, Calibration, Camera, EndoscopeGeometry, FkOptions, Guide,
+    InstrumentGeometry, Interval, JointLimits, ParallelGeometry, ParallelThresholds, RobotGeometry,
+    Side, Thresholds,
 };
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
@@ -26,6 +27,11 @@ pub struct RobotFile {
     /// assumed, when the table is missing).
     #[serde(default = "EndoscopeFile::paper")]
     pub endoscope: EndoscopeFile,
+    /// `[camera]`: the endoscope's camera (see [`CameraFile`]); missing,
+    /// the assumed straight 70 deg, 16:9 scope, and written only when it
+    /// differs from that.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera: Option<CameraFile>,
     /// `[supervisor]`: the margin supervisor's thresholds (see
     /// [`SupervisorTable`]; not part of the geometry).
     #[serde(default, skip_serializing)]
@@ -47,6 +53,56 @@ impl EndoscopeFile {
         let d = EndoscopeGeometry::<f64>::paper().depth;
         Self {
             depth_mm: [d.min, d.max],
+        }
+    }
+}
+
+/// The endoscope's camera in the file: `[camera]`, degrees (every key
+/// optional, the assumed scope's value when missing).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraFile {
+    /// The horizontal field of view, deg (assumed 70).
+    #[serde(default = "CameraFile::hfov")]
+    pub horizontal_fov_deg: f64,
+    /// Width over height of the image (assumed 16:9).
+    #[serde(default = "CameraFile::aspect")]
+    pub aspect_ratio: f64,
+    /// An oblique scope's tilt from the endoscope's axis, deg (0: straight).
+    #[serde(default)]
+    pub oblique_deg: f64,
+    /// The direction of the tilt from the platform's `X'` axis in its
+    /// `X'Y'` plane, deg.
+    #[serde(default)]
+    pub oblique_direction_deg: f64,
+}
+
+impl CameraFile {
+    fn hfov() -> f64 {
+        Camera::<f64>::assumed().horizontal_fov.to_degrees()
+    }
+
+    fn aspect() -> f64 {
+        Camera::<f64>::assumed().aspect_ratio
+    }
+
+    /// The file's form of `camera`: `None` for the assumed one.
+    fn from_camera(camera: &Camera<f64>) -> Option<Self> {
+        (*camera != Camera::assumed()).then(|| Self {
+            horizontal_fov_deg: camera.horizontal_fov.to_degrees(),
+            aspect_ratio: camera.aspect_ratio,
+            oblique_deg: camera.oblique.to_degrees(),
+            oblique_direction_deg: camera.oblique_direction.to_degrees(),
+        })
+    }
+
+    /// The camera (degrees to radians), not yet validated.
+    fn to_camera(&self) -> Camera<f64> {
+        Camera {
+            horizontal_fov: self.horizontal_fov_deg.to_radians(),
+            aspect_ratio: self.aspect_ratio,
+            oblique: self.oblique_deg.to_radians(),
+            oblique_direction: self.oblique_direction_deg.to_radians(),
         }
     }
 }
@@ -356,6 +412,7 @@ impl RobotFile {
             endoscope: EndoscopeFile {
                 depth_mm: [g.endoscope.depth.min, g.endoscope.depth.max],
             },
+            camera: CameraFile::from_camera(&g.endoscope.camera),
             supervisor: None,
         }
     }
@@ -392,6 +449,7 @@ impl RobotFile {
             right: self.right.to_geometry(Side::Right),
             endoscope: EndoscopeGeometry {
                 depth: mm_interval(self.endoscope.depth_mm),
+                camera: self.camera.map_or_else(Camera::assumed, |c| c.to_camera()),
             },
             limits: self.limits(),
         }

@@ -15,7 +15,7 @@ use parasils::{Geometry, Stretch, TimeScaled};
 
 use super::inside;
 use crate::engine::error::SimulationError;
-use crate::motion::{Inside, MotionGoal, MotionLimits, MotionName, MotionSpec};
+use crate::motion::{Inside, LookAt, MotionGoal, MotionLimits, MotionName, MotionSpec};
 use crate::scenario::Scenario;
 use crate::scenario::Timing;
 use crate::timing::{MotionPath, OptimalMotion, TimingError, TimingOptions};
@@ -473,6 +473,9 @@ fn geometry_of(
             let goal = reorient_goal(psi_deg, theta_deg, absolute, from);
             Geometry::turning(state, goal, tips())
         }
+        MotionGoal::LookAt { target } => {
+            Geometry::turning(state, look_goal(controller, state, &target).ok()?, tips())
+        }
         MotionGoal::Stop => return None,
     })
 }
@@ -536,7 +539,30 @@ fn plan(
                 tips_of(controller, &state.pose, &state.joints),
             )?)
         }
+        MotionGoal::LookAt { target } => Motion::Reorient(Turning::new(
+            state,
+            look_goal(controller, state, &target)?,
+            [angular; 2],
+            Synchronization::Phase,
+            tips_of(controller, &state.pose, &state.joints),
+        )?),
     })
+}
+
+/// The `[psi, theta]` (rad) that aim the camera of `controller`'s endoscope
+/// at `target` from `state` (its tips where `state`'s joints put them).
+fn look_goal(
+    controller: &Controller<f64>,
+    state: &RobotState<f64>,
+    target: &LookAt,
+) -> Result<[f64; 2], Continue> {
+    let [l, r] = tips_of(controller, &state.pose, &state.joints);
+    let point = Vector3::from(target.point([l.into(), r.into()]));
+    controller
+        .endoscope
+        .camera
+        .look_at(&state.pose, state.endoscope_depth, &point)
+        .map_err(|e| Continue::Mismatch(format!("look-at: {e}")))
 }
 
 /// The motion `spec` from `state`, at rest, timed to be as fast as the
@@ -563,7 +589,7 @@ fn optimal_plan(
             None,
         ],
         MotionGoal::Manipulate { .. } => [stated_linear; 2],
-        MotionGoal::Reorient { .. } => [stated_angular; 2],
+        MotionGoal::Reorient { .. } | MotionGoal::LookAt { .. } => [stated_angular; 2],
         MotionGoal::Position { .. } | MotionGoal::Stop => [stated_linear, stated_angular],
     };
     let path = MotionPath::new(controller, geometry);
@@ -665,6 +691,10 @@ fn continued(
             Moving::Angles(a),
         ) => {
             let goal = reorient_goal(psi_deg, theta_deg, absolute, [a[0].position, a[1].position]);
+            Motion::Reorient(Turning::from_moving(state, a, goal, angular, tips())?)
+        }
+        (MotionGoal::LookAt { target }, Moving::Angles(a)) => {
+            let goal = look_goal(controller, state, &target)?;
             Motion::Reorient(Turning::from_moving(state, a, goal, angular, tips())?)
         }
         (goal, m) => {
