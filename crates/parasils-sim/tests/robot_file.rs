@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use parasils::kin::{Branch, Controller, Interval, RobotGeometry};
+use parasils::kin::{Branch, Camera, Controller, Interval, RobotGeometry};
 use parasils_sim::robot_file::{self, RobotFileError};
 
 fn default_path() -> PathBuf {
@@ -46,6 +46,12 @@ fn unusual() -> RobotGeometry<f64> {
     g.right.beta = (11.0f64 / 3.0).to_radians();
     g.right.limits.qs1 = Interval::new(f64::NEG_INFINITY, f64::INFINITY);
     g.left.thresholds.cos_qs2 = 3e-5;
+    g.endoscope.camera = Camera {
+        horizontal_fov: 80f64.to_radians(),
+        aspect_ratio: 4.0 / 3.0,
+        oblique: 30f64.to_radians(),
+        oblique_direction: (-45.5f64).to_radians(),
+    };
     g
 }
 
@@ -97,6 +103,14 @@ fn round_trip_is_exact() {
     assert!(text.contains("branch = -1"));
     assert!(text.contains("assumed = false"));
     assert!(text.contains("inf"));
+    assert!(
+        text.contains("[camera]") && text.contains("oblique_deg = 30"),
+        "{text}"
+    );
+    assert_eq!(back.endoscope.camera, g.endoscope.camera);
+    // The assumed camera is not written.
+    let plain = robot_file::to_toml_string(&RobotGeometry::<f64>::paper()).expect("ok");
+    assert!(!plain.contains("[camera]"));
     // And once more: the text is a fixed point.
     assert_eq!(robot_file::to_toml_string(&back).expect("ok"), text);
 }

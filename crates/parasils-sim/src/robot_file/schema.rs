@@ -89,15 +89,15 @@ impl CameraFile {
     /// The file's form of `camera`: `None` for the assumed one.
     fn from_camera(camera: &Camera<f64>) -> Option<Self> {
         (*camera != Camera::assumed()).then(|| Self {
-            horizontal_fov_deg: camera.horizontal_fov.to_degrees(),
+            horizontal_fov_deg: to_deg(camera.horizontal_fov),
             aspect_ratio: camera.aspect_ratio,
-            oblique_deg: camera.oblique.to_degrees(),
-            oblique_direction_deg: camera.oblique_direction.to_degrees(),
+            oblique_deg: to_deg(camera.oblique),
+            oblique_direction_deg: to_deg(camera.oblique_direction),
         })
     }
 
     /// The camera (degrees to radians), not yet validated.
-    fn to_camera(&self) -> Camera<f64> {
+    fn to_camera(self) -> Camera<f64> {
         Camera {
             horizontal_fov: self.horizontal_fov_deg.to_radians(),
             aspect_ratio: self.aspect_ratio,
