@@ -220,6 +220,11 @@ impl<T: Real> Camera<T> {
     /// The camera's axes in the platform frame, as columns: the image's
     /// `u` direction, its `v` direction, and the view direction.
     pub fn axes(&self) -> Matrix3<T> {
+        if self.oblique == T::zero() {
+            // A straight scope: X', Y', -Z' (no rotation to compute).
+            let (o, z) = (T::one(), T::zero());
+            return Matrix3::new(o, z, z, z, o, z, z, z, -o);
+        }
         let (sa, ca) = self.oblique.sincos();
         let (sb, cb) = self.oblique_direction.sincos();
         // Rodrigues' rotation by `oblique` about k = (sin b, -cos b, 0),
@@ -344,18 +349,21 @@ impl<T: Real> Camera<T> {
                 phi_deg: pose.phi.to_f64().to_degrees(),
             });
         }
-        let spread = ratio.max(-T::one()).min(T::one()).acos();
-        let base = r.z.atan2(r.y);
-        let solve = |psi: T| {
-            let (s, c) = psi.sincos();
-            let cx = r.x;
-            let cz = -s * r.y + c * r.z;
-            let theta = cx.atan2(cz) - b.x.atan2(b.z);
-            let psi = nearest(psi, pose.psi);
-            let theta = nearest(theta, pose.theta);
-            [psi, theta]
+        // psi = base +- spread, base = atan2(r_z, r_y), cos spread = ratio:
+        // their sines and cosines by the addition formulas, so that the
+        // rows below need no further sine or cosine.
+        let cs = ratio.max(-T::one()).min(T::one());
+        let ss = (T::one() - cs * cs).max(T::zero()).sqrt();
+        let (cb, sb) = (r.y / m, r.z / m);
+        let (spread, base) = (cs.acos(), r.z.atan2(r.y));
+        let solve = |psi: T, s: T, c: T| {
+            // c = R_X(-psi) r; theta turns (b_z, b_x) onto (c_z, c_x).
+            let (cx, cz) = (r.x, -s * r.y + c * r.z);
+            let theta = (cx * b.z - cz * b.x).atan2(cz * b.z + cx * b.x);
+            [nearest(psi, pose.psi), nearest(theta, pose.theta)]
         };
-        let [one, two] = [solve(base + spread), solve(base - spread)];
+        let one = solve(base + spread, sb * cs + cb * ss, cb * cs - sb * ss);
+        let two = solve(base - spread, sb * cs - cb * ss, cb * cs + sb * ss);
         let distance = |s: &[T; 2]| {
             let (dp, dt) = (s[0] - pose.psi, s[1] - pose.theta);
             dp * dp + dt * dt
