@@ -316,6 +316,10 @@ fn resolve(input: Input) -> Result<Scenario> {
             "{} cannot be given with --procedure: a procedure has its own start, robot and motions",
             field.flag()
         ),
+        InputError::OptimalOnline(field) => anyhow!(
+            "{} cannot be given with --timing optimal: it plans one motion from rest to rest, while commands are taken online",
+            field.flag()
+        ),
         e => e.into(),
     })
 }
@@ -401,8 +405,9 @@ mod tests {
             panic!("simulate expected");
         };
         let s = args.scenario().expect("scenario");
+        let online = s.online().expect("an online run");
         assert_eq!(
-            s.retargets,
+            online.retargets,
             [
                 Retarget {
                     t_s: 1.2,
@@ -416,7 +421,7 @@ mod tests {
                 }
             ]
         );
-        assert_eq!(s.stop_at_s, Some(3.0));
+        assert_eq!(online.stop_at_s, Some(3.0));
         for bad in [
             "1.2",
             "1.2:5",

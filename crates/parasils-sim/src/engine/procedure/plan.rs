@@ -2,6 +2,8 @@
 //! of samples, each on the control cycle, each from the state the previous
 //! one ended in.
 
+use std::borrow::Cow;
+
 use nalgebra::Vector3;
 use parasils::kin::{
     Controller, JointMotion, Joints, MarginTracker, ModuleCommand, PlatformState, Pose,
@@ -16,8 +18,7 @@ use parasils::{Reorientation, Stretch, TimeScaled};
 use super::inside;
 use crate::engine::error::SimulationError;
 use crate::motion::{Inside, MotionGoal, MotionLimits, MotionName, MotionSpec};
-use crate::scenario::Scenario;
-use crate::scenario::Timing;
+use crate::scenario::{Motions, Scenario, Timeline, Timing};
 use crate::timing::{MotionPath, OptimalMotion, TimingError, TimingOptions};
 use parasils_io::Shortest;
 
@@ -126,6 +127,10 @@ pub struct ProcedurePlan {
     pub start: RobotState<f64>,
     /// The control rate, Hz.
     pub rate_hz: f64,
+    /// Whether messages name the motion an error is in (a procedure's), or
+    /// give the error alone (the single turn of a run without motions of its
+    /// own, as the paper's).
+    named: bool,
     /// The last row's index.
     last_sample: usize,
     /// Why planning stopped early: the end of the last motion could not be
@@ -164,8 +169,22 @@ impl ProcedurePlan {
     /// at `t = 0` when the start cannot be solved;
     /// [`SimulationError::Trajectory`] for a rate that is not positive and
     /// finite.
-    pub fn new(scenario: &Scenario, controller: &Controller<f64>) -> Result<Self, SimulationError> {
+    pub fn new(
+        scenario: &Scenario,
+        timeline: &Timeline,
+        controller: &Controller<f64>,
+    ) -> Result<Self, SimulationError> {
         let rate = scenario.rate_hz;
+        // The paper's turn is a timeline of one reorientation, with its own
+        // synchronisation and, under the optimal timing, its angular limits
+        // binding when they were given.
+        let (specs, sync, named) = match &timeline.motions {
+            Motions::Turn(turn) => {
+                let angular = timeline.timing == (Timing::Optimal { angular: true });
+                (Cow::Owned(vec![turn.motion(angular)]), turn.sync, false)
+            }
+            Motions::Procedure(m) => (Cow::Borrowed(m.as_slice()), Synchronization::Phase, true),
+        };
         Stretch::new(0.0, rate).map_err(SimulationError::Trajectory)?;
         let solver = *controller;
         let mut tracker = MarginTracker::new();
@@ -189,14 +208,17 @@ impl ProcedurePlan {
             endoscope_depth: scenario.endoscope_depth_mm,
         };
         let mut state = start;
+        // The tips the next motion starts from: the scenario's own at the
+        // start, then where each motion's end joints put them.
+        let mut held = [tips.left, tips.right];
         let mut inside_now = inside::at_start(&start);
         let mut next_sample = 0usize;
-        let mut motions: Vec<PlannedMotion> = Vec::with_capacity(scenario.motions.len());
+        let mut motions: Vec<PlannedMotion> = Vec::with_capacity(specs.len());
         // The previous motion's moving state when it was cut short, with
         // its limits (a stop decelerates at them).
         let mut moving: Option<(Moving<f64>, MotionLimits)> = None;
-        let count = scenario.motions.len();
-        for (index, spec) in scenario.motions.iter().enumerate() {
+        let count = specs.len();
+        for (index, spec) in specs.iter().enumerate() {
             let previous = motions.last().map(|m| m.name.motion_type);
             let motion_type = spec.motion_type().or(previous);
             let mut name = MotionName {
@@ -206,11 +228,7 @@ impl ProcedurePlan {
                 name: spec.name.clone(),
             };
             let fail = |name: &MotionName, t_motion: f64, error: SimulationError| {
-                SimulationError::Motion {
-                    motion: Box::new(name.clone()),
-                    t_motion,
-                    error: Box::new(error),
-                }
+                in_motion(named, name, t_motion, error)
             };
             let order =
                 |name: &MotionName, why: String| fail(name, 0.0, SimulationError::Procedure(why));
@@ -226,7 +244,7 @@ impl ProcedurePlan {
             let motion = match (&spec.goal, moving) {
                 (goal, Some((m, limits))) if !m.at_rest() || *goal == MotionGoal::Stop => {
                     from_moving = !m.at_rest();
-                    continued(controller, &state, spec, m, limits).map_err(|e| match e {
+                    continued(&state, held, spec, m, limits).map_err(|e| match e {
                         Continue::Trajectory(e) => fail(&name, 0.0, SimulationError::Trajectory(e)),
                         Continue::Mismatch(why) => order(&name, why),
                     })?
@@ -235,19 +253,19 @@ impl ProcedurePlan {
                     // The motion before ended at rest: a stop of no length.
                     let last = motions.last().map(|m| m.moving_at_row(m.periods));
                     let m = last.ok_or_else(|| order(&name, String::from("nothing to stop")))?;
-                    continued(controller, &state, spec, m, spec.limits).map_err(|e| match e {
+                    continued(&state, held, spec, m, spec.limits).map_err(|e| match e {
                         Continue::Trajectory(e) => fail(&name, 0.0, SimulationError::Trajectory(e)),
                         Continue::Mismatch(why) => order(&name, why),
                     })?
                 }
-                _ => plan(controller, &state, spec).map_err(|e| match e {
+                _ => plan(&state, held, spec, sync).map_err(|e| match e {
                     Continue::Trajectory(e) => fail(&name, 0.0, SimulationError::Trajectory(e)),
                     Continue::Mismatch(why) => order(&name, why),
                 })?,
             };
             name.motion_type = motion.motion_type();
-            let optimal = match scenario.timing {
-                Timing::Optimal { .. } => optimal_plan(controller, &state, spec)
+            let optimal = match timeline.timing {
+                Timing::Optimal { .. } => optimal_plan(controller, &state, held, spec)
                     .map_err(|e| fail(&name, 0.0, SimulationError::Timing(e)))?,
                 Timing::Trapezoid => None,
             };
@@ -324,6 +342,7 @@ impl ProcedurePlan {
                             motions,
                             start,
                             rate_hz: rate,
+                            named,
                             last_sample,
                             failure: Some(failure),
                         });
@@ -334,6 +353,7 @@ impl ProcedurePlan {
                 joints: [out.left.q, out.right.q],
                 endoscope_depth: end.endoscope.position,
             };
+            held = tips_of(controller, &state.pose, &state.joints);
             let inserted = match &placed.motion {
                 Motion::Insert(i) => Some(i.port()),
                 _ => None,
@@ -348,9 +368,30 @@ impl ProcedurePlan {
             motions,
             start,
             rate_hz: rate,
+            named,
             last_sample,
             failure: None,
         })
+    }
+
+    /// `error` in motion `m` at `t_motion` (s from its start): named after
+    /// the motion in a procedure, alone for a single turn.
+    pub(crate) fn in_motion(
+        &self,
+        m: usize,
+        t_motion: f64,
+        error: SimulationError,
+    ) -> SimulationError {
+        let name = self.motions.get(m).map_or_else(
+            || MotionName {
+                index: m,
+                motion_type: MotionType::Reorient,
+                stop: false,
+                name: None,
+            },
+            |p| p.name.clone(),
+        );
+        in_motion(self.named, &name, t_motion, error)
     }
 
     /// Why planning stopped before the last motion, if it did (see
@@ -428,6 +469,25 @@ impl parasils::traj::Motion<f64> for ProcedurePlan {
     }
 }
 
+/// `error` in the motion `name` at `t_motion` (s from its start), when
+/// motions are `named`; otherwise `error` itself.
+fn in_motion(
+    named: bool,
+    name: &MotionName,
+    t_motion: f64,
+    error: SimulationError,
+) -> SimulationError {
+    if named {
+        SimulationError::Motion {
+            motion: Box::new(name.clone()),
+            t_motion,
+            error: Box::new(error),
+        }
+    } else {
+        error
+    }
+}
+
 /// The robot at rest in `state`.
 fn held_at(state: &RobotState<f64>) -> MotionSample<f64> {
     MotionSample {
@@ -438,11 +498,14 @@ fn held_at(state: &RobotState<f64>) -> MotionSample<f64> {
     }
 }
 
-/// The motion `spec` from `state`, at rest.
+/// The motion `spec` from `state`, at rest, the tips at `held` (`[left,
+/// right]`, mm, fixed frame); a reorientation's two angles timed together
+/// by `sync`.
 fn plan(
-    controller: &Controller<f64>,
     state: &RobotState<f64>,
+    held: [Vector3<f64>; 2],
     spec: &MotionSpec,
+    sync: Synchronization,
 ) -> Result<Motion<f64>, Continue> {
     let (linear, angular) = (spec.limits.linear(), spec.limits.angular());
     Ok(match spec.goal {
@@ -460,7 +523,7 @@ fn plan(
             tip_right_mm,
         } => Motion::Manipulate(Manipulation::new(
             state,
-            tips_of(controller, &state.pose, &state.joints),
+            held,
             [
                 tip_left_mm.map(Vector3::from),
                 tip_right_mm.map(Vector3::from),
@@ -483,12 +546,8 @@ fn plan(
                 absolute,
                 [state.pose.psi, state.pose.theta],
             );
-            let turn = Reorientation::new(state.pose, goal, [angular; 2], Synchronization::Phase)?;
-            Motion::Reorient(Turning::new(
-                turn,
-                tips_of(controller, &state.pose, &state.joints),
-                state.endoscope_depth,
-            ))
+            let turn = Reorientation::new(state.pose, goal, [angular; 2], sync)?;
+            Motion::Reorient(Turning::new(turn, held, state.endoscope_depth))
         }
     })
 }
@@ -502,13 +561,13 @@ fn plan(
 fn optimal_plan(
     controller: &Controller<f64>,
     state: &RobotState<f64>,
+    held: [Vector3<f64>; 2],
     spec: &MotionSpec,
 ) -> Result<Option<OptimalMotion>, TimingError> {
     let (linear, angular) = (spec.limits.linear(), spec.limits.angular());
     let [linear_stated, angular_stated] = spec.stated;
     let stated_linear = linear_stated.then_some(linear);
     let stated_angular = angular_stated.then_some(angular);
-    let tips = || tips_of(controller, &state.pose, &state.joints);
     let (path, own) = match spec.goal {
         MotionGoal::Position { pose_mm_deg: p } => (
             MotionPath::positioning(
@@ -532,7 +591,7 @@ fn optimal_plan(
             MotionPath::manipulation(
                 controller,
                 state,
-                tips(),
+                held,
                 [
                     tip_left_mm.map(Vector3::from),
                     tip_right_mm.map(Vector3::from),
@@ -548,7 +607,7 @@ fn optimal_plan(
             let from = [state.pose.psi, state.pose.theta];
             let goal = reorient_goal(psi_deg, theta_deg, absolute, from);
             (
-                MotionPath::turning(controller, state, goal, tips()),
+                MotionPath::turning(controller, state, goal, held),
                 [stated_angular; 2],
             )
         }
@@ -585,8 +644,8 @@ impl From<parasils::traj::Error> for Continue {
 /// A stop decelerates at the limits of the motion it stops (`stopped`)
 /// unless it gives limits of its own.
 fn continued(
-    controller: &Controller<f64>,
     state: &RobotState<f64>,
+    held: [Vector3<f64>; 2],
     spec: &MotionSpec,
     m: Moving<f64>,
     stopped: MotionLimits,
@@ -597,7 +656,6 @@ fn continued(
         spec.limits
     };
     let (linear, angular) = (l.linear(), l.angular());
-    let tips = || tips_of(controller, &state.pose, &state.joints);
     Ok(match (spec.goal, m) {
         (MotionGoal::Stop, Moving::Pose(s)) => {
             Motion::Position(Positioning::stop(state, s, linear, angular)?)
@@ -612,7 +670,7 @@ fn continued(
             state.pose,
             a,
             angular,
-            tips(),
+            held,
             state.endoscope_depth,
         )?),
         (MotionGoal::Position { pose_mm_deg: p }, Moving::Pose(s)) => {
@@ -656,7 +714,7 @@ fn continued(
                 a,
                 goal,
                 angular,
-                tips(),
+                held,
                 state.endoscope_depth,
             )?)
         }
