@@ -2,8 +2,10 @@
 //! types, each starting where the previous one ended, read from a TOML file
 //! (the format of `procedures/sils-demo.toml`) or from JSON of the same
 //! structure (the Python bindings' dicts) into a [`Scenario`] whose run is
-//! a planned timeline of these motions ([`Motions::Procedure`](crate::scenario::Motions::Procedure)); the start (pose, tips, endoscope
-//! depth, robot) is the file's, the sampling rate the caller's.
+//! a planned timeline of these motions
+//! ([`Motions::Procedure`](crate::scenario::Motions::Procedure)); the start
+//! (pose, tips, endoscope depth, robot) is the file's, the sampling rate
+//! the caller's.
 //! [`Simulation::new`](crate::Simulation::new) plans every motion and checks
 //! the whole procedure before a record is written (see
 //! [`ProcedureCheck`](crate::ProcedureCheck)).
