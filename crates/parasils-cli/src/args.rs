@@ -170,9 +170,10 @@ pub struct SimulateArgs {
     /// How the turn is timed: the paper's trapezoid in psi and theta, or
     /// the fastest law along the same straight line whose twelve actuators
     /// stay within their velocity and acceleration limits (the robot
-    /// file's; --omega-max and --eps-max bind as well when given). With
-    /// --procedure, every motion is timed so, from rest to rest; the limits
-    /// the procedure states for a motion bind as well [default: trapezoid].
+    /// file's; --omega-max and --eps-max bind as well when given), from
+    /// rest to rest, so with no --retarget or --stop-at. With --procedure,
+    /// every motion is timed so, from rest to rest; the limits the
+    /// procedure states for a motion bind as well [default: trapezoid].
     #[arg(long, value_enum)]
     pub timing: Option<TimingArg>,
     /// Samples per second, Hz [default: 1000, the paper's].
