@@ -76,9 +76,20 @@ pub fn cli_simulate(data: &[u8]) {
         // The format from the extension or --format: a value or an error.
         let _ = args.format(path);
     }
-    let scenario = args
-        .scenario()
-        .unwrap_or_else(|e| panic!("no file to read, yet the scenario failed: {e}"));
+    let scenario = match args.scenario() {
+        Ok(scenario) => scenario,
+        Err(e) => {
+            // No file is read, so only the input's own rules can refuse it
+            // (a retarget or a stop with the optimal timing), naming the
+            // flag.
+            let text = e.to_string();
+            assert!(
+                text.starts_with("--") && text.contains(" cannot be given with "),
+                "no file to read, yet the scenario failed: {text}"
+            );
+            return;
+        }
+    };
     let sim = match Simulation::new(scenario) {
         Ok(sim) => sim,
         Err(e) => {

@@ -47,7 +47,10 @@ pub fn procedure_file(data: &[u8]) {
             return;
         }
     };
-    assert!(!scenario.motions.is_empty(), "a procedure without motions");
+    assert!(
+        scenario.is_procedure() && !scenario.motions().is_empty(),
+        "a procedure without motions"
+    );
     let sim = match Simulation::new(scenario) {
         Ok(sim) => sim,
         Err(e) => {

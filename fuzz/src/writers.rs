@@ -11,7 +11,7 @@ use parasils_sim::Sink;
 use parasils_sim::columns::{self, Column};
 use parasils_sim::csv::CsvSink;
 use parasils_sim::mcap::{McapError, McapOptions, McapSink};
-use parasils_sim::scenario::{CommandKind, Scenario};
+use parasils_sim::scenario::{CommandKind, Online, Run, Scenario};
 use parasils_sim::{InstrumentRecord, Module1Record, Record};
 
 use crate::input::Input;
@@ -188,7 +188,10 @@ pub fn mcap(data: &[u8]) {
     let mut scenario = Scenario::paper();
     if inp.flag() {
         // A run with commands: the `/motion` topic.
-        scenario.stop_at_s = Some(1.0);
+        scenario.run = Run::Online(Online {
+            stop_at_s: Some(1.0),
+            ..Online::default()
+        });
     }
     let options = McapOptions {
         scene_period_s: inp.real(),

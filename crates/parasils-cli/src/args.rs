@@ -170,9 +170,10 @@ pub struct SimulateArgs {
     /// How the turn is timed: the paper's trapezoid in psi and theta, or
     /// the fastest law along the same straight line whose twelve actuators
     /// stay within their velocity and acceleration limits (the robot
-    /// file's; --omega-max and --eps-max bind as well when given). With
-    /// --procedure, every motion is timed so, from rest to rest; the limits
-    /// the procedure states for a motion bind as well [default: trapezoid].
+    /// file's; --omega-max and --eps-max bind as well when given), from
+    /// rest to rest, so with no --retarget or --stop-at. With --procedure,
+    /// every motion is timed so, from rest to rest; the limits the
+    /// procedure states for a motion bind as well [default: trapezoid].
     #[arg(long, value_enum)]
     pub timing: Option<TimingArg>,
     /// Samples per second, Hz [default: 1000, the paper's].
@@ -316,6 +317,10 @@ fn resolve(input: Input) -> Result<Scenario> {
             "{} cannot be given with --procedure: a procedure has its own start, robot and motions",
             field.flag()
         ),
+        InputError::OptimalOnline(field) => anyhow!(
+            "{} cannot be given with --timing optimal: it plans one motion from rest to rest, while commands are taken online",
+            field.flag()
+        ),
         e => e.into(),
     })
 }
@@ -401,8 +406,9 @@ mod tests {
             panic!("simulate expected");
         };
         let s = args.scenario().expect("scenario");
+        let online = s.online().expect("an online run");
         assert_eq!(
-            s.retargets,
+            online.retargets,
             [
                 Retarget {
                     t_s: 1.2,
@@ -416,7 +422,7 @@ mod tests {
                 }
             ]
         );
-        assert_eq!(s.stop_at_s, Some(3.0));
+        assert_eq!(online.stop_at_s, Some(3.0));
         for bad in [
             "1.2",
             "1.2:5",

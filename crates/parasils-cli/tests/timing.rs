@@ -285,3 +285,23 @@ fn a_procedure_motion_cut_short_is_refused_under_optimal_timing() {
         .run();
     out.ok();
 }
+
+#[test]
+fn commands_are_refused_under_optimal_timing_naming_the_flag() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    for (args, flag) in [
+        (&["--stop-at", "1"][..], "--stop-at"),
+        (&["--retarget", "1:5,5", "--stop-at", "2"][..], "--retarget"),
+    ] {
+        let mut all = vec!["simulate", "--timing", "optimal", "-o", "run.csv"];
+        all.extend_from_slice(args);
+        let stderr = parasils(&all).dir(dir.path()).run().fails_with(1);
+        assert_eq!(
+            stderr,
+            format!(
+                "parasils: error: {flag} cannot be given with --timing optimal: it plans one motion from rest to rest, while commands are taken online\n"
+            )
+        );
+        assert!(!dir.path().join("run.csv").exists());
+    }
+}

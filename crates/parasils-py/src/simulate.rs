@@ -200,11 +200,12 @@ fn run(
 /// the package's `simulate` shows in its signature.
 pub(crate) fn paper_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     let paper = Scenario::paper();
+    let turn = parasils_sim::Turn::paper();
     let d = PyDict::new(py);
-    d.set_item("psi_deg", paper.psi_deg)?;
-    d.set_item("theta_deg", paper.theta_deg)?;
-    d.set_item("omega_max_deg_s", paper.omega_max_deg_s)?;
-    d.set_item("eps_max_deg_s2", paper.eps_max_deg_s2)?;
+    d.set_item("psi_deg", turn.psi_deg)?;
+    d.set_item("theta_deg", turn.theta_deg)?;
+    d.set_item("omega_max_deg_s", turn.omega_max_deg_s)?;
+    d.set_item("eps_max_deg_s2", turn.eps_max_deg_s2)?;
     d.set_item("rate_hz", paper.rate_hz)?;
     d.set_item("pose_mm_deg", paper.start_mm_deg.to_vec())?;
     d.set_item("tip_left_mm", paper.tip_left_mm.to_vec())?;
@@ -302,12 +303,16 @@ fn value_error(e: InputError) -> PyErr {
 }
 
 /// An [`InputError`] as Python raises it: `TypeError` for an argument given
-/// with `procedure=`, `ValueError` for an unknown name, the files' own
+/// with `procedure=`, `ValueError` for an unknown name or a command with the
+/// optimal timing, the files' own
 /// exceptions for the procedure and the robot file.
 pub(crate) fn input_error(py: Python<'_>, error: InputError) -> PyErr {
     match error {
         InputError::WithProcedure(field) => PyTypeError::new_err(format!(
             "{field} cannot be given with procedure=: a procedure has its own start, robot and motions"
+        )),
+        InputError::OptimalOnline(field) => PyValueError::new_err(format!(
+            "{field} cannot be given with timing='optimal': it plans one motion from rest to rest, while commands are taken online"
         )),
         InputError::Procedure(procedure::ProcedureError::Robot(e)) | InputError::Robot(e) => {
             errors::robot_file(py, &e)

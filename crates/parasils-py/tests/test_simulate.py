@@ -334,3 +334,19 @@ def test_unwritable_output(tmp_path):
         ro.mkdir(mode=0o500)
         with pytest.raises(PermissionError):
             parasils.simulate(rate_hz=10.0, out=ro / "run.csv")
+
+
+def test_commands_are_refused_under_the_optimal_timing_naming_the_argument():
+    for kwargs, name in [
+        (dict(stop_at_s=1.0), "stop_at_s"),
+        (dict(retarget=[(1.0, 5.0, 5.0)]), "retarget"),
+    ]:
+        with pytest.raises(ValueError) as e:
+            parasils.simulate(timing="optimal", **kwargs)
+        assert str(e.value) == (
+            f"{name} cannot be given with timing='optimal': it plans one motion"
+            " from rest to rest, while commands are taken online"
+        )
+    # No retarget at all is no command: the planned turn, timed optimally.
+    run = parasils.simulate(timing="optimal", retarget=[])
+    assert run["t_s"][-1] == pytest.approx(2.225, abs=1e-12)

@@ -8,6 +8,7 @@ use parasils::kin::{
     RobotGeometry, TipTargets,
 };
 use parasils_reach::{Constraint, ReachMap, ReachOptions, TOLERANCE_RAD};
+use parasils_sim::{Run, Turn};
 use parasils_sim::{Scenario, Simulation, SimulationError};
 
 /// A small, fast generator of numbers in `[0, 1)` (xorshift64*).
@@ -46,8 +47,11 @@ fn simulate(dpsi: f64, dtheta: f64) -> Result<(), Error> {
     let mut robot = parasils::kin::RobotGeometry::paper();
     robot.limits = parasils::kin::ActuatorLimits::unlimited();
     let sim = Simulation::new(Scenario {
-        psi_deg: dpsi,
-        theta_deg: dtheta,
+        run: Run::turn(Turn {
+            psi_deg: dpsi,
+            theta_deg: dtheta,
+            ..Turn::paper()
+        }),
         robot,
         ..Scenario::paper()
     })

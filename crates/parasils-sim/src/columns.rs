@@ -532,7 +532,7 @@ pub const CSV_WITH_PROCEDURE: [Column; CSV_COUNT + 12] = {
 /// The CSV's columns of `scenario`'s run: [`CSV_WITH_PROCEDURE`] for a
 /// procedure, [`CSV_WITH_COMMAND`] with commands, [`CSV`] otherwise.
 pub fn csv_columns_of(scenario: &crate::scenario::Scenario) -> &'static [Column] {
-    if scenario.motions.is_empty() {
+    if !scenario.is_procedure() {
         csv_columns(scenario.has_commands())
     } else {
         &CSV_WITH_PROCEDURE

@@ -139,7 +139,10 @@ mod tests {
             ..Record::default()
         };
         let scenario = Scenario {
-            stop_at_s: Some(1.0),
+            run: crate::scenario::Run::Online(crate::scenario::Online {
+                stop_at_s: Some(1.0),
+                ..crate::scenario::Online::default()
+            }),
             ..Scenario::paper()
         };
         let mut sink = CsvSink::for_scenario(Vec::new(), &scenario).expect("header");

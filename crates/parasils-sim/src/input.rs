@@ -13,13 +13,16 @@
 //!   so only the rate and the timing may be given with it
 //!   ([`InputError::WithProcedure`] names the first field that may not);
 //! - **the timing rule**: under [`TimingKind::Optimal`], the angular limits
-//!   bind only when one of them is given;
+//!   bind only when one of them is given, and no command (retarget, stop)
+//!   may be given ([`InputError::OptimalOnline`]);
+//! - **the kind of run**: a procedure, or the turn alone, is a planned
+//!   [`Timeline`]; a turn with commands an [`Online`] run ([`Run`]);
 //! - **files are read once**: a robot file into one [`Robot`] (geometry and
 //!   supervisor thresholds), a procedure into its scenario.
 //!
 //! ```
 //! use parasils_sim::input::{Input, TimingKind};
-//! use parasils_sim::scenario::Timing;
+//! use parasils_sim::scenario::{Run, Timing, Turn};
 //!
 //! // Given, even at the paper's value: the angular limits bind.
 //! let given = Input {
@@ -28,12 +31,16 @@
 //!     ..Input::default()
 //! }
 //! .resolve()?;
-//! assert_eq!(given.timing, Timing::Optimal { angular: true });
-//! assert_eq!(given.omega_max_deg_s, 10.0);
+//! assert_eq!(given.timing(), Timing::Optimal { angular: true });
+//! assert_eq!(given.turn().map(|t| t.omega_max_deg_s), Some(10.0));
 //!
 //! // Not given: only the actuators' limits bind.
 //! let free = Input { timing: Some(TimingKind::Optimal), ..Input::default() }.resolve()?;
-//! assert_eq!(free.timing, Timing::Optimal { angular: false });
+//! assert_eq!(free.timing(), Timing::Optimal { angular: false });
+//!
+//! // A stop makes it an online run.
+//! let online = Input { stop_at_s: Some(2.0), ..Input::default() }.resolve()?;
+//! assert!(matches!(&online.run, Run::Online(o) if o.turn == Turn::paper()));
 //!
 //! // Nothing given is the paper's scenario.
 //! assert_eq!(Input::default().resolve()?, parasils_sim::Scenario::paper());
@@ -47,7 +54,7 @@ use parasils::traj::Synchronization;
 use crate::procedure::{self, ProcedureError};
 use crate::robot::Robot;
 use crate::robot_file::{self, RobotFileError};
-use crate::scenario::{Retarget, Scenario, Timing};
+use crate::scenario::{Motions, Online, Retarget, Run, Scenario, Timeline, Timing, Turn};
 
 /// A procedure as a front end has it.
 #[derive(Debug, Clone, PartialEq)]
@@ -163,6 +170,8 @@ impl core::fmt::Display for InputField {
 /// # When this happens, how to handle it
 /// - [`InputError::WithProcedure`]: drop the field, or put it in the
 ///   procedure file.
+/// - [`InputError::OptimalOnline`]: drop the command, or the optimal
+///   timing.
 /// - [`InputError::Unknown`]: use one of the names the message lists.
 /// - [`InputError::Procedure`], [`InputError::Robot`]: fix the file where
 ///   the message says.
@@ -191,13 +200,22 @@ pub enum InputError {
     /// The robot file does not read.
     #[error(transparent)]
     Robot(#[from] RobotFileError),
+    /// The time-optimal timing was asked for together with a command (a
+    /// retarget or a stop): it plans motions from rest to rest, ahead,
+    /// while commands are taken online.
+    #[error(
+        "{0} cannot be given with the optimal timing: it plans one motion from rest to rest, while commands are taken online"
+    )]
+    OptimalOnline(InputField),
 }
 
 impl InputError {
     /// The field the error is about.
     pub fn field(&self) -> InputField {
         match self {
-            Self::WithProcedure(field) | Self::Unknown { field, .. } => *field,
+            Self::WithProcedure(field)
+            | Self::OptimalOnline(field)
+            | Self::Unknown { field, .. } => *field,
             Self::Procedure(_) => InputField::Procedure,
             Self::Robot(_) => InputField::Robot,
         }
@@ -275,6 +293,8 @@ impl Input {
     ///
     /// # Errors
     /// [`InputError::WithProcedure`] for a field given with a procedure,
+    /// [`InputError::OptimalOnline`] for a retarget or a stop given with the
+    /// optimal timing,
     /// [`InputError::Procedure`] and [`InputError::Robot`] for files that do
     /// not read.
     pub fn resolve(self) -> Result<Scenario, InputError> {
@@ -293,33 +313,55 @@ impl Input {
                 ProcedureSource::File(path) => procedure::load(path)?,
                 ProcedureSource::Json(text) => procedure::parse_json(text, Path::new("."))?,
             };
-            return Ok(Scenario {
-                rate_hz,
-                timing,
-                ..scenario
-            });
+            let mut scenario = scenario;
+            scenario.rate_hz = rate_hz;
+            if let Run::Planned(timeline) = &mut scenario.run {
+                timeline.timing = timing;
+            }
+            return Ok(scenario);
+        }
+        let retargets = self.retarget.unwrap_or_default();
+        let commanded = if retargets.is_empty() {
+            self.stop_at_s.map(|_| InputField::StopAtS)
+        } else {
+            Some(InputField::Retarget)
+        };
+        if let (Some(field), Some(TimingKind::Optimal)) = (commanded, self.timing) {
+            return Err(InputError::OptimalOnline(field));
         }
         let robot = match self.robot {
             None => Robot::paper(),
             Some(RobotSource::File(path)) => robot_file::load_robot(path)?,
             Some(RobotSource::Loaded(robot)) => *robot,
         };
+        let p = Turn::paper();
+        let turn = Turn {
+            psi_deg: self.psi_deg.unwrap_or(p.psi_deg),
+            theta_deg: self.theta_deg.unwrap_or(p.theta_deg),
+            absolute: self.absolute.unwrap_or(p.absolute),
+            omega_max_deg_s: self.omega_max_deg_s.unwrap_or(p.omega_max_deg_s),
+            eps_max_deg_s2: self.eps_max_deg_s2.unwrap_or(p.eps_max_deg_s2),
+            sync: self.sync.unwrap_or(p.sync),
+        };
+        let run = match commanded {
+            Some(_) => Run::Online(Online {
+                turn,
+                retargets,
+                stop_at_s: self.stop_at_s,
+            }),
+            None => Run::Planned(Timeline {
+                motions: Motions::Turn(turn),
+                timing,
+            }),
+        };
         Ok(Scenario {
             start_mm_deg: self.pose_mm_deg.unwrap_or(paper.start_mm_deg),
-            psi_deg: self.psi_deg.unwrap_or(paper.psi_deg),
-            theta_deg: self.theta_deg.unwrap_or(paper.theta_deg),
-            absolute: self.absolute.unwrap_or(paper.absolute),
-            omega_max_deg_s: self.omega_max_deg_s.unwrap_or(paper.omega_max_deg_s),
-            eps_max_deg_s2: self.eps_max_deg_s2.unwrap_or(paper.eps_max_deg_s2),
-            sync: self.sync.unwrap_or(paper.sync),
             rate_hz,
             tip_left_mm: self.tip_left_mm.unwrap_or(paper.tip_left_mm),
             tip_right_mm: self.tip_right_mm,
             robot: robot.geometry,
             supervisor: robot.supervisor,
-            retargets: self.retarget.unwrap_or_default(),
-            stop_at_s: self.stop_at_s,
-            timing,
+            run,
             ..paper
         })
     }
@@ -475,8 +517,9 @@ mod tests {
         .resolve()
         .unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(s.rate_hz, 250.0);
-        assert_eq!(s.timing, Timing::Optimal { angular: false });
-        assert_eq!(s.motions.len(), 1);
+        assert_eq!(s.timing(), Timing::Optimal { angular: false });
+        assert_eq!(s.motions().len(), 1);
+        assert!(s.is_procedure());
     }
 
     #[test]
@@ -488,7 +531,7 @@ mod tests {
         }
         .resolve()
         .unwrap_or_else(|e| panic!("{e}"));
-        assert_eq!(eps.timing, Timing::Optimal { angular: true });
+        assert_eq!(eps.timing(), Timing::Optimal { angular: true });
         // The trapezoid always binds them: the flag is not its business.
         let trapezoid = Input {
             omega_max_deg_s: Some(7.0),
@@ -496,8 +539,76 @@ mod tests {
         }
         .resolve()
         .unwrap_or_else(|e| panic!("{e}"));
-        assert_eq!(trapezoid.timing, Timing::Trapezoid);
-        assert_eq!(trapezoid.omega_max_deg_s, 7.0);
+        assert_eq!(trapezoid.timing(), Timing::Trapezoid);
+        assert_eq!(trapezoid.limits().v_max, 7f64.to_radians());
+    }
+
+    #[test]
+    fn commands_make_an_online_run_and_refuse_the_optimal_timing() {
+        let retarget = Some(vec![Retarget {
+            t_s: 1.0,
+            psi_deg: 5.0,
+            theta_deg: 5.0,
+        }]);
+        let online = Input {
+            retarget: retarget.clone(),
+            stop_at_s: Some(3.0),
+            psi_deg: Some(-10.0),
+            ..Input::default()
+        }
+        .resolve()
+        .unwrap_or_else(|e| panic!("{e}"));
+        match &online.run {
+            Run::Online(o) => {
+                assert_eq!(o.turn.psi_deg, -10.0);
+                assert_eq!(o.retargets.len(), 1);
+                assert_eq!(o.stop_at_s, Some(3.0));
+            }
+            other => panic!("{other:?}"),
+        }
+        // No retarget at all is no command: the planned turn.
+        let none = Input {
+            retarget: Some(Vec::new()),
+            timing: Some(TimingKind::Optimal),
+            ..Input::default()
+        }
+        .resolve()
+        .unwrap_or_else(|e| panic!("{e}"));
+        assert!(matches!(none.run, Run::Planned(_)));
+        for (input, field) in [
+            (
+                Input {
+                    retarget,
+                    ..Input::default()
+                },
+                InputField::Retarget,
+            ),
+            (
+                Input {
+                    stop_at_s: Some(1.0),
+                    ..Input::default()
+                },
+                InputField::StopAtS,
+            ),
+        ] {
+            let optimal = Input {
+                timing: Some(TimingKind::Optimal),
+                ..input.clone()
+            };
+            match optimal.resolve() {
+                Err(e @ InputError::OptimalOnline(f)) => {
+                    assert_eq!((f, e.field()), (field, field));
+                    assert!(e.to_string().starts_with(field.name()), "{e}");
+                }
+                other => panic!("{field}: {other:?}"),
+            }
+            // The trapezoid, given or not, takes commands.
+            let trapezoid = Input {
+                timing: Some(TimingKind::Trapezoid),
+                ..input
+            };
+            assert!(trapezoid.resolve().is_ok_and(|s| s.has_commands()));
+        }
     }
 
     #[test]

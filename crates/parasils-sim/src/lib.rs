@@ -3,29 +3,31 @@
 //! numbers to the last bit.
 //!
 //! Data flows one way: a [`Scenario`] (the inputs in user units, the paper's
-//! by default) is validated and planned into a [`Simulation`], whose
-//! [`Simulation::run`] steps the controller through the
-//! [`Reorientation`](parasils::Reorientation) sampled at a fixed rate and
-//! hands each [`Record`] to a [`Sink`]: the [`csv`] and [`mcap`] writers
-//! (into an atomic [`OutputFile`]), the [`summary`], the `plot` (feature
-//! `plot`), or several at once through a [`Tee`]. Nothing holds the whole
-//! run in memory. Every writer reads the records through one table of
-//! [`columns`] (name, unit, MCAP channel, value).
+//! by default, resolved from a front end's [`Input`]) is validated and
+//! planned into a [`Simulation`], whose [`Simulation::run`] steps the
+//! controller through the run sampled at a fixed rate and hands each
+//! [`Record`] to a [`Sink`]: the [`csv`] and [`mcap`] writers (into an
+//! atomic [`OutputFile`]), the [`summary`], the `plot` (feature `plot`), or
+//! several at once through a [`Tee`]. Nothing holds the whole run in memory.
+//! Every writer reads the records through one table of [`columns`] (name,
+//! unit, MCAP channel, value).
 //!
-//! A scenario may instead be a **procedure**: a list of motions of the
-//! paper's four types ([`Scenario::motions`], read from a file by
-//! [`procedure`]), each from where the previous one ended, planned and
-//! checked in full by [`Simulation::new`] before any record is written. Its
-//! output has twelve more columns ([`columns::PROCEDURE`]: the motion, the
-//! endoscope's depth, the three tips).
-//!
-//! A scenario may also command new goals and a stop while the platform
-//! moves ([`Scenario::retargets`], [`Scenario::stop_at_s`]): such a run goes
-//! through the online controller ([`parasils::OnlineController`], with its
-//! margin supervisor), each command taking effect at the first sample at or
-//! after its time, and its output has one more column, `command`, the index
-//! of the active command (the CSV's last column, and `/motion` in MCAP). A
-//! run without commands is written exactly as before they existed.
+//! A run is a type ([`Run`]), one of two kinds:
+//! - **planned** ([`Timeline`]): motions of the paper's four types, each
+//!   from where the previous one ended, planned on the control cycle and
+//!   checked in full by [`Simulation::new`] before any record is written.
+//!   The paper's run is a timeline of one reorientation ([`Motions::Turn`]);
+//!   a **procedure** is a list of motions read from a file by [`procedure`]
+//!   ([`Motions::Procedure`]), whose output has twelve more columns
+//!   ([`columns::PROCEDURE`]: the motion, the endoscope's depth, the three
+//!   tips). One path plans and samples both.
+//! - **online** ([`Online`]): a turn with new goals and a stop commanded
+//!   while the platform moves. Such a run goes through the online controller
+//!   ([`parasils::OnlineController`], with its margin supervisor), each
+//!   command taking effect at the first sample at or after its time, and its
+//!   output has one more column, `command`, the index of the active command
+//!   (the CSV's last column, and `/motion` in MCAP). A run without commands
+//!   is written exactly as before they existed.
 //!
 //! The paper's run, written as CSV in memory:
 //!
@@ -56,11 +58,11 @@
 //! | `supervisor` | [`SupervisorTable`]: the margin supervisor's thresholds a robot file gives |
 //! | [`timing`] | [`OptimalLaw`]: a path timed as fast as the actuators allow |
 //! | `motion` | a procedure's motions in user units ([`MotionSpec`]): goals of the paper's four types, limits, names |
-//! | [`scenario`] | [`Scenario`]: a run resolved, in user units (mm, deg, deg/s, deg/s^2, Hz); the commands |
+//! | [`scenario`] | [`Scenario`]: a run resolved, in user units (mm, deg, deg/s, deg/s^2, Hz): what every run shares, and its kind, [`Run`] (a planned [`Timeline`] of motions, the paper's [`Turn`] or a procedure's; an [`Online`] run with its commands) |
 //! | `record` | [`Record`]: one instant, typed, in library units |
 //! | [`columns`] | the one table of output columns |
 //! | `sink` | [`Sink`] and [`Tee`] |
-//! | `engine` | [`Simulation`]: validation, planning, the commands' schedule, the one run loop |
+//! | `engine` | [`Simulation`]: validation, planning (one path for every timeline), the commands' schedule, the records |
 //! | [`csv`], [`mcap`], [`summary`], `plot` | the sinks |
 //! | [`output`] | [`OutputFile`]: CSV or MCAP written atomically (with `parasils_io`'s [`AtomicFile`](parasils_io::AtomicFile)) |
 //! | `robot` | [`Robot`]: a robot file's whole content (geometry and supervisor thresholds), read once |
@@ -123,7 +125,10 @@ pub use robot_file::{
     CameraFile, EndoscopeFile, GuideFile, InstrumentFile, LegFile, Module1File, RobotFile,
     RobotFileError,
 };
-pub use scenario::{Command, CommandKind, LibraryUnits, Retarget, RetargetUnits, Scenario, Timing};
+pub use scenario::{
+    Command, CommandKind, LibraryUnits, Motions, Online, Retarget, RetargetUnits, Run, Scenario,
+    Timeline, Timing, Turn,
+};
 pub use sink::{BoxError, Sink, Tee};
 pub use summary::{CheckReport, Summary};
 pub use supervisor::SupervisorTable;

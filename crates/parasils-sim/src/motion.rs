@@ -1,21 +1,21 @@
 //! A procedure's motions in user units: what each does ([`MotionGoal`], one
 //! per motion type of the paper), within which limits ([`MotionLimits`],
 //! with the defaults stated once), and how messages name it
-//! ([`MotionName`]). A [`Scenario`](crate::Scenario) holds them in
-//! [`Scenario::motions`](crate::Scenario::motions); the
+//! ([`MotionName`]). A [`Scenario`](crate::Scenario) holds them in its
+//! planned timeline ([`Motions::Procedure`](crate::Motions::Procedure)); the
 //! [`procedure`](crate::procedure) module reads them from files, and the
 //! [`engine`](crate::engine) plans them with `parasils::motions`.
 //!
 //! ```
 //! use parasils::Port;
 //! use parasils_sim::{MotionGoal, MotionSpec};
-//! use parasils_sim::{Scenario, Simulation};
+//! use parasils_sim::{Run, Scenario, Simulation};
 //!
 //! let scenario = Scenario {
-//!     motions: vec![
+//!     run: Run::procedure(vec![
 //!         MotionSpec::new(MotionGoal::Insert { port: Port::Endoscope, depth_mm: 40.0 }),
 //!         MotionSpec::new(MotionGoal::Reorient { psi_deg: 15.0, theta_deg: 25.0, absolute: false }),
-//!     ],
+//!     ]),
 //!     ..Scenario::paper()
 //! };
 //! let sim = Simulation::new(scenario)?;

@@ -1,9 +1,11 @@
 //! Procedures: a surgical task as a sequence of motions of the paper's four
 //! types, each starting where the previous one ended, read from a TOML file
 //! (the format of `procedures/sils-demo.toml`) or from JSON of the same
-//! structure (the Python bindings' dicts) into a [`Scenario`] whose
-//! [`Scenario::motions`] is not empty; the start (pose, tips, endoscope
-//! depth, robot) is the file's, the sampling rate the caller's.
+//! structure (the Python bindings' dicts) into a [`Scenario`] whose run is
+//! a planned timeline of these motions
+//! ([`Motions::Procedure`](crate::scenario::Motions::Procedure)); the start
+//! (pose, tips, endoscope depth, robot) is the file's, the sampling rate
+//! the caller's.
 //! [`Simulation::new`](crate::Simulation::new) plans every motion and checks
 //! the whole procedure before a record is written (see
 //! [`ProcedureCheck`](crate::ProcedureCheck)).
@@ -58,7 +60,7 @@ use serde::Deserialize;
 
 use crate::motion::{LookAt, LookAtTips, MotionGoal, MotionLimits, MotionSpec, MotionType, Port};
 use crate::robot_file::{self, RobotFileError};
-use crate::scenario::Scenario;
+use crate::scenario::{Run, Scenario};
 use parasils_io::Shortest;
 
 /// What went wrong with a procedure.
@@ -347,12 +349,13 @@ fn build(
             message: String::from("a procedure needs at least one [[motion]]"),
         });
     }
-    scenario.motions = file
-        .motion
-        .into_iter()
-        .enumerate()
-        .map(|(k, m)| motion(&errors, k, m))
-        .collect::<Result<_, _>>()?;
+    scenario.run = Run::procedure(
+        file.motion
+            .into_iter()
+            .enumerate()
+            .map(|(k, m)| motion(&errors, k, m))
+            .collect::<Result<_, _>>()?,
+    );
     Ok(scenario)
 }
 
@@ -634,18 +637,18 @@ mod tests {
         )?;
         assert_eq!(s.start_mm_deg, [15.0, 20.0, -460.0, -15.0, 10.0, -60.0]);
         assert_eq!(s.endoscope_depth_mm, 5.0);
-        assert_eq!(s.motions.len(), 4);
+        assert_eq!(s.motions().len(), 4);
         assert_eq!(
-            s.motions[1].goal,
+            s.motions()[1].goal,
             MotionGoal::Insert {
                 port: Port::Endoscope,
                 depth_mm: 60.0
             }
         );
-        assert_eq!(s.motions[1].limits.velocity_mm_s, 5.0);
-        assert_eq!(s.motions[1].limits.acceleration_mm_s2, 20.0);
-        assert_eq!(s.motions[3].limits.velocity_deg_s, 10.0);
-        assert_eq!(s.motions[3].name.as_deref(), Some("camera"));
+        assert_eq!(s.motions()[1].limits.velocity_mm_s, 5.0);
+        assert_eq!(s.motions()[1].limits.acceleration_mm_s2, 20.0);
+        assert_eq!(s.motions()[3].limits.velocity_deg_s, 10.0);
+        assert_eq!(s.motions()[3].name.as_deref(), Some("camera"));
         Ok(())
     }
 
@@ -729,7 +732,7 @@ mod tests {
             Path::new("."),
         )?;
         assert_eq!(
-            s.motions[0].goal,
+            s.motions()[0].goal,
             MotionGoal::Manipulate {
                 tip_left_mm: None,
                 tip_right_mm: Some([1.0, 2.0, 3.0])

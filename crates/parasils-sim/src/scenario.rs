@@ -1,10 +1,14 @@
-//! A simulation's inputs, in the units people give them in: the start pose,
-//! the reorientation, the limits, the sampling rate, the tips, the robot, and
-//! the commands given while the platform moves (new goals, a stop).
+//! A simulation's inputs resolved into a typed run, in the units people give
+//! them in: what every run shares ([`Scenario`]: the start pose, the tips,
+//! the rate, the robot) and what kind of run it is ([`Run`]): a planned
+//! [`Timeline`] (the paper's [`Turn`], or a procedure's motions) or an
+//! [`Online`] run with commands given while the platform moves (new goals,
+//! a stop).
 //!
 //! The defaults ([`Scenario::paper`]) are the paper's section 4, taken from
-//! [`parasils::paper`] and the kinematics' presets: the command line and the
-//! Python bindings start from them and change the fields their user gave.
+//! [`parasils::paper`] and the kinematics' presets;
+//! [`Input::resolve`](crate::Input::resolve) starts from them and changes
+//! what its user gave.
 
 use nalgebra::Vector3;
 use parasils::kin::presets;
@@ -13,23 +17,30 @@ use parasils::paper;
 use parasils::traj::{Limits, Synchronization};
 use serde::Serialize;
 
-use crate::motion::MotionSpec;
+use crate::motion::{MotionGoal, MotionLimits, MotionSpec};
 use crate::supervisor::SupervisorTable;
 
-/// The inputs of one endoscope reorientation (motion type 4), in user units:
-/// mm, degrees, deg/s, deg/s^2, Hz.
+/// A run, resolved: what every run shares (the robot, where it starts, the
+/// tips, the rate, the supervisor's thresholds), in user units (mm, deg,
+/// Hz), and [`Run`], what kind of run it is: a planned [`Timeline`] of
+/// motions (the paper's turn is a timeline of one motion, a procedure one
+/// of many) or an [`Online`] run, whose commands the online controller
+/// takes while the platform moves.
 ///
+/// [`Input::resolve`](crate::Input::resolve) builds the right kind from
+/// what a user gave; a combination no kind holds (a procedure with
+/// retargets, the time-optimal timing with a stop) cannot be written down.
 /// Build one from [`Scenario::paper`] and change what differs:
 ///
 /// ```
-/// use parasils_sim::Scenario;
+/// use parasils_sim::{Run, Scenario, Turn};
 ///
 /// let s = Scenario {
-///     psi_deg: -10.0,
 ///     rate_hz: 250.0,
+///     run: Run::turn(Turn { psi_deg: -10.0, ..Turn::paper() }),
 ///     ..Scenario::paper()
 /// };
-/// assert_eq!(s.theta_deg, 25.0);
+/// assert_eq!(s.turn().map(|t| t.theta_deg), Some(25.0));
 /// assert_eq!(s.goal_rad()[0], s.start().psi + (-10f64).to_radians());
 /// ```
 ///
@@ -41,6 +52,96 @@ pub struct Scenario {
     /// The platform's pose at `t = 0`: `[x, y, z]` in mm, then
     /// `[psi, theta, phi]` in degrees.
     pub start_mm_deg: [f64; 6],
+    /// Samples per second, Hz.
+    pub rate_hz: f64,
+    /// The left tip at the start, mm, fixed frame.
+    pub tip_left_mm: [f64; 3],
+    /// The right tip at the start, mm, fixed frame; `None` for the mirror
+    /// image of the left tip across the platform's `Y'Z'` plane at the start
+    /// pose.
+    pub tip_right_mm: Option<[f64; 3]>,
+    /// The robot: module 1 and both instrument modules (library units).
+    pub robot: RobotGeometry<f64>,
+    /// The endoscope's insertion depth at the start, mm (0 at its port,
+    /// positive inwards).
+    pub endoscope_depth_mm: f64,
+    /// The margin supervisor's thresholds the robot file sets (its
+    /// `[supervisor]` table; none by default): they replace the defaults in
+    /// the supervisor's warnings and, online, its stops.
+    pub supervisor: SupervisorTable,
+    /// What kind of run, with what only that kind has.
+    pub run: Run,
+}
+
+/// What kind of run a [`Scenario`] is.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Run {
+    /// Planned before the first sample: motions one after the other, each
+    /// from rest to rest on the control cycle.
+    Planned(Timeline),
+    /// Run by the online controller, cycle by cycle, with commands given
+    /// while the platform moves.
+    Online(Online),
+}
+
+impl Run {
+    /// A planned timeline of one turn, timed by the paper's trapezoids.
+    pub fn turn(turn: Turn) -> Self {
+        Run::Planned(Timeline {
+            motions: Motions::Turn(turn),
+            timing: Timing::Trapezoid,
+        })
+    }
+
+    /// A planned timeline of a procedure's motions, timed by the
+    /// trapezoids.
+    pub fn procedure(motions: Vec<MotionSpec>) -> Self {
+        Run::Planned(Timeline {
+            motions: Motions::Procedure(motions),
+            timing: Timing::Trapezoid,
+        })
+    }
+}
+
+/// A planned run: its motions and how they are timed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Timeline {
+    /// The motions.
+    pub motions: Motions,
+    /// How each motion is timed: its trapezoids, or the fastest law within
+    /// the actuators' limits.
+    pub timing: Timing,
+}
+
+/// The motions of a [`Timeline`], as the user gave them.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Motions {
+    /// One turn of the endoscope (motion type 4), given by its angles and
+    /// limits: the paper's run. It is planned as a timeline of one
+    /// reorientation ([`Turn::motion`]).
+    Turn(Turn),
+    /// A procedure's motions, in order (see [`MotionSpec`]), each from where
+    /// the one before ended.
+    Procedure(Vec<MotionSpec>),
+}
+
+/// An online run: a turn commanded at `t = 0`, then each command at its
+/// time.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Online {
+    /// The turn commanded at `t = 0`.
+    pub turn: Turn,
+    /// New goals commanded while the platform moves, in time order. See
+    /// [`Command`].
+    pub retargets: Vec<Retarget>,
+    /// The time of a controlled stop, s from the start; `None` for no stop.
+    pub stop_at_s: Option<f64>,
+}
+
+/// One endoscope reorientation (motion type 4) in user units: its angles,
+/// its limits and how the two angles are timed together.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Turn {
     /// `psi`: the increment from the start (or, with `absolute`, the final
     /// value), deg.
     pub psi_deg: f64,
@@ -56,41 +157,78 @@ pub struct Scenario {
     pub eps_max_deg_s2: f64,
     /// How the two angles are timed together.
     pub sync: Synchronization,
-    /// Samples per second, Hz.
-    pub rate_hz: f64,
-    /// The left tip, held still, mm, fixed frame.
-    pub tip_left_mm: [f64; 3],
-    /// The right tip, held still, mm, fixed frame; `None` for the mirror
-    /// image of the left tip across the platform's `Y'Z'` plane at the start
-    /// pose.
-    pub tip_right_mm: Option<[f64; 3]>,
-    /// The robot: module 1 and both instrument modules (library units).
-    pub robot: RobotGeometry<f64>,
-    /// New goals commanded while the platform moves, in time order (none in
-    /// the paper's scenario). See [`Command`].
-    pub retargets: Vec<Retarget>,
-    /// The time of a controlled stop, s from the start; `None` for no stop.
-    pub stop_at_s: Option<f64>,
-    /// A procedure's motions, in order (see [`MotionSpec`]); empty for
-    /// the paper's single reorientation (`psi_deg`, `theta_deg` and the
-    /// limits above), which is what a run without motions does.
-    pub motions: Vec<MotionSpec>,
-    /// The endoscope's insertion depth at the start, mm (0 at its port,
-    /// positive inwards).
-    pub endoscope_depth_mm: f64,
-    /// How the reorientation is timed: the paper's trapezoid (default) or
-    /// the fastest law within the actuators' limits.
-    pub timing: Timing,
-    /// The margin supervisor's thresholds the robot file sets (its
-    /// `[supervisor]` table; none by default): they replace the defaults in
-    /// procedures' warnings and in runs with commands.
-    pub supervisor: SupervisorTable,
+}
+
+impl Default for Turn {
+    /// [`Turn::paper`].
+    fn default() -> Self {
+        Self::paper()
+    }
+}
+
+impl Turn {
+    /// The paper's turn: `psi` and `theta` increased by 15 and 25 deg within
+    /// 10 deg/s and 5 deg/s^2, phase-synchronised.
+    pub fn paper() -> Self {
+        Self {
+            psi_deg: paper::PSI_DEG,
+            theta_deg: paper::THETA_DEG,
+            absolute: false,
+            omega_max_deg_s: paper::OMEGA_MAX_DEG_S,
+            eps_max_deg_s2: paper::EPS_MAX_DEG_S2,
+            sync: Synchronization::Phase,
+        }
+    }
+
+    /// The limits of each angle, rad/s and rad/s^2.
+    pub fn limits(&self) -> Limits<f64> {
+        Limits::new(
+            self.omega_max_deg_s.to_radians(),
+            self.eps_max_deg_s2.to_radians(),
+        )
+    }
+
+    /// `[psi, theta]` given as the turn reads them (increments from `start`
+    /// in deg, or final angles with `absolute`) as final angles, rad: the
+    /// goal of the turn or of a [`Retarget`].
+    pub fn angles_rad(&self, start: &Pose<f64>, [psi_deg, theta_deg]: [f64; 2]) -> [f64; 2] {
+        let [psi, theta] = [psi_deg.to_radians(), theta_deg.to_radians()];
+        if self.absolute {
+            [psi, theta]
+        } else {
+            [start.psi + psi, start.theta + theta]
+        }
+    }
+
+    /// The final `[psi, theta]` from `start`, rad.
+    pub fn goal_rad(&self, start: &Pose<f64>) -> [f64; 2] {
+        self.angles_rad(start, [self.psi_deg, self.theta_deg])
+    }
+
+    /// The turn as a procedure's motion of type 4, its angular limits
+    /// binding under the time-optimal timing when `angular` is true (see
+    /// [`Timing::Optimal`]); its `sync` is the timeline's to apply.
+    pub fn motion(&self, angular: bool) -> MotionSpec {
+        MotionSpec {
+            limits: MotionLimits {
+                velocity_deg_s: self.omega_max_deg_s,
+                acceleration_deg_s2: self.eps_max_deg_s2,
+                ..MotionLimits::default()
+            },
+            stated: [false, angular],
+            ..MotionSpec::new(MotionGoal::Reorient {
+                psi_deg: self.psi_deg,
+                theta_deg: self.theta_deg,
+                absolute: self.absolute,
+            })
+        }
+    }
 }
 
 /// A new goal commanded at `t_s`: `psi_deg` and `theta_deg` are read like
-/// [`Scenario::psi_deg`] and [`Scenario::theta_deg`], increments from the
-/// start pose (not from the previous goal), or final angles with
-/// [`Scenario::absolute`].
+/// [`Turn::psi_deg`] and [`Turn::theta_deg`] of the online run's turn,
+/// increments from the start pose (not from the previous goal), or final
+/// angles with [`Turn::absolute`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Retarget {
     /// When the goal is commanded, s from the start.
@@ -170,52 +308,113 @@ impl Default for Scenario {
 
 impl Scenario {
     /// The paper's scenario: `P0 = (15, 20, -500 mm, -15, 10, -60 deg)`,
-    /// `psi` and `theta` increased by 15 and 25 deg within 10 deg/s and
-    /// 5 deg/s^2, phase-synchronised, the left tip at `(50, -50, -620)` mm and
-    /// the right one its mirror, sampled at 1 kHz, on the paper's robot
-    /// (module 1 assumed). See `docs/model.md`, *Check values*.
+    /// [`Turn::paper`] timed by the trapezoids, the left tip at
+    /// `(50, -50, -620)` mm and the right one its mirror, sampled at 1 kHz,
+    /// on the paper's robot (module 1 assumed). See `docs/model.md`,
+    /// *Check values*.
     pub fn paper() -> Self {
         Self {
             start_mm_deg: presets::START_POSE_MM_DEG,
-            psi_deg: paper::PSI_DEG,
-            theta_deg: paper::THETA_DEG,
-            absolute: false,
-            omega_max_deg_s: paper::OMEGA_MAX_DEG_S,
-            eps_max_deg_s2: paper::EPS_MAX_DEG_S2,
-            sync: Synchronization::Phase,
             rate_hz: paper::RATE_HZ,
             tip_left_mm: TipTargets::<f64>::paper().left.into(),
             tip_right_mm: None,
             robot: RobotGeometry::paper(),
-            retargets: Vec::new(),
-            stop_at_s: None,
-            motions: Vec::new(),
             endoscope_depth_mm: 0.0,
             supervisor: SupervisorTable::default(),
-            timing: Timing::Trapezoid,
+            run: Run::turn(Turn::paper()),
         }
     }
 
-    /// Whether the scenario commands anything besides its reorientation (a
-    /// retarget or a stop): such a run goes through the online controller,
-    /// and its output has the `command` column.
-    pub fn has_commands(&self) -> bool {
-        !self.retargets.is_empty() || self.stop_at_s.is_some()
+    /// The turn of the run: a timeline's single turn, or the one an online
+    /// run commands at `t = 0`; `None` for a procedure.
+    pub fn turn(&self) -> Option<&Turn> {
+        match &self.run {
+            Run::Planned(Timeline {
+                motions: Motions::Turn(turn),
+                ..
+            })
+            | Run::Online(Online { turn, .. }) => Some(turn),
+            Run::Planned(_) => None,
+        }
     }
 
-    /// The commands in the order they are given: the reorientation at
-    /// `t = 0`, then the retargets and the stop merged by time (the stop
-    /// before a retarget given for the same time; such a scenario does not
-    /// validate).
+    /// The planned timeline; `None` for an online run.
+    pub fn timeline(&self) -> Option<&Timeline> {
+        match &self.run {
+            Run::Planned(timeline) => Some(timeline),
+            Run::Online(_) => None,
+        }
+    }
+
+    /// The online run; `None` for a planned one.
+    pub fn online(&self) -> Option<&Online> {
+        match &self.run {
+            Run::Online(online) => Some(online),
+            Run::Planned(_) => None,
+        }
+    }
+
+    /// A procedure's motions; empty for a turn or an online run.
+    pub fn motions(&self) -> &[MotionSpec] {
+        match &self.run {
+            Run::Planned(Timeline {
+                motions: Motions::Procedure(m),
+                ..
+            }) => m,
+            _ => &[],
+        }
+    }
+
+    /// Whether the run is a procedure's (its output names each motion and
+    /// follows the endoscope).
+    pub fn is_procedure(&self) -> bool {
+        matches!(
+            &self.run,
+            Run::Planned(Timeline {
+                motions: Motions::Procedure(_),
+                ..
+            })
+        )
+    }
+
+    /// Whether the run goes through the online controller with commands
+    /// (retargets, a stop): its output has the `command` column.
+    pub fn has_commands(&self) -> bool {
+        matches!(self.run, Run::Online(_))
+    }
+
+    /// The scenario with its timeline timed by `timing` (an online run, which
+    /// the trapezoids time, unchanged).
+    #[must_use]
+    pub fn with_timing(mut self, timing: Timing) -> Self {
+        if let Run::Planned(timeline) = &mut self.run {
+            timeline.timing = timing;
+        }
+        self
+    }
+
+    /// How a planned run is timed; the trapezoids for an online run.
+    pub fn timing(&self) -> Timing {
+        self.timeline().map_or(Timing::Trapezoid, |t| t.timing)
+    }
+
+    /// The commands in the order they are given: the turn at `t = 0`
+    /// (without a goal in a procedure), then, online, the retargets and the
+    /// stop merged by time (the stop before a retarget given for the same
+    /// time; such a scenario does not validate).
     pub fn commands(&self) -> Vec<Command> {
-        let mut out = Vec::with_capacity(self.retargets.len() + 2);
+        let online = self.online();
+        let mut out = Vec::with_capacity(online.map_or(0, |o| o.retargets.len()) + 2);
         out.push(Command {
             index: 0,
             kind: CommandKind::Reorient,
             t_s: 0.0,
-            goal_deg: Some([self.psi_deg, self.theta_deg]),
+            goal_deg: self.turn().map(|t| [t.psi_deg, t.theta_deg]),
         });
-        let mut stop = self.stop_at_s;
+        let Some(online) = online else {
+            return out;
+        };
+        let mut stop = online.stop_at_s;
         let push = |out: &mut Vec<Command>, kind, t_s, goal_deg| {
             let index = u32::try_from(out.len()).unwrap_or(u32::MAX);
             out.push(Command {
@@ -225,7 +424,7 @@ impl Scenario {
                 goal_deg,
             });
         };
-        for r in &self.retargets {
+        for r in &online.retargets {
             if let Some(t) = stop.filter(|t| *t <= r.t_s) {
                 push(&mut out, CommandKind::Stop, t, None);
                 stop = None;
@@ -249,34 +448,30 @@ impl Scenario {
         Pose::from_mm_deg(x, y, z, psi, theta, phi)
     }
 
-    /// The final `[psi, theta]`, rad.
+    /// The final `[psi, theta]` of the run's turn, rad; the start's for a
+    /// procedure (which has no turn of its own).
     pub fn goal_rad(&self) -> [f64; 2] {
-        self.angles_rad([self.psi_deg, self.theta_deg])
+        let start = self.start();
+        self.turn()
+            .map_or([start.psi, start.theta], |t| t.goal_rad(&start))
     }
 
-    /// `[psi, theta]` given as the scenario reads them (increments from the
-    /// start pose in deg, or final angles with `absolute`) as final angles,
-    /// rad: the goal of the reorientation or of a [`Retarget`].
-    pub fn angles_rad(&self, [psi_deg, theta_deg]: [f64; 2]) -> [f64; 2] {
-        let [psi, theta] = [psi_deg.to_radians(), theta_deg.to_radians()];
-        if self.absolute {
-            [psi, theta]
-        } else {
-            let start = self.start();
-            [start.psi + psi, start.theta + theta]
-        }
+    /// `[psi, theta]` given as the run's turn reads them (increments from
+    /// the start pose in deg, or final angles with `absolute`) as final
+    /// angles, rad: the goal of the turn or of a [`Retarget`].
+    pub fn angles_rad(&self, angles_deg: [f64; 2]) -> [f64; 2] {
+        let turn = self.turn().copied().unwrap_or_default();
+        turn.angles_rad(&self.start(), angles_deg)
     }
 
-    /// The limits of each angle, rad/s and rad/s^2.
+    /// The limits of each angle of the run's turn, rad/s and rad/s^2 (the
+    /// paper's for a procedure).
     pub fn limits(&self) -> Limits<f64> {
-        Limits::new(
-            self.omega_max_deg_s.to_radians(),
-            self.eps_max_deg_s2.to_radians(),
-        )
+        self.turn().copied().unwrap_or_default().limits()
     }
 
-    /// The two tips the controller holds still, mm, fixed frame (the right
-    /// one resolved).
+    /// The two tips at the start, mm, fixed frame (the right one
+    /// resolved).
     pub fn tips(&self) -> TipTargets<f64> {
         let left = Vector3::from(self.tip_left_mm);
         TipTargets {
@@ -289,24 +484,28 @@ impl Scenario {
     }
 
     /// The scenario in library units (mm, rad, s), as the MCAP file's
-    /// `parasils.scenario` metadata records it.
+    /// `parasils.scenario` metadata records it (a procedure with the
+    /// paper's turn, which it does not use, as it always has).
     pub fn library_units(&self) -> LibraryUnits<'_> {
         let start = self.start();
-        let [psi, theta] = [self.psi_deg.to_radians(), self.theta_deg.to_radians()];
+        let turn = self.turn().copied().unwrap_or_default();
+        let (retargets, stop_at) = match self.online() {
+            Some(o) => (o.retargets.as_slice(), o.stop_at_s),
+            None => (&[][..], None),
+        };
         LibraryUnits {
             start,
-            psi,
-            theta,
-            absolute: self.absolute,
-            omega_max: self.omega_max_deg_s.to_radians(),
-            eps_max: self.eps_max_deg_s2.to_radians(),
-            sync: self.sync,
+            psi: turn.psi_deg.to_radians(),
+            theta: turn.theta_deg.to_radians(),
+            absolute: turn.absolute,
+            omega_max: turn.omega_max_deg_s.to_radians(),
+            eps_max: turn.eps_max_deg_s2.to_radians(),
+            sync: turn.sync,
             rate_hz: self.rate_hz,
             tip_left: self.tip_left_mm,
             tip_right: self.tip_right_mm,
             robot: &self.robot,
-            retargets: self
-                .retargets
+            retargets: retargets
                 .iter()
                 .map(|r| RetargetUnits {
                     t: r.t_s,
@@ -314,28 +513,30 @@ impl Scenario {
                     theta: r.theta_deg.to_radians(),
                 })
                 .collect(),
-            stop_at: self.stop_at_s,
-            motions: &self.motions,
-            endoscope_depth_mm: (!self.motions.is_empty()).then_some(self.endoscope_depth_mm),
-            timing: self.timing,
+            stop_at,
+            motions: self.motions(),
+            endoscope_depth_mm: self.is_procedure().then_some(self.endoscope_depth_mm),
+            timing: self.timing(),
         }
     }
 }
 
-/// How a reorientation is timed along its straight line in `(psi, theta)`.
+/// How a timeline's motions are timed along their paths.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Timing {
-    /// The paper's: `psi` and `theta` on synchronised trapezoids within
-    /// [`Scenario::omega_max_deg_s`] and [`Scenario::eps_max_deg_s2`].
+    /// The paper's: each motion's coordinates on synchronised trapezoids
+    /// within its limits (a turn's `psi` and `theta` within
+    /// [`Turn::omega_max_deg_s`] and [`Turn::eps_max_deg_s2`]).
     #[default]
     Trapezoid,
     /// The fastest rest-to-rest law whose twelve actuators stay within their
-    /// velocity and acceleration limits (the robot's); the angular limits
-    /// bind as well when `angular` is true (see [`crate::timing`]).
+    /// velocity and acceleration limits (the robot's); a turn's angular
+    /// limits bind as well when `angular` is true, a procedure's motion's
+    /// when the procedure states them (see [`crate::timing`]).
     Optimal {
-        /// Whether [`Scenario::omega_max_deg_s`] and
-        /// [`Scenario::eps_max_deg_s2`] bind too.
+        /// Whether [`Turn::omega_max_deg_s`] and [`Turn::eps_max_deg_s2`]
+        /// of a [`Motions::Turn`] bind too.
         angular: bool,
     },
 }
@@ -418,9 +619,12 @@ mod tests {
     #[test]
     fn absolute_angles_are_the_goal() {
         let s = Scenario {
-            absolute: true,
-            psi_deg: 5.0,
-            theta_deg: -5.0,
+            run: Run::turn(Turn {
+                absolute: true,
+                psi_deg: 5.0,
+                theta_deg: -5.0,
+                ..Turn::paper()
+            }),
             ..Scenario::paper()
         };
         assert_eq!(s.goal_rad(), [5f64.to_radians(), (-5f64).to_radians()]);

@@ -120,7 +120,7 @@ impl Summary {
         s.module1_provenance = Some(sim.scenario().robot.module1.provenance());
         if sim.scenario().has_commands() {
             s.schedule = sim.schedule().to_vec();
-            s.absolute = sim.scenario().absolute;
+            s.absolute = sim.scenario().turn().is_some_and(|t| t.absolute);
         }
         s.procedure = sim.procedure_check().cloned();
         s.limits = sim.controller().limits;
@@ -427,53 +427,23 @@ impl fmt::Display for CheckReport<'_> {
 /// time-optimal), before its stretch onto the control cycle; `None` for a
 /// procedure or a run with commands.
 fn planned_turn(sim: &Simulation) -> Option<f64> {
-    let scenario = sim.scenario();
-    if sim.procedure().is_some() || scenario.has_commands() {
+    if sim.scenario().is_procedure() {
         return None;
     }
-    if let Some(law) = sim.optimal() {
-        return Some(law.duration());
-    }
-    parasils::Reorientation::new(
-        scenario.start(),
-        scenario.goal_rad(),
-        [scenario.limits(); 2],
-        scenario.sync,
-    )
-    .ok()
-    .map(|r| r.duration())
+    Some(sim.timeline()?.motions.first()?.planned_s())
 }
 
 /// A phase of a time-optimal law, with the motion it belongs to in a
 /// procedure.
 type NamedPhase = (Option<MotionName>, PhaseSummary);
 
-/// The phases of `sim`'s time-optimal law (none for a trapezoid run): for
-/// a procedure, every motion's, on the procedure's time line.
+/// The phases of `sim`'s time-optimal laws (none for a trapezoid run), on
+/// the timeline: for a procedure, every motion's, named.
 fn optimal_phases(sim: &Simulation) -> Vec<NamedPhase> {
-    if let Some(law) = sim.optimal() {
-        // The law's times, stretched onto the control cycle (`T' / T`).
-        let stretch = if law.duration() > 0.0 {
-            sim.duration() / law.duration()
-        } else {
-            1.0
-        };
-        return law
-            .phases()
-            .into_iter()
-            .map(|p| {
-                let phase = PhaseSummary {
-                    start_s: p.start_s * stretch,
-                    end_s: p.end_s * stretch,
-                    ..p
-                };
-                (None, phase)
-            })
-            .collect();
-    }
-    let Some(plan) = sim.procedure() else {
+    let Some(plan) = sim.timeline() else {
         return Vec::new();
     };
+    let named = sim.scenario().is_procedure();
     let mut out = Vec::new();
     for m in &plan.motions {
         // The law's times, stretched onto the control cycle.
@@ -484,7 +454,7 @@ fn optimal_phases(sim: &Simulation) -> Vec<NamedPhase> {
                 end_s: p.end_s / r + m.start_s,
                 ..p
             };
-            out.push((Some(m.name.clone()), phase));
+            out.push((named.then(|| m.name.clone()), phase));
         }
     }
     out

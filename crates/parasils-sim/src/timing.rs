@@ -395,8 +395,16 @@ pub struct PhasePlane {
 }
 
 impl OptimalMotion {
-    /// The phase plane of this law (empty for a turn of zero length).
+    /// The phase plane of this law (empty for a path along which nothing
+    /// moves).
     pub fn phase_plane(&self) -> PhasePlane {
+        self.plane(&self.phases())
+    }
+}
+
+impl<P: optimal::Path<f64, PATH_ROWS, Error = parasils::kin::Error>> OptimalLaw<P> {
+    /// The phase plane of this law with its `phases`.
+    fn plane(&self, phases: &[PhaseSummary]) -> PhasePlane {
         let knots = &self.knots;
         let s_at = |t: f64| self.schedule().state(t).position;
         PhasePlane {
@@ -411,8 +419,7 @@ impl OptimalMotion {
                 .map(|k| k.derivatives.acceleration_limit(&self.limits).sqrt())
                 .collect(),
             controllable: knots.iter().map(|k| k.x_max().sqrt()).collect(),
-            phases: self
-                .phases()
+            phases: phases
                 .iter()
                 .map(|p| {
                     (

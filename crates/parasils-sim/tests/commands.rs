@@ -11,24 +11,28 @@ use parasils_sim::csv::CsvSink;
 use parasils_sim::mcap::{MOTION_TOPIC, McapSink, RUN_METADATA, SCENARIO_METADATA};
 use parasils_sim::scenario::{CommandKind, Retarget};
 use parasils_sim::summary::Summary;
+use parasils_sim::{Online, Run, Turn};
 use parasils_sim::{Record, Scenario, Simulation, SimulationError, Tee};
 
 /// The acceptance scenario (see the file's docs).
 fn scenario() -> Scenario {
     Scenario {
-        retargets: vec![
-            Retarget {
-                t_s: 1.2,
-                psi_deg: 25.0,
-                theta_deg: 15.0,
-            },
-            Retarget {
-                t_s: 3.5,
-                psi_deg: 5.0,
-                theta_deg: 30.0,
-            },
-        ],
-        stop_at_s: Some(3.0),
+        run: Run::Online(Online {
+            turn: Turn::paper(),
+            retargets: vec![
+                Retarget {
+                    t_s: 1.2,
+                    psi_deg: 25.0,
+                    theta_deg: 15.0,
+                },
+                Retarget {
+                    t_s: 3.5,
+                    psi_deg: 5.0,
+                    theta_deg: 30.0,
+                },
+            ],
+            stop_at_s: Some(3.0),
+        }),
         ..Scenario::paper()
     }
 }
@@ -83,7 +87,8 @@ fn two_retargets_and_a_stop_stay_continuous_within_limits_with_the_tips_still() 
     };
 
     // Limits in the CSV's units: 10 deg/s, 5 deg/s^2, sampled every 1 ms.
-    let (omega, eps, dt) = (sc.omega_max_deg_s, sc.eps_max_deg_s2, 1.0 / sc.rate_hz);
+    let turn = sc.turn().copied().unwrap_or_default();
+    let (omega, eps, dt) = (turn.omega_max_deg_s, turn.eps_max_deg_s2, 1.0 / sc.rate_hz);
     let within = |x: f64, limit: f64| x.abs() <= limit * (1.0 + 1e-9);
     for axis in ["psi", "theta"] {
         let angle = col(&format!("{axis}_deg"));
@@ -327,8 +332,12 @@ fn the_paper_csv_has_its_53_columns_and_no_command() {
 #[test]
 fn a_command_after_the_motion_waits_for_its_time_at_rest() {
     let sim = Simulation::new(Scenario {
+        run: Run::Online(Online {
+            turn: Turn::paper(),
+            stop_at_s: Some(6.0),
+            ..Online::default()
+        }),
         rate_hz: 100.0,
-        stop_at_s: Some(6.0),
         ..Scenario::paper()
     })
     .expect("valid");
@@ -358,10 +367,16 @@ fn the_supervisor_stops_short_of_the_parallel_singularity() {
     // parallel singularity near theta = 49.7 deg, see the CLI's tests); with
     // a command, the online controller's supervisor stops it first.
     let sim = Simulation::new(Scenario {
-        psi_deg: 0.0,
-        theta_deg: 60.0,
+        run: Run::Online(Online {
+            turn: Turn {
+                psi_deg: 0.0,
+                theta_deg: 60.0,
+                ..Turn::paper()
+            },
+            stop_at_s: Some(8.0),
+            ..Online::default()
+        }),
         rate_hz: 100.0,
-        stop_at_s: Some(8.0),
         ..Scenario::paper()
     })
     .expect("valid");
@@ -393,15 +408,18 @@ fn the_supervisor_stops_short_of_the_parallel_singularity() {
 fn commands_that_cannot_be_scheduled_are_named() {
     let err = |retargets: &[(f64, f64, f64)], stop_at_s: Option<f64>| {
         Simulation::new(Scenario {
-            retargets: retargets
-                .iter()
-                .map(|&(t_s, psi_deg, theta_deg)| Retarget {
-                    t_s,
-                    psi_deg,
-                    theta_deg,
-                })
-                .collect(),
-            stop_at_s,
+            run: Run::Online(Online {
+                turn: Turn::paper(),
+                retargets: retargets
+                    .iter()
+                    .map(|&(t_s, psi_deg, theta_deg)| Retarget {
+                        t_s,
+                        psi_deg,
+                        theta_deg,
+                    })
+                    .collect(),
+                stop_at_s,
+            }),
             ..Scenario::paper()
         })
         .expect_err("refused")
@@ -440,7 +458,11 @@ fn commands_that_cannot_be_scheduled_are_named() {
         "commands: retarget 1 at t = 0 s takes effect at the same sample as the reorientation at t = 0 s (t = 0 s at 1000 Hz): give each command a sample of its own"
     );
     let e = Simulation::new(Scenario {
-        stop_at_s: Some(1e300),
+        run: Run::Online(Online {
+            turn: Turn::paper(),
+            stop_at_s: Some(1e300),
+            ..Online::default()
+        }),
         ..Scenario::paper()
     })
     .expect_err("too long");
@@ -453,12 +475,16 @@ fn the_supervisor_stops_short_of_a_joint_limit() {
     // Without commands, psi +40 drives the left module's qs2 past -80 deg
     // (the CLI's tests); a retarget there is stopped short of it.
     let sim = Simulation::new(Scenario {
+        run: Run::Online(Online {
+            turn: Turn::paper(),
+            retargets: vec![Retarget {
+                t_s: 1.0,
+                psi_deg: 40.0,
+                theta_deg: 25.0,
+            }],
+            ..Online::default()
+        }),
         rate_hz: 1000.0,
-        retargets: vec![Retarget {
-            t_s: 1.0,
-            psi_deg: 40.0,
-            theta_deg: 25.0,
-        }],
         ..Scenario::paper()
     })
     .expect("plans");
@@ -481,8 +507,12 @@ fn the_supervisor_stops_short_of_a_joint_limit() {
 #[test]
 fn an_unreachable_start_fails_at_the_first_sample() {
     let e = Simulation::new(Scenario {
+        run: Run::Online(Online {
+            turn: Turn::paper(),
+            stop_at_s: Some(1.0),
+            ..Online::default()
+        }),
         tip_left_mm: [-400.0, 0.0, -500.0],
-        stop_at_s: Some(1.0),
         ..Scenario::paper()
     })
     .expect_err("unreachable");

@@ -10,6 +10,7 @@ use parasils::kin::{ModuleCommand, Pose};
 use parasils_sim::columns::ALL;
 use parasils_sim::scenario::Timing;
 use parasils_sim::{MotionGoal, MotionSpec};
+use parasils_sim::{Motions, Run, Timeline};
 use parasils_sim::{Record, Scenario, Simulation};
 
 type Result<T = ()> = core::result::Result<T, Box<dyn core::error::Error>>;
@@ -69,8 +70,10 @@ fn assert_at_rest(r: &Record, what: &str) {
 
 fn check(timing: Timing) -> Result {
     let sim = Simulation::new(Scenario {
-        motions: motions(),
-        timing,
+        run: Run::Planned(Timeline {
+            motions: Motions::Procedure(motions()),
+            timing,
+        }),
         ..start()
     })?;
     let records = sim.samples().collect::<core::result::Result<Vec<_>, _>>()?;
@@ -199,10 +202,10 @@ fn a_motion_of_1_2345_s_lasts_1_235_s_at_1_khz() -> Result {
     // lasts 2 sqrt(d / 20) = 1.2345 s (to rounding).
     let d = 20.0 * 1.2345_f64.powi(2) / 4.0;
     let sim = Simulation::new(Scenario {
-        motions: vec![MotionSpec::new(MotionGoal::Insert {
+        run: Run::procedure(vec![MotionSpec::new(MotionGoal::Insert {
             port: Port::Left,
             depth_mm: d,
-        })],
+        })]),
         ..start()
     })?;
     let plan = sim.procedure().ok_or("a procedure")?;

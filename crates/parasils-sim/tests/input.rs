@@ -110,7 +110,7 @@ fn the_optimal_timing_binds_the_angular_limits_only_when_given() {
         .resolve()
         .unwrap_or_else(|e| panic!("{e}"));
         let sim = Simulation::new(scenario).unwrap_or_else(|e| panic!("{e}"));
-        (sim.scenario().timing, sim.duration())
+        (sim.scenario().timing(), sim.duration())
     };
     let (free, free_s) = run(None);
     let (given, given_s) = run(Some(10.0));

@@ -3,6 +3,7 @@
 //! point `P`, no turn of `phi`), refused before any output.
 
 use parasils::Port;
+use parasils_sim::Run;
 use parasils_sim::procedure;
 use parasils_sim::{Inside, InsideRule, MotionGoal, MotionSpec, Scenario, Simulation};
 use parasils_sim::{ProcedurePlan, SimulationError};
@@ -39,7 +40,10 @@ fn reorient(psi_deg: f64, theta_deg: f64) -> MotionSpec {
 const PORT: [f64; 6] = [15.0, 20.0, -500.0, -15.0, 10.0, -60.0];
 
 fn simulate(motions: Vec<MotionSpec>) -> core::result::Result<Simulation, SimulationError> {
-    Simulation::new(Scenario { motions, ..start() })
+    Simulation::new(Scenario {
+        run: Run::procedure(motions),
+        ..start()
+    })
 }
 
 fn plan(sim: &Simulation) -> Result<&ProcedurePlan> {
@@ -134,7 +138,7 @@ fn a_pivot_about_p_at_fixed_phi_is_allowed_inside() -> Result {
 fn an_endoscope_that_starts_inside_holds_its_incision_from_the_start() -> Result {
     let scenario = Scenario {
         endoscope_depth_mm: 30.0,
-        motions: vec![position(PORT)],
+        run: Run::procedure(vec![position(PORT)]),
         ..start()
     };
     let error = Simulation::new(scenario)

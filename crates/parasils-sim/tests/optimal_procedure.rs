@@ -17,6 +17,7 @@ use parasils_sim::procedure;
 use parasils_sim::scenario::Timing;
 use parasils_sim::timing::Binding;
 use parasils_sim::{MotionGoal, MotionLimits, MotionSpec};
+use parasils_sim::{Motions, Run, Timeline};
 use parasils_sim::{Record, Scenario, Simulation};
 
 type Result<T = ()> = core::result::Result<T, Box<dyn core::error::Error>>;
@@ -40,8 +41,10 @@ fn run(scenario: Scenario) -> Result<(Simulation, Vec<Record>)> {
 
 fn optimal(motions: Vec<MotionSpec>) -> Result<(Simulation, Vec<Record>)> {
     run(Scenario {
-        motions,
-        timing: OPTIMAL,
+        run: Run::Planned(Timeline {
+            motions: Motions::Procedure(motions),
+            timing: OPTIMAL,
+        }),
         ..start()
     })
 }
@@ -248,7 +251,7 @@ fn type_3_keeps_the_tip_on_its_line_and_reaches_an_actuator_limit() -> Result {
     // The trapezoid at the motion's default limits uses less than every
     // actuator limit: the optimal law is shorter.
     let (trapezoid, trapezoid_records) = run(Scenario {
-        motions: vec![MotionSpec::new(goal)],
+        run: Run::procedure(vec![MotionSpec::new(goal)]),
         ..start()
     })?;
     assert!(peak_usage(&trapezoid_records, &controller.limits) < 1.0);
@@ -264,9 +267,9 @@ fn demo(timing: Timing) -> Result<(Simulation, Vec<Record>)> {
     );
     run(Scenario {
         rate_hz: 10_000.0,
-        timing,
         ..procedure::load(std::path::Path::new(path))?
-    })
+    }
+    .with_timing(timing))
 }
 
 #[test]
@@ -355,13 +358,13 @@ fn a_motion_cut_short_is_refused_and_a_rest_after_the_end_is_kept() {
 fn limits_the_trapezoid_exceeds_fail_it_and_slow_the_optimal_law() -> Result {
     // qs3 at 10 mm/s: the insertion's 20 mm/s trapezoid exceeds it.
     let mut scenario = Scenario {
-        motions: vec![MotionSpec {
+        run: Run::procedure(vec![MotionSpec {
             limits: MotionLimits::default(),
             ..MotionSpec::new(MotionGoal::Insert {
                 port: Port::Left,
                 depth_mm: 40.0,
             })
-        }],
+        }]),
         ..start()
     };
     scenario.robot.limits.velocity[8] = 10.0;
@@ -370,10 +373,7 @@ fn limits_the_trapezoid_exceeds_fail_it_and_slow_the_optimal_law() -> Result {
         .map(|_| ())
         .expect_err("left qs3 at 20 mm/s");
     assert!(e.to_string().contains("left qs3"), "{e}");
-    let (sim, records) = run(Scenario {
-        timing: OPTIMAL,
-        ..scenario
-    })?;
+    let (sim, records) = run(scenario.with_timing(OPTIMAL))?;
     // 40 mm at 10 mm/s, 60 mm/s^2: 4 + 1/6 s, longer than the 3 s
     // trapezoid, within every limit.
     let expected = bang_bang(40.0, 10.0, 60.0);

@@ -13,6 +13,7 @@ use parasils::kin::{
     AssemblyMode, Controller, Joints, MarginTracker, ParallelRobot, PlatformState, Pose,
 };
 use parasils::motions::{Motion, Moving};
+use parasils_sim::Run;
 use parasils_sim::procedure;
 use parasils_sim::{MotionGoal, MotionLimits, MotionSpec, ProcedurePlan};
 use parasils_sim::{Record, Scenario, Simulation, SimulationError};
@@ -30,7 +31,10 @@ fn start() -> Scenario {
 }
 
 fn run(motions: Vec<MotionSpec>) -> Result<(Simulation, Vec<Record>)> {
-    let sim = Simulation::new(Scenario { motions, ..start() })?;
+    let sim = Simulation::new(Scenario {
+        run: Run::procedure(motions),
+        ..start()
+    })?;
     let records = sim.samples().collect::<core::result::Result<Vec<_>, _>>()?;
     assert_eq!(records.len(), sim.sample_count());
     Ok((sim, records))
@@ -146,10 +150,10 @@ fn the_endoscope_goes_in_along_the_platform_axis() -> Result {
     assert_eq!(records[records.len() - 1].endoscope_depth, 60.0);
     // Beyond the robot file's range: refused, naming the endoscope.
     let e = Simulation::new(Scenario {
-        motions: vec![MotionSpec::new(MotionGoal::Insert {
+        run: Run::procedure(vec![MotionSpec::new(MotionGoal::Insert {
             port: Port::Endoscope,
             depth_mm: 300.0,
-        })],
+        })]),
         ..start()
     })
     .map(|_| ())
@@ -276,11 +280,11 @@ fn both_tips_move_together() -> Result {
 fn type_4_in_a_procedure_is_the_paper_s_reorientation() -> Result {
     let paper = Simulation::new(Scenario::paper())?;
     let procedure = Simulation::new(Scenario {
-        motions: vec![MotionSpec::new(MotionGoal::Reorient {
+        run: Run::procedure(vec![MotionSpec::new(MotionGoal::Reorient {
             psi_deg: 15.0,
             theta_deg: 25.0,
             absolute: false,
-        })],
+        })]),
         ..Scenario::paper()
     })?;
     assert_eq!(procedure.sample_count(), paper.sample_count());
@@ -390,9 +394,12 @@ fn a_motion_that_crosses_a_joint_limit_is_named_before_any_output() {
         }),
     ];
     motions[3].name = Some(String::from("too deep"));
-    let e = Simulation::new(Scenario { motions, ..start() })
-        .map(|_| ())
-        .expect_err("the fourth motion fails");
+    let e = Simulation::new(Scenario {
+        run: Run::procedure(motions),
+        ..start()
+    })
+    .map(|_| ())
+    .expect_err("the fourth motion fails");
     let text = e.to_string();
     assert!(
         text.starts_with("motion 3 (insert \"too deep\"), "),
@@ -508,18 +515,21 @@ fn a_turn_cut_short_and_retargeted_matches_the_online_controller() -> Result {
         start.theta.to_degrees() + 15.0,
     ];
     let procedure = Simulation::new(Scenario {
-        motions: vec![
+        run: Run::procedure(vec![
             until(reorient(15.0, 25.0, false), 1.2),
             reorient(goal[0], goal[1], true),
-        ],
+        ]),
         ..Scenario::paper()
     })?;
     let online = Simulation::new(Scenario {
-        retargets: vec![parasils_sim::scenario::Retarget {
-            t_s: 1.2,
-            psi_deg: 25.0,
-            theta_deg: 15.0,
-        }],
+        run: Run::Online(parasils_sim::Online {
+            retargets: vec![parasils_sim::scenario::Retarget {
+                t_s: 1.2,
+                psi_deg: 25.0,
+                theta_deg: 15.0,
+            }],
+            ..parasils_sim::Online::default()
+        }),
         ..Scenario::paper()
     })?;
     let a = procedure
@@ -664,13 +674,13 @@ fn until_s_after_the_end_rests_and_cut_motions_need_a_matching_successor() -> Re
     }
     // A cut turn followed by an insertion: refused, naming the motion.
     let e = Simulation::new(Scenario {
-        motions: vec![
+        run: Run::procedure(vec![
             until(reorient(15.0, 25.0, false), 1.0),
             MotionSpec::new(MotionGoal::Insert {
                 port: Port::Left,
                 depth_mm: 5.0,
             }),
-        ],
+        ]),
         ..start()
     })
     .map(|_| ())
@@ -686,9 +696,12 @@ fn until_s_after_the_end_rests_and_cut_motions_need_a_matching_successor() -> Re
         vec![until(reorient(15.0, 25.0, false), 1.0)],
         vec![MotionSpec::new(MotionGoal::Stop)],
     ] {
-        let e = Simulation::new(Scenario { motions, ..start() })
-            .map(|_| ())
-            .expect_err("refused");
+        let e = Simulation::new(Scenario {
+            run: Run::procedure(motions),
+            ..start()
+        })
+        .map(|_| ())
+        .expect_err("refused");
         assert!(e.to_string().starts_with("motion 0 ("), "{e}");
     }
     Ok(())

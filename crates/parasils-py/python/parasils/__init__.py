@@ -144,7 +144,8 @@ def simulate(
       eps_max_deg_s2) or "optimal" (--timing optimal): the fastest turn along
       the same straight line whose twelve actuators stay within the robot's
       velocity and acceleration limits; omega_max_deg_s and eps_max_deg_s2
-      bind as well only when given (even at the paper's values). With
+      bind as well only when given (even at the paper's values). It plans
+      from rest to rest, so it takes no retarget or stop_at_s. With
       procedure, every motion is timed so, from rest to rest; the limits the
       procedure states for a motion bind as well (an endoscope insertion,
       which moves no actuator, keeps its own limits, stated or default).
@@ -186,7 +187,8 @@ def simulate(
     velocity or acceleration exceeds its limit at a sample (naming the actuator,
     the value, the limit and the time, as the CLI does) and for a bad
     argument (retargets out of time order, a negative or non-finite time,
-    two commands on one sample). The simulation runs without the GIL.
+    two commands on one sample, a command with timing="optimal"). The
+    simulation runs without the GIL.
     """
     if pose is not None:
         if pose_mm_deg is not None:

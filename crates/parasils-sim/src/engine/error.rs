@@ -87,9 +87,6 @@ pub enum SimulationError {
     /// The time-optimal law cannot be computed.
     #[error("time-optimal timing: {0}")]
     Timing(TimingError),
-    /// An option that does not apply to this run.
-    #[error("{0}")]
-    Unsupported(&'static str),
     /// The margin supervisor's thresholds are invalid (a stop threshold not
     /// above the solvers' hard one, a warning below its stop threshold).
     #[error("supervisor thresholds: {0}")]
@@ -157,10 +154,6 @@ impl core::fmt::Display for CommandName {
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum CommandError {
-    /// Retargets and stops change the paper's reorientation while it runs;
-    /// a procedure plans its motions in full instead.
-    #[error("retargets and stops apply to a single reorientation, not to a procedure's motions")]
-    InProcedure,
     /// A time or an angle is NaN or infinite.
     #[error("{command}: {what} = {} is not a finite number", Shortest(*value))]
     NonFinite {

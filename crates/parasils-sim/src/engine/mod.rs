@@ -1,25 +1,31 @@
 //! The engine: a [`Scenario`] planned and sampled at a fixed rate through
 //! the controller's per-cycle call, one [`Record`] at a time.
 //!
-//! Two paths, one loop shape:
-//! - **Without commands** (the paper's run), the reorientation is planned
-//!   rest to rest as a [`Reorientation`] (or its time-optimal law),
-//!   stretched onto the control cycle ([`OnCycle`]: a whole number of
-//!   periods, the last sample at rest exactly on the goal), and each
-//!   sample's state goes through [`Controller::step`]. The paper's 4.5 s at
-//!   1 kHz already is a whole number of periods: its records are those of
-//!   every earlier release, to the last bit.
-//! - **With commands** (retargets, a stop; see [`Command`]), the run is an
-//!   [`OnlineController`] loop, as a robot's controller runs it: the
-//!   reorientation is commanded at `t = 0`, and each command at the first
-//!   sample at or after its time, replanned from the state of that sample
-//!   (position and velocity continuous; the acceleration may jump, and is 0
-//!   at the sample a motion starts on, as at the start of every profile).
-//!   The run ends at the first sample at which every command has taken
-//!   effect and the last motion is at rest. The controller's margin
-//!   [`Supervisor`] watches every cycle and stops the platform before a
-//!   margin reaches its hard threshold (a [`CommandKind::SupervisorStop`]),
-//!   where the rest-to-rest path would fail there with an error.
+//! Two kinds of run ([`Run`](crate::Run)), one loop shape:
+//! - **Planned** ([`Timeline`](crate::Timeline)): the motions one after the
+//!   other on one time line of samples ([`procedure::ProcedurePlan`]), each
+//!   planned rest to rest (its trapezoids, or its time-optimal law) and
+//!   stretched onto the control cycle (a whole number of periods, the last
+//!   sample at rest exactly on its target), each from the state the one
+//!   before ended in; each sample's state goes through
+//!   [`Controller::step_commanded`](parasils::kin::Controller::step_commanded).
+//!   The paper's run is a timeline of one reorientation: its 4.5 s at
+//!   1 kHz already is a whole number of periods, and its records are those
+//!   of every earlier release, to the last bit. A procedure is checked in
+//!   full before its first record ([`procedure::ProcedureCheck`]).
+//! - **Online** ([`Online`](crate::Online): retargets, a stop; see
+//!   [`Command`](crate::Command)), the run is an
+//!   [`OnlineController`](parasils::OnlineController) loop, as a robot's
+//!   controller runs it: the turn is commanded at `t = 0`, and each command
+//!   at the first sample at or after its time, replanned from the state of
+//!   that sample (position and velocity continuous; the acceleration may
+//!   jump, and is 0 at the sample a motion starts on, as at the start of
+//!   every profile). The run ends at the first sample at which every command
+//!   has taken effect and the last motion is at rest. The controller's
+//!   margin [`Supervisor`](parasils::Supervisor) watches every cycle and
+//!   stops the platform before a margin reaches its hard threshold (a
+//!   [`CommandKind::SupervisorStop`](crate::CommandKind::SupervisorStop)),
+//!   where a planned run would fail there with an error.
 //!
 //! Nothing is integrated: every record is computed from the trajectory's
 //! analytic state at its time, so the tips' drift is the kinematics' rounding

@@ -1,15 +1,13 @@
-//! The records of a simulation, computed one at a time: the planned
-//! turn's, the procedure's and the online run's samples through the
-//! controller's step.
+//! The records of a simulation, computed one at a time: a planned
+//! timeline's (the paper's turn, a procedure) and an online run's samples
+//! through the controller's step.
 
 use super::procedure::ProcedurePlan;
 use parasils::kin::MarginTracker;
-use parasils::kin::{ControlStep, Controller, PlatformState};
-use parasils::supervisor::{MarginSet, Margins};
-use parasils::traj::Sampler;
-use parasils::{MotionKind, OnCycle, OnlineController, Reorientation};
-
-use crate::timing::OptimalMotion;
+use parasils::kin::{ControlStep, Controller};
+use parasils::supervisor::Margins;
+use parasils::traj::{Sampler, Synchronization};
+use parasils::{MotionKind, OnlineController};
 
 use crate::record::Record;
 use crate::scenario::CommandKind;
@@ -32,44 +30,8 @@ pub struct Records<'a> {
     reason = "one per run, never in a collection"
 )]
 pub(super) enum Inner {
-    Rest {
-        sampler: Sampler<f64, OnCycle<Reorientation<f64>, f64>>,
-        tracker: MarginTracker<f64>,
-    },
+    Planned(ProcedureRun),
     Online(OnlineRun),
-    Procedure(ProcedureRun),
-    Optimal {
-        sampler: Sampler<f64, OnCycle<OptimalMotion, f64>>,
-        tracker: MarginTracker<f64>,
-    },
-}
-
-/// The record of a planned reorientation's sample `k` at `t` in `state`:
-/// the controller's step, checked against the actuators' limits.
-pub(super) fn planned_record(
-    sim: &Simulation,
-    tracker: &mut MarginTracker<f64>,
-    k: usize,
-    t: f64,
-    state: &PlatformState<f64>,
-) -> Result<Record, SimulationError> {
-    let controller = &sim.controller;
-    let out = controller
-        .step(state, &sim.tips, tracker)
-        .map_err(|error| SimulationError::Kinematics {
-            t,
-            sample: Some(k),
-            error,
-        })?;
-    check_limits(controller, &out, t, k)?;
-    Ok(sim.record(
-        k,
-        t,
-        state,
-        &out,
-        &sim.tips,
-        Context::command(0, CommandKind::Reorient, MarginSet::EMPTY),
-    ))
 }
 
 /// `step` against the actuators' limits of `controller`.
@@ -120,20 +82,8 @@ impl ProcedureRun {
         let (t, k) = (s.time, s.index);
         let (m, sample) = s.state;
         let plan = self.sampler.motion();
-        let planned = plan.motions.get(m);
-        let in_motion = |error: SimulationError| SimulationError::Motion {
-            motion: Box::new(planned.map_or_else(
-                || crate::motion::MotionName {
-                    index: m,
-                    motion_type: parasils::motions::MotionType::Reorient,
-                    stop: false,
-                    name: None,
-                },
-                |p| p.name.clone(),
-            )),
-            t_motion: t - planned.map_or(0.0, |p| p.start_s),
-            error: Box::new(error),
-        };
+        let t_motion = t - plan.motions.get(m).map_or(0.0, |p| p.start_s);
+        let in_motion = |error: SimulationError| plan.in_motion(m, t_motion, error);
         let fail = |error| {
             in_motion(SimulationError::Kinematics {
                 t,
@@ -192,6 +142,8 @@ impl ProcedureRun {
 #[derive(Debug)]
 pub(super) struct OnlineRun {
     pub(super) controller: OnlineController<f64>,
+    /// How the turn's and the retargets' two angles are timed together.
+    pub(super) sync: Synchronization,
     pub(super) rate: f64,
     /// The next sample's index.
     pub(super) next: usize,
@@ -209,21 +161,7 @@ impl Iterator for Records<'_> {
     fn next(&mut self) -> Option<Self::Item> {
         let sim = self.sim;
         match &mut self.inner {
-            Inner::Rest { sampler, tracker } => {
-                let s = sampler.next()?;
-                Some(planned_record(sim, tracker, s.index, s.time, &s.state))
-            }
-            Inner::Optimal { sampler, tracker } => {
-                let s = sampler.next()?;
-                Some(planned_record(
-                    sim,
-                    tracker,
-                    s.index,
-                    s.time,
-                    &s.state.platform,
-                ))
-            }
-            Inner::Procedure(run) => run.next(sim).map(|r| r.map(|(record, _)| record)),
+            Inner::Planned(run) => run.next(sim).map(|r| r.map(|(record, _)| record)),
             Inner::Online(run) => {
                 if run.done {
                     return None;
@@ -244,7 +182,7 @@ impl OnlineRun {
         let k = self.next;
         let t = k as f64 / self.rate;
         while let Some(s) = sim.schedule.get(self.pending).filter(|s| s.sample <= k) {
-            apply(&mut self.controller, s, &sim.scenario).map_err(|e| online_error(e, t, k))?;
+            apply(&mut self.controller, s, self.sync).map_err(|e| online_error(e, t, k))?;
             self.kind = s.command.kind;
             self.pending += 1;
         }

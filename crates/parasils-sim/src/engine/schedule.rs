@@ -2,8 +2,9 @@
 //! after its time, validated, and given to the online controller there.
 
 use parasils::OnlineController;
+use parasils::traj::Synchronization;
 
-use crate::scenario::{Command, CommandKind, Scenario};
+use crate::scenario::{Command, CommandKind, Online, Scenario};
 
 use super::error::{CommandError, CommandName, SimulationError};
 
@@ -52,8 +53,12 @@ pub(super) fn first_sample(
     Some(k)
 }
 
-/// The commands of `scenario`, validated, with their samples.
-pub(super) fn schedule(scenario: &Scenario) -> Result<Vec<Scheduled>, SimulationError> {
+/// The commands of `scenario`'s online `run`, validated, with their
+/// samples.
+pub(super) fn schedule(
+    scenario: &Scenario,
+    run: &Online,
+) -> Result<Vec<Scheduled>, SimulationError> {
     let fail = SimulationError::Commands;
     let finite = |command, what, value: f64| {
         if value.is_finite() {
@@ -67,7 +72,7 @@ pub(super) fn schedule(scenario: &Scenario) -> Result<Vec<Scheduled>, Simulation
         }
     };
     let mut previous: Option<(CommandName, f64)> = None;
-    for (k, r) in scenario.retargets.iter().enumerate() {
+    for (k, r) in run.retargets.iter().enumerate() {
         let name = CommandName::Retarget(k + 1);
         finite(name, "t", r.t_s)?;
         finite(name, "psi", r.psi_deg)?;
@@ -90,7 +95,7 @@ pub(super) fn schedule(scenario: &Scenario) -> Result<Vec<Scheduled>, Simulation
         }
         previous = Some((name, r.t_s));
     }
-    if let Some(t) = scenario.stop_at_s {
+    if let Some(t) = run.stop_at_s {
         finite(CommandName::Stop, "t", t)?;
         if t < 0.0 {
             return Err(fail(CommandError::BeforeStart {
@@ -100,7 +105,8 @@ pub(super) fn schedule(scenario: &Scenario) -> Result<Vec<Scheduled>, Simulation
         }
     }
     let rate = scenario.rate_hz;
-    let mut out: Vec<Scheduled> = Vec::with_capacity(scenario.retargets.len() + 2);
+    let start = scenario.start();
+    let mut out: Vec<Scheduled> = Vec::with_capacity(run.retargets.len() + 2);
     let mut retargets = 0;
     let mut names = Vec::with_capacity(out.capacity());
     for command in scenario.commands() {
@@ -135,7 +141,7 @@ pub(super) fn schedule(scenario: &Scenario) -> Result<Vec<Scheduled>, Simulation
         names.push(name);
         out.push(Scheduled {
             command,
-            goal_rad: command.goal_deg.map(|g| scenario.angles_rad(g)),
+            goal_rad: command.goal_deg.map(|g| run.turn.angles_rad(&start, g)),
             sample,
             t_s,
         });
@@ -143,16 +149,15 @@ pub(super) fn schedule(scenario: &Scenario) -> Result<Vec<Scheduled>, Simulation
     Ok(out)
 }
 
-/// Gives `s`'s command to `online` at its sample's time.
+/// Gives `s`'s command to `online` at its sample's time, its two angles
+/// timed together by `sync`.
 pub(super) fn apply(
     online: &mut OnlineController<f64>,
     s: &Scheduled,
-    scenario: &Scenario,
+    sync: Synchronization,
 ) -> Result<(), parasils::Error> {
     match s.goal_rad {
-        Some(goal) => online
-            .command_synchronized(s.t_s, goal, scenario.sync)
-            .map(|_| ()),
+        Some(goal) => online.command_synchronized(s.t_s, goal, sync).map(|_| ()),
         None => online.stop(s.t_s),
     }
 }

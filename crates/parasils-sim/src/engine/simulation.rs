@@ -1,24 +1,23 @@
-//! [`Simulation`]: a scenario validated and planned, before any record.
+//! [`Simulation`]: a scenario validated and planned, before any record: a
+//! planned run's timeline (one path, whatever its motions), or an online
+//! run's commands on the sample grid.
 
 use super::procedure::{ProcedureCheck, ProcedurePlan};
 use nalgebra::Vector3;
-use parasils::kin::MarginTracker;
 use parasils::kin::{
     AssemblyMode, ControlStep, Controller, Instrument, InstrumentSolution, PlatformState,
     TipTargets,
 };
 use parasils::supervisor::{MarginSet, Margins};
-use parasils::traj::Sampler;
-use parasils::{OnCycle, OnlineController, Reorientation, Supervisor};
-
-use crate::scenario::Timing;
-use crate::timing::{OptimalMotion, TimingOptions};
+use parasils::traj::{Sampler, Synchronization};
+use parasils::{OnlineController, Reorientation, Supervisor};
 
 use crate::record::{InstrumentRecord, Module1Record, Record};
-use crate::scenario::{CommandKind, Scenario};
+use crate::scenario::{CommandKind, Online, Run, Scenario};
 use crate::sink::Sink;
+use crate::timing::OptimalMotion;
 
-use super::error::{CommandError, RunError, SimulationError};
+use super::error::{RunError, SimulationError};
 use super::records::{Inner, OnlineRun, ProcedureRun, Records};
 use super::schedule::{Scheduled, apply, first_sample, schedule};
 
@@ -29,15 +28,13 @@ use super::schedule::{Scheduled, apply, first_sample, schedule};
     reason = "one per simulation, never in a collection"
 )]
 pub(super) enum Plan {
-    /// Without commands: the rest-to-rest reorientation.
-    Rest(Sampler<f64, OnCycle<Reorientation<f64>, f64>>),
+    /// A planned timeline (the paper's turn, a procedure): its motions on
+    /// one time line of samples, and, for a procedure, the check of every
+    /// sample made before any output.
+    Planned(Sampler<f64, ProcedurePlan>, Option<ProcedureCheck>),
     /// With commands: the online controller, at rest at the start, and the
     /// sampling rate.
     Online(OnlineController<f64>, f64),
-    /// A procedure: its motions on one time line.
-    Procedure(Sampler<f64, ProcedurePlan>),
-    /// Without commands, timed to the actuators' limits.
-    Optimal(Sampler<f64, OnCycle<OptimalMotion, f64>>),
 }
 
 /// What a record says besides the kinematics: the command and motion it
@@ -81,10 +78,8 @@ pub struct Simulation {
     /// The start's Euler angles, deg (the user's) and rad.
     pub(super) start_deg: [f64; 3],
     pub(super) start_rad: [f64; 3],
-    /// The margin supervisor whose warnings a procedure's records carry.
+    /// The margin supervisor whose warnings a planned run's records carry.
     pub(super) supervisor: Supervisor<f64>,
-    /// A procedure's check, made in [`Simulation::new`].
-    pub(super) check: Option<ProcedureCheck>,
 }
 
 /// The supervisor of `scenario` on `controller`: [`supervisor_for`] with the
@@ -132,39 +127,33 @@ pub(super) fn online_error(error: parasils::Error, t: f64, k: usize) -> Simulati
     }
 }
 
-/// The schedule of a run without commands: its turn, at sample 0.
-fn turn_schedule(scenario: &Scenario) -> Vec<Scheduled> {
-    vec![Scheduled {
-        command: scenario.commands()[0],
-        goal_rad: Some(scenario.goal_rad()),
-        sample: 0,
-        t_s: 0.0,
-    }]
-}
-
 impl Simulation {
-    /// Validates the scenario and plans the trajectory: through
-    /// [`Reorientation::new`] without commands; with commands, through an
-    /// [`OnlineController`] given every command at its sample (the kinematics
-    /// solved once, at the start pose), which tells the run's length.
+    /// Validates the scenario and plans it: a planned [`Timeline`](crate::Timeline)
+    /// motion by motion ([`ProcedurePlan`]), a procedure's every sample then
+    /// computed and checked once before any output ([`ProcedureCheck`]); an
+    /// online run
+    /// through an [`OnlineController`] given every command at its sample
+    /// (the kinematics solved once, at the start pose), which tells the
+    /// run's length.
     ///
     /// # Errors
     /// [`SimulationError::Geometry`] for an invalid robot,
     /// [`SimulationError::Trajectory`] for angles, limits or a rate that
     /// cannot be planned, [`SimulationError::Kinematics`] for a non-finite
-    /// tip target (or, with commands, a start pose that cannot be solved),
-    /// [`SimulationError::Commands`] for commands that cannot be scheduled.
+    /// tip target or a start that cannot be solved,
+    /// [`SimulationError::Commands`] for commands that cannot be scheduled;
+    /// in a procedure, [`SimulationError::Motion`] naming the motion whose
+    /// planning or sample fails.
     pub fn new(scenario: Scenario) -> Result<Self, SimulationError> {
         let controller =
             Controller::from_geometry(&scenario.robot).map_err(SimulationError::Geometry)?;
         let start = scenario.start();
-        let reorientation = Reorientation::new(
-            start,
-            scenario.goal_rad(),
-            [scenario.limits(); 2],
-            scenario.sync,
-        )
-        .map_err(SimulationError::Trajectory)?;
+        if let Some(turn) = scenario.turn() {
+            // The turn's angles and limits, checked before anything is
+            // solved (as the paper's run always has).
+            Reorientation::new(start, turn.goal_rad(&start), [turn.limits(); 2], turn.sync)
+                .map_err(SimulationError::Trajectory)?;
+        }
         let tips = scenario.tips();
         for (what, v) in [("left tip", tips.left), ("right tip", tips.right)] {
             if let Some(value) = v.iter().copied().find(|x| !x.is_finite()) {
@@ -175,64 +164,25 @@ impl Simulation {
                 });
             }
         }
-        let procedure = !scenario.motions.is_empty();
-        let (plan, schedule, count, duration) = if procedure {
-            if scenario.has_commands() {
-                return Err(SimulationError::Commands(CommandError::InProcedure));
+        let (plan, schedule, count, duration) = match &scenario.run {
+            Run::Planned(timeline) => {
+                let plan = ProcedurePlan::new(&scenario, timeline, &controller)?;
+                let duration = plan.duration();
+                let sampler =
+                    Sampler::new(plan, scenario.rate_hz).map_err(SimulationError::Trajectory)?;
+                let schedule = vec![Scheduled {
+                    command: scenario.commands()[0],
+                    goal_rad: scenario.turn().map(|_| scenario.goal_rad()),
+                    sample: 0,
+                    t_s: 0.0,
+                }];
+                let count = sampler.sample_count();
+                // A procedure's check is made below, once the simulation can
+                // make records.
+                let plan = Plan::Planned(sampler, None);
+                (plan, schedule, count, duration)
             }
-            let plan = ProcedurePlan::new(&scenario, &controller)?;
-            let duration = plan.duration();
-            let sampler =
-                Sampler::new(plan, scenario.rate_hz).map_err(SimulationError::Trajectory)?;
-            let schedule = vec![Scheduled {
-                command: scenario.commands()[0],
-                goal_rad: None,
-                sample: 0,
-                t_s: 0.0,
-            }];
-            (
-                Plan::Procedure(sampler.clone()),
-                schedule,
-                sampler.sample_count(),
-                duration,
-            )
-        } else if let Timing::Optimal { angular } = scenario.timing {
-            if scenario.has_commands() {
-                return Err(SimulationError::Unsupported(
-                    "the time-optimal timing plans one reorientation from rest to rest: it does not take retargets or a stop",
-                ));
-            }
-            let options = TimingOptions {
-                angular: angular.then(|| [scenario.limits(); 2]),
-                ..TimingOptions::default()
-            };
-            let plan = OptimalMotion::turn(
-                &controller,
-                start,
-                scenario.goal_rad(),
-                tips,
-                &controller.limits,
-                &options,
-            )
-            .map_err(SimulationError::Timing)?;
-            let plan = OnCycle::new(plan, scenario.rate_hz).map_err(SimulationError::Trajectory)?;
-            let duration = plan.stretch().duration();
-            let sampler =
-                Sampler::new(plan, scenario.rate_hz).map_err(SimulationError::Trajectory)?;
-            let schedule = turn_schedule(&scenario);
-            let count = sampler.sample_count();
-            (Plan::Optimal(sampler), schedule, count, duration)
-        } else if scenario.has_commands() {
-            Self::plan_online(&scenario, controller, tips)?
-        } else {
-            let turn = OnCycle::new(reorientation, scenario.rate_hz)
-                .map_err(SimulationError::Trajectory)?;
-            let duration = turn.stretch().duration();
-            let sampler =
-                Sampler::new(turn, scenario.rate_hz).map_err(SimulationError::Trajectory)?;
-            let schedule = turn_schedule(&scenario);
-            let count = sampler.sample_count();
-            (Plan::Rest(sampler), schedule, count, duration)
+            Run::Online(online) => Self::plan_online(&scenario, online, controller, tips)?,
         };
         let [_, _, _, psi, theta, phi] = scenario.start_mm_deg;
         let mut sim = Self {
@@ -246,11 +196,17 @@ impl Simulation {
             schedule,
             count,
             duration,
-            check: None,
         };
-        if let Plan::Procedure(sampler) = &sim.plan {
-            // Plan, then check, then write: every sample computed once here,
-            // so that a failure is known before the first byte of output.
+        if let Plan::Planned(sampler, _) = &sim.plan
+            && sim.scenario.is_procedure()
+        {
+            // A procedure: plan, then check, then write; every sample
+            // computed once here, so that a failure is known before the
+            // first byte of output and `--check` can report it. The single
+            // turn streams instead (a failure ends its run at that sample),
+            // so that a run too long to write is refused before any sample
+            // is computed.
+            let sampler = sampler.clone();
             let mut check = ProcedureCheck::new(sampler.motion());
             let mut run = ProcedureRun::new(sampler.clone(), controller);
             while let Some(r) = run.next(&sim) {
@@ -260,35 +216,49 @@ impl Simulation {
             if let Some(e) = sampler.motion().failure() {
                 return Err(e.clone());
             }
-            sim.check = Some(check);
+            if let Plan::Planned(_, c) = &mut sim.plan {
+                *c = Some(check);
+            }
         }
         Ok(sim)
     }
 
-    /// A procedure's check (per motion: duration, peak rates, smallest
+    /// The check of a procedure (per motion: duration, peak rates, smallest
     /// margins; the supervisor's warnings), made before any output; `None`
-    /// for a run without motions.
+    /// for the single turn, which streams, and for an online run.
     pub fn procedure_check(&self) -> Option<&ProcedureCheck> {
-        self.check.as_ref()
+        match &self.plan {
+            Plan::Planned(_, check) => check.as_ref(),
+            Plan::Online(..) => None,
+        }
     }
 
-    /// The time-optimal law, for a run timed with [`Timing::Optimal`].
+    /// The time-optimal law of the single turn, for a run timed with
+    /// [`Timing::Optimal`](crate::Timing::Optimal) (a procedure's motions
+    /// have theirs in [`Simulation::timeline`]).
     pub fn optimal(&self) -> Option<&OptimalMotion> {
-        match &self.plan {
-            Plan::Optimal(sampler) => Some(sampler.motion().motion()),
-            _ => None,
+        if self.scenario.is_procedure() {
+            return None;
         }
+        self.timeline()?.motions.first()?.optimal.as_ref()
     }
 
-    /// A procedure's plan; `None` for a run without motions.
+    /// A procedure's plan; `None` for the single turn and an online run
+    /// (see [`Simulation::timeline`] for every planned run's).
     pub fn procedure(&self) -> Option<&ProcedurePlan> {
+        self.timeline().filter(|_| self.scenario.is_procedure())
+    }
+
+    /// The plan of a planned run, motion by motion (one motion for the
+    /// single turn); `None` for an online run.
+    pub fn timeline(&self) -> Option<&ProcedurePlan> {
         match &self.plan {
-            Plan::Procedure(sampler) => Some(sampler.motion()),
-            _ => None,
+            Plan::Planned(sampler, _) => Some(sampler.motion()),
+            Plan::Online(..) => None,
         }
     }
 
-    /// The margin supervisor whose thresholds a procedure's warnings use.
+    /// The margin supervisor whose thresholds a planned run's warnings use.
     pub fn supervisor(&self) -> &Supervisor<f64> {
         &self.supervisor
     }
@@ -298,6 +268,7 @@ impl Simulation {
     /// time the last motion comes to rest.
     fn plan_online(
         scenario: &Scenario,
+        run: &Online,
         controller: Controller<f64>,
         tips: TipTargets<f64>,
     ) -> Result<(Plan, Vec<Scheduled>, usize, f64), SimulationError> {
@@ -307,12 +278,12 @@ impl Simulation {
                 parasils::traj::Error::InvalidRate { value: rate },
             ));
         }
-        let schedule = schedule(scenario)?;
+        let schedule = schedule(scenario, run)?;
         let online = OnlineController::new(
             controller,
             tips,
             scenario.start(),
-            [scenario.limits(); 2],
+            [run.turn.limits(); 2],
             scenario_supervisor(scenario, &controller)?,
         )
         .map_err(|e| online_error(e, 0.0, 0))?;
@@ -321,7 +292,7 @@ impl Simulation {
         // or start a later command from rest).
         let mut dry = online;
         for s in &schedule {
-            apply(&mut dry, s, scenario).map_err(|e| online_error(e, s.t_s, s.sample))?;
+            apply(&mut dry, s, run.turn.sync).map_err(|e| online_error(e, s.t_s, s.sample))?;
         }
         let too_many = |duration: f64| {
             SimulationError::Trajectory(parasils::traj::Error::TooManySamples { duration, rate })
@@ -380,19 +351,15 @@ impl Simulation {
     /// afresh (module 1's margin tracked from the first sample).
     pub fn samples(&self) -> Records<'_> {
         let inner = match &self.plan {
-            Plan::Rest(sampler) => Inner::Rest {
-                sampler: sampler.clone(),
-                tracker: MarginTracker::new(),
-            },
-            Plan::Procedure(sampler) => {
-                Inner::Procedure(ProcedureRun::new(sampler.clone(), self.controller))
+            Plan::Planned(sampler, _) => {
+                Inner::Planned(ProcedureRun::new(sampler.clone(), self.controller))
             }
-            Plan::Optimal(sampler) => Inner::Optimal {
-                sampler: sampler.clone(),
-                tracker: MarginTracker::new(),
-            },
             Plan::Online(online, rate) => Inner::Online(OnlineRun {
                 controller: *online,
+                sync: self
+                    .scenario
+                    .turn()
+                    .map_or(Synchronization::Phase, |t| t.sync),
                 rate: *rate,
                 next: 0,
                 pending: 0,

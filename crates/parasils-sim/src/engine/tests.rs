@@ -2,7 +2,20 @@
 
 use super::*;
 use crate::record::Record;
-use crate::scenario::Scenario;
+use crate::scenario::{Run, Scenario, Turn};
+
+/// The paper's scenario turned by `psi_deg`, `theta_deg` at `rate_hz`.
+fn turn(psi_deg: f64, theta_deg: f64, rate_hz: f64) -> Scenario {
+    Scenario {
+        rate_hz,
+        run: Run::turn(Turn {
+            psi_deg,
+            theta_deg,
+            ..Turn::paper()
+        }),
+        ..Scenario::paper()
+    }
+}
 
 #[test]
 fn the_paper_run_holds_the_tips_and_starts_on_the_user_s_degrees() {
@@ -34,16 +47,12 @@ fn the_paper_run_holds_the_tips_and_starts_on_the_user_s_degrees() {
 
 #[test]
 fn errors_name_their_subject_and_time_once() {
-    // Within the assumed actuator limits, q4 is first too fast (4.6 s).
-    let fast = Simulation::new(Scenario {
-        psi_deg: -60.0,
-        theta_deg: 0.0,
-        rate_hz: 100.0,
-        ..Scenario::paper()
-    })
-    .expect("plans")
-    .run(&mut |_: &Record| Ok::<(), core::convert::Infallible>(()))
-    .expect_err("q4 too fast");
+    // Within the assumed actuator limits, q4 is first too fast (4.6 s): the
+    // turn streams, so the run stops at that sample.
+    let fast = Simulation::new(turn(-60.0, 0.0, 100.0))
+        .expect("plans")
+        .run(&mut |_: &Record| Ok::<(), core::convert::Infallible>(()))
+        .expect_err("q4 too fast");
     assert_eq!(
         fast.to_string(),
         "at t = 4.600 s: module 1 q4: velocity 50.1196 mm/s is beyond its limit 50 mm/s"
@@ -52,11 +61,8 @@ fn errors_name_their_subject_and_time_once() {
     let mut robot = parasils::kin::RobotGeometry::paper();
     robot.limits = parasils::kin::ActuatorLimits::unlimited();
     let e = Simulation::new(Scenario {
-        psi_deg: -60.0,
-        theta_deg: 0.0,
-        rate_hz: 100.0,
         robot,
-        ..Scenario::paper()
+        ..turn(-60.0, 0.0, 100.0)
     })
     .expect("plans")
     .run(&mut |_: &Record| Ok::<(), core::convert::Infallible>(()))
@@ -83,7 +89,10 @@ fn errors_name_their_subject_and_time_once() {
         SimulationError::Kinematics { sample: None, .. }
     ));
     let e = Simulation::new(Scenario {
-        omega_max_deg_s: 0.0,
+        run: Run::turn(Turn {
+            omega_max_deg_s: 0.0,
+            ..Turn::paper()
+        }),
         ..Scenario::paper()
     })
     .expect_err("no velocity");

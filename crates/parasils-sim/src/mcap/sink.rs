@@ -237,7 +237,7 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
             SCENE_UPDATE_SCHEMA.as_bytes(),
         )?;
         let scene = writer.add_channel(scene_schema, SCENE_TOPIC, "json", &no_meta)?;
-        let procedure = !scenario.motions.is_empty();
+        let procedure = scenario.is_procedure();
         let motion = if procedure {
             let schema = serde_json::to_vec_pretty(&schema::procedure_motion_schema())?;
             let schema_id =
@@ -269,7 +269,7 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
             commands: Vec::new(),
             motion_names: procedure.then(|| {
                 scenario
-                    .motions
+                    .motions()
                     .iter()
                     .map(|m| serde_json::to_string(&m.name).unwrap_or_else(|_| "null".to_owned()))
                     .collect()

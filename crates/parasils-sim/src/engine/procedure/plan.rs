@@ -2,23 +2,19 @@
 //! of samples, each on the control cycle, each from the state the previous
 //! one ended in.
 
-use nalgebra::Vector3;
-use parasils::kin::{
-    Controller, JointMotion, Joints, MarginTracker, ModuleCommand, PlatformState, Pose,
-};
-use parasils::motions::{
-    Insertion, Manipulation, Motion, MotionSample, MotionType, Moving, Port, Positioning,
-    RobotState, Turning,
-};
+use std::borrow::Cow;
+
+use parasils::kin::{Controller, JointMotion, MarginTracker, ModuleCommand, PlatformState};
+use parasils::motions::{Motion, MotionSample, MotionType, Moving, RobotState};
 use parasils::traj::Synchronization;
-use parasils::{Geometry, Stretch, TimeScaled};
+use parasils::{Stretch, TimeScaled};
 
 use super::inside;
+use super::motion::{Continue, continued, optimal_plan, plan, tips_of};
 use crate::engine::error::SimulationError;
-use crate::motion::{Inside, LookAt, MotionGoal, MotionLimits, MotionName, MotionSpec};
-use crate::scenario::Scenario;
-use crate::scenario::Timing;
-use crate::timing::{MotionPath, OptimalMotion, TimingError, TimingOptions};
+use crate::motion::{Inside, MotionGoal, MotionLimits, MotionName};
+use crate::scenario::{Motions, Scenario, Timeline, Timing};
+use crate::timing::OptimalMotion;
 use parasils_io::Shortest;
 
 /// One motion placed on the procedure's time line, on the control cycle.
@@ -126,27 +122,16 @@ pub struct ProcedurePlan {
     pub start: RobotState<f64>,
     /// The control rate, Hz.
     pub rate_hz: f64,
+    /// Whether messages name the motion an error is in (a procedure's), or
+    /// give the error alone (the single turn of a run without motions of its
+    /// own, as the paper's).
+    named: bool,
     /// The last row's index.
     last_sample: usize,
     /// Why planning stopped early: the end of the last motion could not be
     /// solved, so that no later motion can start. The samples up to that end
     /// are still planned, so that a run finds the first one that fails.
     failure: Option<SimulationError>,
-}
-
-/// The tips where `joints` put them with the platform at `pose`, mm, fixed
-/// frame (`[left, right]`).
-fn tips_of(
-    controller: &Controller<f64>,
-    pose: &Pose<f64>,
-    joints: &[Joints<f64>; 2],
-) -> [Vector3<f64>; 2] {
-    let r = pose.rotation();
-    let p = pose.position();
-    [
-        r * controller.left.fk_platform(&joints[0]) + p,
-        r * controller.right.fk_platform(&joints[1]) + p,
-    ]
 }
 
 impl ProcedurePlan {
@@ -164,10 +149,25 @@ impl ProcedurePlan {
     /// at `t = 0` when the start cannot be solved;
     /// [`SimulationError::Trajectory`] for a rate that is not positive and
     /// finite.
-    pub fn new(scenario: &Scenario, controller: &Controller<f64>) -> Result<Self, SimulationError> {
+    pub fn new(
+        scenario: &Scenario,
+        timeline: &Timeline,
+        controller: &Controller<f64>,
+    ) -> Result<Self, SimulationError> {
         let rate = scenario.rate_hz;
+        // The paper's turn is a timeline of one reorientation, with its own
+        // synchronisation and, under the optimal timing, its angular limits
+        // binding when they were given.
+        let (specs, sync, named) = match &timeline.motions {
+            Motions::Turn(turn) => {
+                let angular = timeline.timing == (Timing::Optimal { angular: true });
+                (Cow::Owned(vec![turn.motion(angular)]), turn.sync, false)
+            }
+            Motions::Procedure(m) => (Cow::Borrowed(m.as_slice()), Synchronization::Phase, true),
+        };
         Stretch::new(0.0, rate).map_err(SimulationError::Trajectory)?;
         let solver = *controller;
+        let camera = &controller.endoscope.camera;
         let mut tracker = MarginTracker::new();
         let tips = scenario.tips();
         let start_pose = scenario.start();
@@ -189,14 +189,17 @@ impl ProcedurePlan {
             endoscope_depth: scenario.endoscope_depth_mm,
         };
         let mut state = start;
+        // The tips the next motion starts from: the scenario's own at the
+        // start, then where each motion's end joints put them.
+        let mut held = [tips.left, tips.right];
         let mut inside_now = inside::at_start(&start);
         let mut next_sample = 0usize;
-        let mut motions: Vec<PlannedMotion> = Vec::with_capacity(scenario.motions.len());
+        let mut motions: Vec<PlannedMotion> = Vec::with_capacity(specs.len());
         // The previous motion's moving state when it was cut short, with
         // its limits (a stop decelerates at them).
         let mut moving: Option<(Moving<f64>, MotionLimits)> = None;
-        let count = scenario.motions.len();
-        for (index, spec) in scenario.motions.iter().enumerate() {
+        let count = specs.len();
+        for (index, spec) in specs.iter().enumerate() {
             let previous = motions.last().map(|m| m.name.motion_type);
             let motion_type = spec.motion_type().or(previous);
             let mut name = MotionName {
@@ -206,11 +209,7 @@ impl ProcedurePlan {
                 name: spec.name.clone(),
             };
             let fail = |name: &MotionName, t_motion: f64, error: SimulationError| {
-                SimulationError::Motion {
-                    motion: Box::new(name.clone()),
-                    t_motion,
-                    error: Box::new(error),
-                }
+                in_motion(named, name, t_motion, error)
             };
             let order =
                 |name: &MotionName, why: String| fail(name, 0.0, SimulationError::Procedure(why));
@@ -226,7 +225,7 @@ impl ProcedurePlan {
             let motion = match (&spec.goal, moving) {
                 (goal, Some((m, limits))) if !m.at_rest() || *goal == MotionGoal::Stop => {
                     from_moving = !m.at_rest();
-                    continued(controller, &state, spec, m, limits).map_err(|e| match e {
+                    continued(camera, &state, held, spec, m, limits).map_err(|e| match e {
                         Continue::Trajectory(e) => fail(&name, 0.0, SimulationError::Trajectory(e)),
                         Continue::Mismatch(why) => order(&name, why),
                     })?
@@ -235,21 +234,21 @@ impl ProcedurePlan {
                     // The motion before ended at rest: a stop of no length.
                     let last = motions.last().map(|m| m.moving_at_row(m.periods));
                     let m = last.ok_or_else(|| order(&name, String::from("nothing to stop")))?;
-                    continued(controller, &state, spec, m, spec.limits).map_err(|e| match e {
+                    continued(camera, &state, held, spec, m, spec.limits).map_err(|e| match e {
                         Continue::Trajectory(e) => fail(&name, 0.0, SimulationError::Trajectory(e)),
                         Continue::Mismatch(why) => order(&name, why),
                     })?
                 }
-                _ => plan(controller, &state, spec).map_err(|e| match e {
+                _ => plan(camera, &state, held, spec, sync).map_err(|e| match e {
                     Continue::Trajectory(e) => fail(&name, 0.0, SimulationError::Trajectory(e)),
                     Continue::Mismatch(why) => order(&name, why),
                 })?,
             };
             name.motion_type = motion.motion_type();
-            // A motion that gives a jerk limit keeps its double S.
-            let optimal = match scenario.timing {
+            let optimal = match timeline.timing {
+                // A motion that gives a jerk limit keeps its double S.
                 Timing::Optimal { .. } if spec.limits.jerk().is_none() => {
-                    optimal_plan(controller, &state, spec)
+                    optimal_plan(controller, &state, held, spec)
                         .map_err(|e| fail(&name, 0.0, SimulationError::Timing(e)))?
                 }
                 Timing::Optimal { .. } | Timing::Trapezoid => None,
@@ -327,6 +326,7 @@ impl ProcedurePlan {
                             motions,
                             start,
                             rate_hz: rate,
+                            named,
                             last_sample,
                             failure: Some(failure),
                         });
@@ -337,6 +337,7 @@ impl ProcedurePlan {
                 joints: [out.left.q, out.right.q],
                 endoscope_depth: end.endoscope.position,
             };
+            held = tips_of(controller, &state.pose, &state.joints);
             let inserted = match &placed.motion {
                 Motion::Insert(i) => Some(i.port()),
                 _ => None,
@@ -351,9 +352,30 @@ impl ProcedurePlan {
             motions,
             start,
             rate_hz: rate,
+            named,
             last_sample,
             failure: None,
         })
+    }
+
+    /// `error` in motion `m` at `t_motion` (s from its start): named after
+    /// the motion in a procedure, alone for a single turn.
+    pub(crate) fn in_motion(
+        &self,
+        m: usize,
+        t_motion: f64,
+        error: SimulationError,
+    ) -> SimulationError {
+        let name = self.motions.get(m).map_or_else(
+            || MotionName {
+                index: m,
+                motion_type: MotionType::Reorient,
+                stop: false,
+                name: None,
+            },
+            |p| p.name.clone(),
+        );
+        in_motion(self.named, &name, t_motion, error)
     }
 
     /// Why planning stopped before the last motion, if it did (see
@@ -431,6 +453,25 @@ impl parasils::traj::Motion<f64> for ProcedurePlan {
     }
 }
 
+/// `error` in the motion `name` at `t_motion` (s from its start), when
+/// motions are `named`; otherwise `error` itself.
+fn in_motion(
+    named: bool,
+    name: &MotionName,
+    t_motion: f64,
+    error: SimulationError,
+) -> SimulationError {
+    if named {
+        SimulationError::Motion {
+            motion: Box::new(name.clone()),
+            t_motion,
+            error: Box::new(error),
+        }
+    } else {
+        error
+    }
+}
+
 /// The robot at rest in `state`.
 fn held_at(state: &RobotState<f64>) -> MotionSample<f64> {
     MotionSample {
@@ -439,280 +480,4 @@ fn held_at(state: &RobotState<f64>) -> MotionSample<f64> {
         right: ModuleCommand::Joints(JointMotion::held(state.joints[1])),
         endoscope: parasils::traj::State::rest(state.endoscope_depth),
     }
-}
-
-/// The geometry of the motion `spec` from `state` (`None` for a stop).
-fn geometry_of(
-    controller: &Controller<f64>,
-    state: &RobotState<f64>,
-    spec: &MotionSpec,
-) -> Option<Geometry<f64>> {
-    let tips = || tips_of(controller, &state.pose, &state.joints);
-    Some(match spec.goal {
-        MotionGoal::Position { pose_mm_deg: p } => {
-            Geometry::positioning(state, Pose::from_mm_deg(p[0], p[1], p[2], p[3], p[4], p[5]))
-        }
-        MotionGoal::Insert { port, depth_mm } => Geometry::insertion(state, port, depth_mm),
-        MotionGoal::Manipulate {
-            tip_left_mm,
-            tip_right_mm,
-        } => Geometry::manipulation(
-            state,
-            tips(),
-            [
-                tip_left_mm.map(Vector3::from),
-                tip_right_mm.map(Vector3::from),
-            ],
-        ),
-        MotionGoal::Reorient {
-            psi_deg,
-            theta_deg,
-            absolute,
-        } => {
-            let from = [state.pose.psi, state.pose.theta];
-            let goal = reorient_goal(psi_deg, theta_deg, absolute, from);
-            Geometry::turning(state, goal, tips())
-        }
-        MotionGoal::LookAt { target } => {
-            Geometry::turning(state, look_goal(controller, state, &target).ok()?, tips())
-        }
-        MotionGoal::Stop => return None,
-    })
-}
-
-/// The motion `spec` from `state`, at rest: the double S along its
-/// geometry when it gives a jerk limit, its trapezoid otherwise.
-fn plan(
-    controller: &Controller<f64>,
-    state: &RobotState<f64>,
-    spec: &MotionSpec,
-) -> Result<Motion<f64>, Continue> {
-    if let (Some([linear, angular]), Some(geometry)) =
-        (spec.limits.jerk(), geometry_of(controller, state, spec))
-    {
-        return Ok(Motion::jerk_limited(geometry, linear, angular)?);
-    }
-    let (linear, angular) = (spec.limits.linear(), spec.limits.angular());
-    Ok(match spec.goal {
-        MotionGoal::Position { pose_mm_deg: p } => Motion::Position(Positioning::new(
-            state,
-            Pose::from_mm_deg(p[0], p[1], p[2], p[3], p[4], p[5]),
-            linear,
-            angular,
-        )?),
-        MotionGoal::Insert { port, depth_mm } => {
-            Motion::Insert(Insertion::new(state, port, depth_mm, linear)?)
-        }
-        MotionGoal::Manipulate {
-            tip_left_mm,
-            tip_right_mm,
-        } => Motion::Manipulate(Manipulation::new(
-            state,
-            tips_of(controller, &state.pose, &state.joints),
-            [
-                tip_left_mm.map(Vector3::from),
-                tip_right_mm.map(Vector3::from),
-            ],
-            linear,
-        )?),
-        MotionGoal::Stop => {
-            return Err(Continue::Mismatch(String::from(
-                "nothing to stop: the motion before is at rest",
-            )));
-        }
-        MotionGoal::Reorient {
-            psi_deg,
-            theta_deg,
-            absolute,
-        } => {
-            let goal = reorient_goal(
-                psi_deg,
-                theta_deg,
-                absolute,
-                [state.pose.psi, state.pose.theta],
-            );
-            Motion::Reorient(Turning::new(
-                state,
-                goal,
-                [angular; 2],
-                Synchronization::Phase,
-                tips_of(controller, &state.pose, &state.joints),
-            )?)
-        }
-        MotionGoal::LookAt { target } => Motion::Reorient(Turning::new(
-            state,
-            look_goal(controller, state, &target)?,
-            [angular; 2],
-            Synchronization::Phase,
-            tips_of(controller, &state.pose, &state.joints),
-        )?),
-    })
-}
-
-/// The `[psi, theta]` (rad) that aim the camera of `controller`'s endoscope
-/// at `target` from `state` (its tips where `state`'s joints put them).
-fn look_goal(
-    controller: &Controller<f64>,
-    state: &RobotState<f64>,
-    target: &LookAt,
-) -> Result<[f64; 2], Continue> {
-    let [l, r] = tips_of(controller, &state.pose, &state.joints);
-    let point = Vector3::from(target.point([l.into(), r.into()]));
-    controller
-        .endoscope
-        .camera
-        .look_at(&state.pose, state.endoscope_depth, &point)
-        .map_err(|e| Continue::Mismatch(format!("look-at: {e}")))
-}
-
-/// The motion `spec` from `state`, at rest, timed to be as fast as the
-/// robot's actuator limits allow (see [`OptimalMotion`]): its own limits
-/// bind as well where the procedure states them, and always for the
-/// endoscope's depth, which no actuator moves. A stop keeps its profile
-/// (`None`): it only ever stops a motion that ended at rest, in no time,
-/// since the optimal timing cuts no motion short.
-fn optimal_plan(
-    controller: &Controller<f64>,
-    state: &RobotState<f64>,
-    spec: &MotionSpec,
-) -> Result<Option<OptimalMotion>, TimingError> {
-    let (linear, angular) = (spec.limits.linear(), spec.limits.angular());
-    let [linear_stated, angular_stated] = spec.stated;
-    let stated_linear = linear_stated.then_some(linear);
-    let stated_angular = angular_stated.then_some(angular);
-    let Some(geometry) = geometry_of(controller, state, spec) else {
-        return Ok(None);
-    };
-    let own = match spec.goal {
-        MotionGoal::Insert { port, .. } => [
-            (linear_stated || port == Port::Endoscope).then_some(linear),
-            None,
-        ],
-        MotionGoal::Manipulate { .. } => [stated_linear; 2],
-        MotionGoal::Reorient { .. } | MotionGoal::LookAt { .. } => [stated_angular; 2],
-        MotionGoal::Position { .. } | MotionGoal::Stop => [stated_linear, stated_angular],
-    };
-    let path = MotionPath::new(controller, geometry);
-    OptimalMotion::plan(path, &controller.limits, own, &TimingOptions::default()).map(Some)
-}
-
-/// A reorientation's goal `[psi, theta]` (rad): the angles given (deg), or
-/// `from` turned by them.
-fn reorient_goal(psi_deg: f64, theta_deg: f64, absolute: bool, from: [f64; 2]) -> [f64; 2] {
-    let [psi, theta] = [psi_deg.to_radians(), theta_deg.to_radians()];
-    if absolute {
-        [psi, theta]
-    } else {
-        [from[0] + psi, from[1] + theta]
-    }
-}
-
-/// Why a motion cannot continue the one before.
-enum Continue {
-    Trajectory(parasils::traj::Error),
-    Mismatch(String),
-}
-
-impl From<parasils::traj::Error> for Continue {
-    fn from(e: parasils::traj::Error) -> Self {
-        Continue::Trajectory(e)
-    }
-}
-
-/// The motion `spec` from the moving state `m` of the motion before (cut
-/// short): a stop of it, or a motion of the same type replanned from it.
-/// A stop decelerates at the limits of the motion it stops (`stopped`)
-/// unless it gives limits of its own.
-fn continued(
-    controller: &Controller<f64>,
-    state: &RobotState<f64>,
-    spec: &MotionSpec,
-    m: Moving<f64>,
-    stopped: MotionLimits,
-) -> Result<Motion<f64>, Continue> {
-    let l = if spec.goal == MotionGoal::Stop && spec.limits == MotionLimits::default() {
-        stopped
-    } else {
-        spec.limits
-    };
-    if spec.limits.jerk().is_some() {
-        return Err(Continue::Mismatch(String::from(
-            "the motion before was cut short while moving (its until_s): the motion continuing it is timed by the online profile from that moving state, which takes no jerk limit (jerk_mm_s3, jerk_deg_s3 time motions from rest)",
-        )));
-    }
-    let (linear, angular) = (l.linear(), l.angular());
-    let tips = || tips_of(controller, &state.pose, &state.joints);
-    Ok(match (spec.goal, m) {
-        (MotionGoal::Stop, Moving::Pose(s)) => {
-            Motion::Position(Positioning::stop(state, s, linear, angular)?)
-        }
-        (MotionGoal::Stop, Moving::Depth(port, s)) => {
-            Motion::Insert(Insertion::stop(state, port, s, linear)?)
-        }
-        (MotionGoal::Stop, Moving::Tips(s)) => {
-            Motion::Manipulate(Manipulation::stop(state, s, linear)?)
-        }
-        (MotionGoal::Stop, Moving::Angles(a)) => {
-            Motion::Reorient(Turning::stop(state, a, angular, tips())?)
-        }
-        (MotionGoal::Position { pose_mm_deg: p }, Moving::Pose(s)) => {
-            Motion::Position(Positioning::from_moving(
-                state,
-                s,
-                Pose::from_mm_deg(p[0], p[1], p[2], p[3], p[4], p[5]),
-                linear,
-                angular,
-            )?)
-        }
-        (MotionGoal::Insert { port, depth_mm }, Moving::Depth(moving, s)) if port == moving => {
-            Motion::Insert(Insertion::from_moving(state, port, s, depth_mm, linear)?)
-        }
-        (
-            MotionGoal::Manipulate {
-                tip_left_mm,
-                tip_right_mm,
-            },
-            Moving::Tips(s),
-        ) => Motion::Manipulate(Manipulation::from_moving(
-            state,
-            s,
-            [
-                tip_left_mm.map(Vector3::from),
-                tip_right_mm.map(Vector3::from),
-            ],
-            linear,
-        )?),
-        (
-            MotionGoal::Reorient {
-                psi_deg,
-                theta_deg,
-                absolute,
-            },
-            Moving::Angles(a),
-        ) => {
-            let goal = reorient_goal(psi_deg, theta_deg, absolute, [a[0].position, a[1].position]);
-            Motion::Reorient(Turning::from_moving(state, a, goal, angular, tips())?)
-        }
-        (MotionGoal::LookAt { target }, Moving::Angles(a)) => {
-            let goal = look_goal(controller, state, &target)?;
-            Motion::Reorient(Turning::from_moving(state, a, goal, angular, tips())?)
-        }
-        (goal, m) => {
-            let was = match m {
-                Moving::Pose(_) => "position",
-                Moving::Depth(Port::Left, _) => "insert (left)",
-                Moving::Depth(Port::Right, _) => "insert (right)",
-                Moving::Depth(Port::Endoscope, _) => "insert (endoscope)",
-                Moving::Tips(_) => "manipulate",
-                Moving::Angles(_) => "reorient",
-            };
-            let is = match goal {
-                MotionGoal::Insert { port, .. } => format!("insert ({})", port.name()),
-                g => String::from(g.motion_type().map_or("stop", MotionType::name)),
-            };
-            return Err(Continue::Mismatch(format!(
-                "the motion before was cut short while moving (its until_s): only a stop or another {was:?} motion can start from its moving state, not {is:?}"
-            )));
-        }
-    })
 }
