@@ -57,6 +57,8 @@
 //!   Newton's method, and the margin tracker of a control loop
 //!   ([`parallel::margin`]);
 //! - [`endoscope`]: the endoscope's insertion depth and its tip;
+//! - [`clearance`]: the closest points and distance of two segments, and the
+//!   surface gap of two capsules (the shafts and the endoscope as bodies);
 //! - [`controller`]: the one call per control cycle, and the whole robot's
 //!   geometry;
 //! - [`limits`]: the actuators' velocity and acceleration limits (assumed
@@ -74,7 +76,7 @@
 //! Every public type is also at
 //! the crate root. Imports go one way, from the leaves to the solvers, with
 //! no circle: `real`, `presets`, `side`, then `interval` and
-//! `linalg`, then `error`, `frame`, `check`, then `instrument` and
+//! `linalg`, then `error`, `frame`, `check`, `clearance`, then `instrument` and
 //! `parallel` (each split by concept, the `mod.rs` only re-exporting), then
 //! `endoscope` and `limits`, then `controller` (the order of
 //! `ARCHITECTURE.md`'s table, which the workspace's tests check). The model
@@ -91,6 +93,7 @@
 extern crate std;
 
 mod check;
+pub mod clearance;
 pub mod controller;
 pub mod endoscope;
 pub mod error;
@@ -104,6 +107,7 @@ pub mod presets;
 pub mod real;
 mod side;
 
+pub use clearance::{Capsule, CapsuleGap, ClosestPoints, Segment, segment_distance};
 pub use controller::{
     ControlStep, Controller, ModuleCommand, RobotGeometry, TipTargets, mirror_across_platform,
     step_positions, step_rates,
