@@ -57,8 +57,9 @@
 //!   Newton's method, and the margin tracker of a control loop
 //!   ([`parallel::margin`]);
 //! - [`endoscope`]: the endoscope's insertion depth and its tip;
-//! - [`clearance`]: the closest points and distance of two segments, and the
-//!   surface gap of two capsules (the shafts and the endoscope as bodies);
+//! - [`clearance`]: the shafts and the endoscope as capsules (sizes
+//!   **assumed**), the closest points and distance of two segments in closed
+//!   form, and the surface gaps between the three bodies at a cycle;
 //! - [`controller`]: the one call per control cycle, and the whole robot's
 //!   geometry;
 //! - [`limits`]: the actuators' velocity and acceleration limits (assumed
@@ -76,9 +77,9 @@
 //! Every public type is also at
 //! the crate root. Imports go one way, from the leaves to the solvers, with
 //! no circle: `real`, `presets`, `side`, then `interval` and
-//! `linalg`, then `error`, `frame`, `check`, `clearance`, then `instrument` and
+//! `linalg`, then `error`, `frame`, `check`, then `instrument` and
 //! `parallel` (each split by concept, the `mod.rs` only re-exporting), then
-//! `endoscope` and `limits`, then `controller` (the order of
+//! `endoscope`, `clearance` and `limits`, then `controller` (the order of
 //! `ARCHITECTURE.md`'s table, which the workspace's tests check). The model
 //! is described in `docs/model.md`.
 //!
@@ -107,7 +108,10 @@ pub mod presets;
 pub mod real;
 mod side;
 
-pub use clearance::{Capsule, CapsuleGap, ClosestPoints, Segment, segment_distance};
+pub use clearance::{
+    Bodies, BodyGeometry, Capsule, CapsuleGap, Clearance, ClearancePair, ClosestPoints, Segment,
+    segment_distance,
+};
 pub use controller::{
     ControlStep, Controller, ModuleCommand, RobotGeometry, TipTargets, mirror_across_platform,
     step_positions, step_rates,
