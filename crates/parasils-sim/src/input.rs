@@ -317,6 +317,7 @@ impl Input {
             tip_right_mm: self.tip_right_mm,
             robot: robot.geometry,
             supervisor: robot.supervisor,
+            bodies: robot.bodies,
             retargets: self.retarget.unwrap_or_default(),
             stop_at_s: self.stop_at_s,
             timing,

@@ -115,10 +115,11 @@ pub use output::{Flushed, Format, OutputError, OutputFile};
 #[cfg(feature = "plot")]
 pub use plot::PlotSink;
 pub use procedure::ProcedureError;
-pub use record::{InstrumentRecord, Module1Record, Record};
+pub use record::{ClearanceRecord, InstrumentRecord, Module1Record, Record};
 pub use robot::Robot;
 pub use robot_file::{
-    EndoscopeFile, GuideFile, InstrumentFile, LegFile, Module1File, RobotFile, RobotFileError,
+    BodiesFile, EndoscopeFile, GuideFile, InstrumentFile, LegFile, Module1File, RobotFile,
+    RobotFileError,
 };
 pub use scenario::{Command, CommandKind, LibraryUnits, Retarget, RetargetUnits, Scenario, Timing};
 pub use sink::{BoxError, Sink, Tee};

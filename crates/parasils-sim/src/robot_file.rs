@@ -40,5 +40,7 @@ mod write;
 
 pub use error::RobotFileError;
 pub use read::{load, load_robot, parse, parse_robot, save};
-pub use schema::{EndoscopeFile, GuideFile, InstrumentFile, LegFile, Module1File, RobotFile};
+pub use schema::{
+    BodiesFile, EndoscopeFile, GuideFile, InstrumentFile, LegFile, Module1File, RobotFile,
+};
 pub use write::{robot_to_toml_string, to_toml_string};

@@ -8,7 +8,7 @@
 
 use nalgebra::Vector3;
 use parasils::kin::presets;
-use parasils::kin::{Pose, RobotGeometry, TipTargets, mirror_across_platform};
+use parasils::kin::{BodyGeometry, Pose, RobotGeometry, TipTargets, mirror_across_platform};
 use parasils::paper;
 use parasils::traj::{Limits, Synchronization};
 use serde::Serialize;
@@ -85,6 +85,9 @@ pub struct Scenario {
     /// `[supervisor]` table; none by default): they replace the defaults in
     /// procedures' warnings and in runs with commands.
     pub supervisor: SupervisorTable,
+    /// The shafts' and the endoscope's sizes for the clearance columns (the
+    /// robot file's `[bodies]`; assumed by default).
+    pub bodies: BodyGeometry<f64>,
 }
 
 /// A new goal commanded at `t_s`: `psi_deg` and `theta_deg` are read like
@@ -192,6 +195,7 @@ impl Scenario {
             motions: Vec::new(),
             endoscope_depth_mm: 0.0,
             supervisor: SupervisorTable::default(),
+            bodies: BodyGeometry::assumed(),
             timing: Timing::Trapezoid,
         }
     }

@@ -4,14 +4,14 @@
 
 use super::procedure::ProcedurePlan;
 use parasils::kin::MarginTracker;
-use parasils::kin::{ControlStep, Controller, PlatformState};
+use parasils::kin::{Bodies, ClearancePair, ControlStep, Controller, PlatformState};
 use parasils::supervisor::{MarginSet, Margins};
 use parasils::traj::Sampler;
 use parasils::{MotionKind, OnCycle, OnlineController, Reorientation};
 
 use crate::timing::OptimalReorientation;
 
-use crate::record::Record;
+use crate::record::{ClearanceRecord, Record};
 use crate::scenario::CommandKind;
 
 use super::error::SimulationError;
@@ -62,14 +62,86 @@ pub(super) fn planned_record(
             error,
         })?;
     check_limits(controller, &out, t, k)?;
-    Ok(sim.record(
+    let record = sim.record(
         k,
         t,
         state,
         &out,
         &sim.tips,
         Context::command(0, CommandKind::Reorient, MarginSet::EMPTY),
+    );
+    with_clearance(
+        sim,
+        controller,
+        &out,
+        sim.scenario.endoscope_depth_mm,
+        record,
+    )
+}
+
+/// The three surface gaps of `step` (the shafts at its joints, the endoscope
+/// at `depth` mm), from the scenario's bodies, and the depth below the
+/// ports (mm, `-z'` of the platform frame) of the smallest gap's closest
+/// points.
+pub(super) fn clearance_of(
+    sim: &Simulation,
+    controller: &Controller<f64>,
+    step: &ControlStep<f64>,
+    depth: f64,
+) -> Result<(ClearanceRecord, ClearancePair, f64), parasils::kin::Error> {
+    let gaps = Bodies::at(
+        &sim.scenario.bodies,
+        &step.frame,
+        &controller.left,
+        &step.left.q,
+        &controller.right,
+        &step.right.q,
+        depth,
+    )?
+    .clearance()?;
+    let (pair, _) = gaps.min();
+    let axes = &gaps.get(pair).axes;
+    let middle = (axes.point_a + axes.point_b) * 0.5;
+    let below = -step.frame.to_platform(&middle).z;
+    Ok((
+        ClearanceRecord {
+            left_right: gaps.left_right.gap,
+            left_endoscope: gaps.left_endoscope.gap,
+            right_endoscope: gaps.right_endoscope.gap,
+        },
+        pair,
+        below,
     ))
+}
+
+/// `record` with its clearance ([`clearance_of`]); a failure is the
+/// sample's kinematics error, and a gap below the robot file's clearance
+/// stop threshold (when it gives one) is [`SimulationError::Clearance`].
+pub(super) fn with_clearance(
+    sim: &Simulation,
+    controller: &Controller<f64>,
+    step: &ControlStep<f64>,
+    depth: f64,
+    mut record: Record,
+) -> Result<Record, SimulationError> {
+    let (t, sample) = (record.t, Some(record.index));
+    let (clearance, pair, depth_mm) = clearance_of(sim, controller, step, depth)
+        .map_err(|error| SimulationError::Kinematics { t, sample, error })?;
+    record.clearance = clearance;
+    if let Some([_, stop_mm]) = sim.scenario.supervisor.clearance() {
+        let gap_mm = clearance.min();
+        if !(gap_mm >= stop_mm) {
+            return Err(SimulationError::Clearance {
+                t,
+                sample,
+                pair,
+                gap_mm,
+                stop_mm,
+                depth_mm,
+            });
+        }
+    }
+    Ok(record)
 }
 
 /// `step` against the actuators' limits of `controller`.
@@ -179,6 +251,14 @@ impl ProcedureRun {
                 endoscope_tip,
             };
             let record = sim.record(k, t, &sample.platform, &out, &targets, context);
+            let record = with_clearance(
+                sim,
+                &self.controller,
+                &out,
+                sample.endoscope.position,
+                record,
+            )
+            .map_err(in_motion)?;
             Ok((record, margins))
         })();
         if result.is_err() {
@@ -255,6 +335,22 @@ impl OnlineRun {
             &sim.tips,
             Context::command(cycle.command, self.kind, cycle.warnings),
         );
+        // Recorded, not enforced: the online controller's supervisor does
+        // not hold the platform on clearance yet, and a run of commands is
+        // not planned ahead, so a stop threshold here would fail mid-run.
+        let mut record = record;
+        record.clearance = clearance_of(
+            sim,
+            self.controller.controller(),
+            &cycle.step,
+            sim.scenario.endoscope_depth_mm,
+        )
+        .map_err(|error| SimulationError::Kinematics {
+            t,
+            sample: Some(k),
+            error,
+        })?
+        .0;
         let finished = self.pending >= sim.schedule.len() && self.controller.is_at_rest(t);
         match k.checked_add(1) {
             Some(next) if !finished => self.next = next,
