@@ -134,6 +134,29 @@ fn the_mirror_right_tip_makes_the_shafts_intersect() {
     assert!(left_endo < 0.0, "{left_endo}");
 }
 
+/// The check values of `docs/model.md`, *Clearance*: each pair's gap at
+/// the start, its smallest over the run and at the end, to the printed
+/// three decimals.
+#[test]
+fn the_paper_runs_gaps_are_the_documented_ones() {
+    let sim = Simulation::new(Scenario::paper()).expect("valid");
+    let rs = records(&sim);
+    let last = rs.last().expect("records");
+    let expected = [
+        [-5.000, -5.000, -3.939],
+        [1.287, -1.373, -1.373],
+        [1.287, 1.287, 2.475],
+    ];
+    for (k, want) in expected.iter().enumerate() {
+        let of = |r: &Record| gaps(&r.clearance)[k];
+        let min = rs.iter().map(of).fold(f64::INFINITY, f64::min);
+        let got = [of(&rs[0]), min, of(last)];
+        for i in 0..3 {
+            assert!((got[i] - want[i]).abs() < 5e-4, "pair {k}: {got:?} vs {want:?}");
+        }
+    }
+}
+
 #[test]
 fn a_procedures_gaps_match_with_the_endoscope_inserted() {
     let scenario = procedure::load(concat!(
