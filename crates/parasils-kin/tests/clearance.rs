@@ -330,3 +330,99 @@ proptest! {
         prop_assert!((f64::from(got.distance) - truth).abs() <= 1e-4, "{} vs {truth}", got.distance);
     }
 }
+
+mod bodies {
+    //! The capsules of a cycle against the kinematics they come from: each
+    //! shaft starts at the tip forward kinematics gives, passes through its
+    //! port (the RCM in the fixed frame) `qs3` mm further, and is as long
+    //! as the file says; the endoscope starts at its tip.
+
+    use nalgebra::Vector3;
+    use parasils_kin::{
+        Bodies, BodyGeometry, ClearancePair, Controller, EndoscopeGeometry, Error, Joints,
+        PlatformState, Pose,
+    };
+    use proptest::prelude::*;
+
+    fn point_line_distance(p: &Vector3<f64>, a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+        let d = (b - a).normalize();
+        let w = p - a;
+        (w - d * w.dot(&d)).norm()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2_000))]
+
+        #[test]
+        fn shafts_run_from_the_tips_through_the_ports(
+            x in -50.0..50.0_f64, y in -50.0..50.0_f64, z in -550.0..-450.0_f64,
+            psi in -30.0..30.0_f64, theta in -30.0..30.0_f64, phi in -90.0..90.0_f64,
+            ql in (-1.0..1.0_f64, -1.0..1.0_f64, 20.0..250.0_f64),
+            qr in (-1.0..1.0_f64, -1.0..1.0_f64, 20.0..250.0_f64),
+            depth in 0.0..200.0_f64,
+        ) {
+            let c = Controller::<f64>::paper();
+            let pose = Pose::from_mm_deg(x, y, z, psi, theta, phi);
+            let frame = PlatformState::at_rest(pose).frame().expect("finite");
+            let ql = Joints::new(ql.0, ql.1, ql.2);
+            let qr = Joints::new(qr.0, qr.1, qr.2);
+            let g = BodyGeometry::assumed();
+            let b = Bodies::at(&g, &frame, &c.left, &ql, &c.right, &qr, depth).expect("finite");
+            for (shaft, module, q) in [(&b.left, &c.left, &ql), (&b.right, &c.right, &qr)] {
+                let tip = module.fk(&pose, q).expect("finite");
+                prop_assert!((shaft.axis.start - tip).norm() < 1e-9);
+                prop_assert!(((shaft.axis.end - shaft.axis.start).norm() - 400.0).abs() < 1e-9);
+                let port = frame.to_fixed(&module.geometry().rcm);
+                prop_assert!(point_line_distance(&port, &shaft.axis.start, &shaft.axis.end) < 1e-9);
+                prop_assert!(((port - tip).norm() - q.qs3).abs() < 1e-9);
+                prop_assert_eq!(shaft.radius, 2.5);
+            }
+            let endo_tip = EndoscopeGeometry::paper().tip(&frame, depth).expect("in range");
+            prop_assert!((b.endoscope.axis.start - endo_tip).norm() < 1e-9);
+            prop_assert_eq!(b.endoscope.radius, 5.0);
+            // The minimum is the smallest of the three, and its pair's.
+            let gaps = b.clearance().expect("finite");
+            let (pair, min) = gaps.min();
+            prop_assert_eq!(min, gaps.get(pair).gap);
+            for p in ClearancePair::ALL {
+                prop_assert!(min <= gaps.get(p).gap);
+            }
+        }
+    }
+
+    #[test]
+    fn bad_sizes_and_inputs_are_named() {
+        let c = Controller::<f64>::paper();
+        let frame = PlatformState::at_rest(Pose::paper_start())
+            .frame()
+            .expect("finite");
+        let q = Joints::new(0.1, -0.2, 120.0);
+        let mut g = BodyGeometry::assumed();
+        g.endoscope_diameter = -1.0;
+        assert!(matches!(
+            Bodies::at(&g, &frame, &c.left, &q, &c.right, &q, 10.0),
+            Err(Error::InvalidParameter {
+                what: "bodies.endoscope_diameter",
+                ..
+            })
+        ));
+        let g = BodyGeometry::assumed();
+        assert!(matches!(
+            Bodies::at(&g, &frame, &c.left, &q, &c.right, &q, f64::NAN),
+            Err(Error::NonFinite {
+                what: "endoscope depth",
+                ..
+            })
+        ));
+        let bad = Joints::new(0.1, f64::INFINITY, 120.0);
+        assert!(matches!(
+            Bodies::at(&g, &frame, &c.left, &bad, &c.right, &q, 10.0),
+            Err(Error::NonFinite { .. })
+        ));
+        assert_eq!(
+            ClearancePair::LeftEndoscope.to_string(),
+            "left shaft - endoscope"
+        );
+        assert_eq!(ClearancePair::RightEndoscope.key(), "right_endoscope");
+    }
+}

@@ -152,7 +152,10 @@ fn the_paper_runs_gaps_are_the_documented_ones() {
         let min = rs.iter().map(of).fold(f64::INFINITY, f64::min);
         let got = [of(&rs[0]), min, of(last)];
         for i in 0..3 {
-            assert!((got[i] - want[i]).abs() < 5e-4, "pair {k}: {got:?} vs {want:?}");
+            assert!(
+                (got[i] - want[i]).abs() < 5e-4,
+                "pair {k}: {got:?} vs {want:?}"
+            );
         }
     }
 }
