@@ -102,7 +102,7 @@ pub struct SupervisorTable {
 }
 
 /// The clearance thresholds' assumed defaults, mm: warning, stop.
-pub const CLEARANCE_DEFAULTS_MM: [f64; 2] = [2.0, 0.5];
+const CLEARANCE_DEFAULTS_MM: [f64; 2] = [2.0, 0.5];
 
 impl SupervisorTable {
     /// Each key: its name in the file, the margins it sets (both modules'
@@ -198,7 +198,7 @@ impl SupervisorTable {
     }
 
     /// The clearance thresholds `[warn, stop]`, mm, when the table gives
-    /// either (the other at its default of [`CLEARANCE_DEFAULTS_MM`]);
+    /// either (the other at its assumed default: 2.0 mm to warn, 0.5 mm to stop);
     /// `None` (clearance not supervised) when it gives neither.
     pub fn clearance(&self) -> Option<[f64; 2]> {
         if self.clearance_warn_mm.is_none() && self.clearance_stop_mm.is_none() {
