@@ -302,3 +302,26 @@ fn a_warning_below_the_stop_is_refused() {
     let e = parse_robot(&text).expect_err("warn < stop");
     assert!(e.to_string().contains("clearance"), "{e}");
 }
+
+#[test]
+fn the_check_gives_each_motions_smallest_sampled_gaps() {
+    let scenario = procedure::load(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../procedures/sils-demo.toml"
+    ))
+    .expect("the demo loads");
+    let sim = Simulation::new(scenario).expect("valid");
+    let check = sim.procedure_check().expect("a procedure is checked");
+    let rs = records(&sim);
+    for (k, m) in check.motions.iter().enumerate() {
+        let mine: Vec<&Record> = rs.iter().filter(|r| r.motion as usize == k).collect();
+        assert!(!mine.is_empty());
+        for pair in 0..3 {
+            let min = mine
+                .iter()
+                .map(|r| gaps(&r.clearance)[pair])
+                .fold(f64::INFINITY, f64::min);
+            assert_eq!(gaps(&m.clearance_mm)[pair], min, "motion {k}, pair {pair}");
+        }
+    }
+}
