@@ -52,6 +52,12 @@
 //!   overflowing intermediate is never chosen (comparisons with NaN are
 //!   false), so the result is either finite or an error.
 //!
+//! **Error budget** (the kernel's tests, `tests/clearance.rs`, and
+//! `benches/python/clearance_vs_coal.py`): in `f64`, within 3e-14 mm of the
+//! exact minimum (rational arithmetic) for coordinates up to 100 mm,
+//! near-parallel pairs down to 1e-12 rad included; in `f32`, within 1e-4 mm
+//! of `f64` on the same inputs for coordinates up to 200 mm.
+//!
 //! Two segments crossing at right angles, one unit apart (the points
 //! `(1, 0, 0)` and `(1, 0, 1)`, half way along each), and the capsules of
 //! radius 0.25 around them, whose surfaces are 0.5 apart:
