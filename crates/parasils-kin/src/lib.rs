@@ -57,6 +57,9 @@
 //!   Newton's method, and the margin tracker of a control loop
 //!   ([`parallel::margin`]);
 //! - [`endoscope`]: the endoscope's insertion depth and its tip;
+//! - [`clearance`]: the shafts and the endoscope as capsules (sizes
+//!   **assumed**), the closest points and distance of two segments in closed
+//!   form, and the surface gaps between the three bodies at a cycle;
 //! - [`controller`]: the one call per control cycle, and the whole robot's
 //!   geometry;
 //! - [`limits`]: the actuators' velocity and acceleration limits (assumed
@@ -76,7 +79,7 @@
 //! no circle: `real`, `presets`, `side`, then `interval` and
 //! `linalg`, then `error`, `frame`, `check`, then `instrument` and
 //! `parallel` (each split by concept, the `mod.rs` only re-exporting), then
-//! `endoscope` and `limits`, then `controller` (the order of
+//! `endoscope`, `clearance` and `limits`, then `controller` (the order of
 //! `ARCHITECTURE.md`'s table, which the workspace's tests check). The model
 //! is described in `docs/model.md`.
 //!
@@ -92,6 +95,7 @@ extern crate std;
 
 pub mod camera;
 mod check;
+pub mod clearance;
 pub mod controller;
 pub mod endoscope;
 pub mod error;
@@ -106,6 +110,10 @@ pub mod real;
 mod side;
 
 pub use camera::{Camera, CameraError, ImagePoint};
+pub use clearance::{
+    Bodies, BodyGeometry, Capsule, CapsuleGap, Clearance, ClearancePair, ClosestPoints, Segment,
+    segment_distance,
+};
 pub use controller::{
     ControlStep, Controller, ModuleCommand, RobotGeometry, TipTargets, mirror_across_platform,
     step_positions, step_rates,

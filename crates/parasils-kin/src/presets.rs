@@ -56,6 +56,11 @@ pub const QS3_LIMITS_MM: [f64; 2] = [10.0, 300.0];
 /// origin `P`), positive inwards. **Assumed**: the paper gives no number.
 pub const ENDOSCOPE_DEPTH_MM: [f64; 2] = [0.0, 250.0];
 
+/// The bodies as capsules, mm: each instrument shaft's diameter and
+/// length, the endoscope's diameter and length. **Assumed** (typical
+/// laparoscopic sizes): the paper gives none.
+pub const BODIES_MM: [f64; 4] = [5.0, 400.0, 10.0, 400.0];
+
 /// Module 1's **assumed** geometry: a plausible robot of the right family,
 /// not the real PARA-SILSROB, whose dimensions are not published.
 ///

@@ -21,6 +21,8 @@
 //! - [`tolerance`]: `parasils.ToleranceStudy`, the tolerance library's
 //!   study on NumPy columns, picklable for Dask and Ray workers (the
 //!   package's `parasils.tolerance` maps its chunks over a Dask cluster);
+//! - [`clearance`]: `parasils.segment_distance_mm`, the segment distance
+//!   kernel of `parasils-kin` on NumPy batches;
 //! - [`errors`]: the exception hierarchy (`KinematicsError` and its
 //!   subclasses, `TrajectoryError`, `RobotFileError`);
 //! - [`batch`]: shapes, broadcasting, the loop (split across threads for
@@ -33,6 +35,7 @@ use pyo3::prelude::*;
 
 pub mod batch;
 pub mod calibrate;
+pub mod clearance;
 pub mod errors;
 pub mod path;
 pub mod reach;
@@ -55,6 +58,7 @@ fn _parasils(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(batch::batch_threads, m)?)?;
     m.add_function(wrap_pyfunction!(calibrate::_calibrate, m)?)?;
+    m.add_function(wrap_pyfunction!(clearance::segment_distance_mm, m)?)?;
     errors::register(m)?;
     Ok(())
 }

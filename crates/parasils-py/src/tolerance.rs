@@ -106,6 +106,7 @@ impl Inputs {
             let robot = robot_file::parse_robot(text).map_err(|e| errors::robot_file(py, &e))?;
             scenario.robot = robot.geometry;
             scenario.supervisor = robot.supervisor;
+            scenario.bodies = robot.bodies;
         }
         Ok(scenario)
     }

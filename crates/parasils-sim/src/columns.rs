@@ -10,7 +10,7 @@
 //!
 //! One column is not in [`ALL`]: [`COMMAND`], the index of the active
 //! command, which only runs with commands (retargets, a stop) have. Their
-//! CSV is [`CSV_WITH_COMMAND`], the 53 columns of [`CSV`] and `command` last,
+//! CSV is [`CSV_WITH_COMMAND`], the 57 columns of [`CSV`] and `command` last,
 //! and their MCAP file has it on `/motion`; a run without commands writes
 //! exactly what it wrote before commands existed ([`csv_columns`] picks).
 //!
@@ -86,7 +86,7 @@ impl Channel {
                 "Instrument tips recomputed by forward kinematics (fixed frame) and their distance to the targets"
             }
             Channel::Margins => {
-                "Singularity margins: module 1 serial and parallel, cos qs2 of each instrument module"
+                "Singularity margins: module 1 serial and parallel, cos qs2 of each instrument module; clearance: the surface gaps between the shafts and the endoscope (mm)"
             }
         }
     }
@@ -314,6 +314,27 @@ macro_rules! instrument_columns {
     };
 }
 
+/// The surface gap between the two instrument shafts, mm (the distance
+/// between their axes minus both radii; negative when they overlap).
+pub const CLEARANCE_LEFT_RIGHT_MM: Column =
+    col("clearance_left_right_mm", MM, Channel::Margins, |r| {
+        r.clearance.left_right
+    });
+/// The surface gap between the left shaft and the endoscope, mm.
+pub const CLEARANCE_LEFT_ENDOSCOPE_MM: Column =
+    col("clearance_left_endoscope_mm", MM, Channel::Margins, |r| {
+        r.clearance.left_endoscope
+    });
+/// The surface gap between the right shaft and the endoscope, mm.
+pub const CLEARANCE_RIGHT_ENDOSCOPE_MM: Column =
+    col("clearance_right_endoscope_mm", MM, Channel::Margins, |r| {
+        r.clearance.right_endoscope
+    });
+/// The smallest of the three gaps, mm.
+pub const CLEARANCE_MIN_MM: Column = col("clearance_min_mm", MM, Channel::Margins, |r| {
+    r.clearance.min()
+});
+
 /// The left instrument module's columns.
 pub const LEFT: InstrumentColumns = instrument_columns!(left, "left", Channel::Left);
 /// The right instrument module's columns.
@@ -322,7 +343,7 @@ pub const RIGHT: InstrumentColumns = instrument_columns!(right, "right", Channel
 /// Every column, in order: the CSV's columns are those with `csv` set, in
 /// this order; each MCAP channel's fields are `t_s` then its columns, in this
 /// order.
-pub const ALL: [Column; 59] = [
+pub const ALL: [Column; 63] = [
     T_S,
     X_MM,
     Y_MM,
@@ -376,6 +397,10 @@ pub const ALL: [Column; 59] = [
     RIGHT.q_acc[2],
     RIGHT.cos_qs2,
     RIGHT.tip_err,
+    CLEARANCE_LEFT_RIGHT_MM,
+    CLEARANCE_LEFT_ENDOSCOPE_MM,
+    CLEARANCE_RIGHT_ENDOSCOPE_MM,
+    CLEARANCE_MIN_MM,
     LEFT.tip[0],
     LEFT.tip[1],
     LEFT.tip[2],
@@ -588,25 +613,34 @@ mod tests {
     }
 
     #[test]
-    fn the_csv_is_the_first_53_columns() {
-        assert_eq!(CSV_COUNT, 53);
-        assert!(ALL[..53].iter().all(|c| c.csv));
-        assert!(ALL[53..].iter().all(|c| !c.csv));
+    fn the_csv_is_the_first_57_columns() {
+        assert_eq!(CSV_COUNT, 57);
+        assert!(ALL[..57].iter().all(|c| c.csv));
+        assert!(ALL[57..].iter().all(|c| !c.csv));
         assert_eq!(CSV_NAMES[0], "t_s");
         assert_eq!(CSV_NAMES[31], "left_qs1_deg");
         assert_eq!(CSV_NAMES[52], "right_tip_err_mm");
+        assert_eq!(
+            CSV_NAMES[53..],
+            [
+                "clearance_left_right_mm",
+                "clearance_left_endoscope_mm",
+                "clearance_right_endoscope_mm",
+                "clearance_min_mm"
+            ]
+        );
         assert_eq!(csv_index(&LEFT.q[0]), Some(31));
         assert_eq!(csv_index(&LEFT.tip[0]), None);
     }
 
     #[test]
     fn the_command_column_comes_last_and_only_with_commands() {
-        assert_eq!(csv_columns(false).len(), 53);
-        assert_eq!(csv_columns(true).len(), 54);
-        assert_eq!(CSV_WITH_COMMAND_NAMES[..53], CSV_NAMES);
-        assert_eq!(CSV_WITH_COMMAND_NAMES[53], "command");
-        assert!(csv_columns(true)[53].integer);
-        assert!(csv_columns(true)[..53].iter().all(|c| !c.integer));
+        assert_eq!(csv_columns(false).len(), 57);
+        assert_eq!(csv_columns(true).len(), 58);
+        assert_eq!(CSV_WITH_COMMAND_NAMES[..57], CSV_NAMES);
+        assert_eq!(CSV_WITH_COMMAND_NAMES[57], "command");
+        assert!(csv_columns(true)[57].integer);
+        assert!(csv_columns(true)[..57].iter().all(|c| !c.integer));
         assert!(ALL.iter().all(|c| c.name != COMMAND.name));
         assert_eq!(csv_index(&COMMAND), None);
         let r = Record {
@@ -619,7 +653,7 @@ mod tests {
     #[test]
     fn channels_hold_the_documented_fields() {
         let count = |ch: Channel| ALL.iter().filter(|c| c.channel == Some(ch)).count();
-        assert_eq!(Channel::ALL.map(count), [10, 18, 9, 9, 8, 4]);
+        assert_eq!(Channel::ALL.map(count), [10, 18, 9, 9, 8, 8]);
         assert_eq!(T_S.channel, None);
         assert_eq!(LEFT.q_acc[2].channel, Some(Channel::Left));
         assert_eq!(LEFT.tip_err.channel, Some(Channel::Tips));
@@ -643,6 +677,11 @@ mod tests {
         assert_eq!(LEFT.q[2].value(&r), 120.0);
         assert_eq!(RIGHT.tip[2].value(&r), -600.0);
         assert_eq!(Q_ACC_MM_S2[5].value(&r), 7.0);
+        r.clearance.left_right = 3.0;
+        r.clearance.left_endoscope = -1.5;
+        r.clearance.right_endoscope = 2.0;
+        assert_eq!(CLEARANCE_LEFT_ENDOSCOPE_MM.value(&r), -1.5);
+        assert_eq!(CLEARANCE_MIN_MM.value(&r), -1.5);
         let row = csv_row(&r);
         assert_eq!(
             (row[4], row[31], row[33], row[28]),

@@ -362,6 +362,7 @@ impl Input {
             robot: robot.geometry,
             supervisor: robot.supervisor,
             run,
+            bodies: robot.bodies,
             ..paper
         })
     }

@@ -119,11 +119,11 @@ pub use output::{Flushed, Format, OutputError, OutputFile};
 #[cfg(feature = "plot")]
 pub use plot::PlotSink;
 pub use procedure::ProcedureError;
-pub use record::{InstrumentRecord, Module1Record, Record};
+pub use record::{ClearanceRecord, InstrumentRecord, Module1Record, Record};
 pub use robot::Robot;
 pub use robot_file::{
-    CameraFile, EndoscopeFile, GuideFile, InstrumentFile, LegFile, Module1File, RobotFile,
-    RobotFileError,
+    BodiesFile, CameraFile, EndoscopeFile, GuideFile, InstrumentFile, LegFile, Module1File,
+    RobotFile, RobotFileError,
 };
 pub use scenario::{
     Command, CommandKind, LibraryUnits, Motions, Online, Retarget, RetargetUnits, Run, Scenario,

@@ -327,6 +327,7 @@ fn build(
         let robot = robot_file::load_robot(base.join(robot))?;
         scenario.robot = robot.geometry;
         scenario.supervisor = robot.supervisor;
+        scenario.bodies = robot.bodies;
     }
     if let Some(pose) = file.pose {
         scenario.start_mm_deg = errors.finite(None, "pose", pose)?;

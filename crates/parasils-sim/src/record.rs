@@ -45,6 +45,28 @@ pub struct InstrumentRecord {
     pub tip_err: f64,
 }
 
+/// The surface gaps between the bodies at one sample (mm, negative when two
+/// overlap): each instrument shaft and the endoscope as a capsule
+/// ([`parasils::kin::Bodies`], sizes from the robot file's `[bodies]`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ClearanceRecord {
+    /// Left shaft to right shaft, mm.
+    pub left_right: f64,
+    /// Left shaft to endoscope, mm.
+    pub left_endoscope: f64,
+    /// Right shaft to endoscope, mm.
+    pub right_endoscope: f64,
+}
+
+impl ClearanceRecord {
+    /// The smallest of the three gaps, mm.
+    pub fn min(&self) -> f64 {
+        self.left_right
+            .min(self.left_endoscope)
+            .min(self.right_endoscope)
+    }
+}
+
 /// Everything computed at one instant of a simulation.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Record {
@@ -91,6 +113,8 @@ pub struct Record {
     pub endoscope_depth: f64,
     /// The endoscope's tip, mm, fixed frame (written in procedures only).
     pub endoscope_tip: Vector3<f64>,
+    /// The surface gaps between the shafts and the endoscope, mm.
+    pub clearance: ClearanceRecord,
 }
 
 impl Record {

@@ -1,6 +1,7 @@
 //! The robot a run uses, as one robot file gives it: the geometry (module 1
 //! and both instrument modules, with their limits) and the margin
-//! supervisor's thresholds (`[supervisor]`).
+//! supervisor's thresholds (`[supervisor]`), and the bodies' sizes for the
+//! clearance checks (`[bodies]`, assumed by default).
 //!
 //! A robot file is read once, into one [`Robot`]
 //! ([`robot_file::load_robot`](crate::robot_file::load_robot)), and that
@@ -9,7 +10,7 @@
 //! key. Nothing reads the file a second time for one of its tables.
 //!
 //! ```
-//! use parasils::kin::RobotGeometry;
+//! use parasils::kin::{BodyGeometry, RobotGeometry};
 //! use parasils_sim::Robot;
 //!
 //! let robot = Robot::paper();
@@ -17,18 +18,22 @@
 //! assert!(robot.supervisor.is_empty());
 //! ```
 
-use parasils::kin::RobotGeometry;
+use parasils::kin::{BodyGeometry, RobotGeometry};
 
 use crate::supervisor::SupervisorTable;
 
-/// A whole robot file's content: the geometry and the supervisor's
-/// thresholds the file sets (none given keeps the defaults).
+/// A whole robot file's content: the geometry, the supervisor's
+/// thresholds the file sets (none given keeps the defaults) and the bodies'
+/// sizes.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Robot {
     /// Module 1 and both instrument modules, in library units (mm, rad).
     pub geometry: RobotGeometry<f64>,
     /// The `[supervisor]` table: the thresholds the file gives.
     pub supervisor: SupervisorTable,
+    /// The `[bodies]` table: the shafts' and the endoscope's sizes (mm;
+    /// default [`BodyGeometry::assumed`]).
+    pub bodies: BodyGeometry<f64>,
 }
 
 impl Robot {
@@ -47,11 +52,12 @@ impl Default for Robot {
 }
 
 impl From<RobotGeometry<f64>> for Robot {
-    /// A geometry with the supervisor's default thresholds.
+    /// A geometry with the supervisor's default thresholds and the assumed bodies.
     fn from(geometry: RobotGeometry<f64>) -> Self {
         Self {
             geometry,
             supervisor: SupervisorTable::default(),
+            bodies: BodyGeometry::assumed(),
         }
     }
 }

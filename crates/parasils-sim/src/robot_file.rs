@@ -41,6 +41,7 @@ mod write;
 pub use error::RobotFileError;
 pub use read::{load, load_robot, parse, parse_robot, save};
 pub use schema::{
-    CameraFile, EndoscopeFile, GuideFile, InstrumentFile, LegFile, Module1File, RobotFile,
+    BodiesFile, CameraFile, EndoscopeFile, GuideFile, InstrumentFile, LegFile, Module1File,
+    RobotFile,
 };
 pub use write::{robot_to_toml_string, to_toml_string};

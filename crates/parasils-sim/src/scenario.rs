@@ -12,7 +12,7 @@
 
 use nalgebra::Vector3;
 use parasils::kin::presets;
-use parasils::kin::{Pose, RobotGeometry, TipTargets, mirror_across_platform};
+use parasils::kin::{BodyGeometry, Pose, RobotGeometry, TipTargets, mirror_across_platform};
 use parasils::paper;
 use parasils::traj::{Limits, Synchronization};
 use serde::Serialize;
@@ -69,6 +69,9 @@ pub struct Scenario {
     /// `[supervisor]` table; none by default): they replace the defaults in
     /// the supervisor's warnings and, online, its stops.
     pub supervisor: SupervisorTable,
+    /// The shafts' and the endoscope's sizes for the clearance columns (the
+    /// robot file's `[bodies]`; assumed by default).
+    pub bodies: BodyGeometry<f64>,
     /// What kind of run, with what only that kind has.
     pub run: Run,
 }
@@ -322,6 +325,7 @@ impl Scenario {
             endoscope_depth_mm: 0.0,
             supervisor: SupervisorTable::default(),
             run: Run::turn(Turn::paper()),
+            bodies: BodyGeometry::assumed(),
         }
     }
 

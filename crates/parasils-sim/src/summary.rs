@@ -313,8 +313,8 @@ impl fmt::Display for Usage<'_> {
 /// A procedure's motions as a table (type, name, start, duration on the
 /// time line, the law's planned and stretched durations, peak
 /// rates, smallest margins, largest tip error, what is inside the patient
-/// when it starts), then every supervisor
-/// warning with its motion and times.
+/// when it starts), the smallest sampled clearance of each pair of bodies
+/// per motion, then every supervisor warning with its motion and times.
 struct MotionTable<'a>(&'a ProcedureCheck);
 
 impl fmt::Display for MotionTable<'_> {
@@ -354,6 +354,21 @@ impl fmt::Display for MotionTable<'_> {
                 Fixed(s[Margin::Stroke], 3),
                 m.tip_err_mm,
                 m.inside
+            )?;
+        }
+        writeln!(
+            f,
+            "clearance per motion, smallest sampled gap, mm: left_right left_endoscope right_endoscope"
+        )?;
+        for m in &self.0.motions {
+            let c = &m.clearance_mm;
+            writeln!(
+                f,
+                "{:>6} {:>10} {:>14} {:>15}",
+                m.name.index,
+                Fixed(c.left_right, 3),
+                Fixed(c.left_endoscope, 3),
+                Fixed(c.right_endoscope, 3)
             )?;
         }
         if self.0.warnings.is_empty() {

@@ -18,7 +18,19 @@
 //! parallel_margin_stop = 0.03
 //! stroke_warn_mm = 10         # module 1's actuators to their stroke ends
 //! stroke_stop_mm = 2
+//! clearance_warn_mm = 2.0     # the gaps between the shafts and the endoscope
+//! clearance_stop_mm = 0.5
 //! ```
+//!
+//! The two clearance keys are not margins of the online controller's
+//! supervisor: they check the surface gaps between the bodies (the robot
+//! file's `[bodies]`) at every sample of a planned run or a procedure, and
+//! **only when the file gives one of them** (the other then takes its
+//! assumed default, 2.0 mm to warn, 0.5 mm to stop). They are off by
+//! default because, with the assumed bodies, the paper's own run has its
+//! shafts overlapping (see `docs/model.md`, *Clearance*). A gap below the
+//! stop threshold fails the run before any output, naming the motion, the
+//! time, the pair and the depth below the ports.
 //!
 //! Those are the defaults (`parasils::supervisor`'s table), raised where a
 //! robot file's hard thresholds are higher (see
@@ -80,7 +92,17 @@ pub struct SupervisorTable {
     /// Module 1's strokes, stop, mm.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stroke_stop_mm: Option<f64>,
+    /// The surface gaps between the bodies, warning, mm (see
+    /// [`SupervisorTable::clearance`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub clearance_warn_mm: Option<f64>,
+    /// The surface gaps between the bodies, stop, mm.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub clearance_stop_mm: Option<f64>,
 }
+
+/// The clearance thresholds' assumed defaults, mm: warning, stop.
+const CLEARANCE_DEFAULTS_MM: [f64; 2] = [2.0, 0.5];
 
 impl SupervisorTable {
     /// Each key: its name in the file, the margins it sets (both modules'
@@ -165,9 +187,28 @@ impl SupervisorTable {
     /// The thresholds given, each with its key as the file names it, in the
     /// file's units (mm, deg, or none), in the order of the table above.
     pub fn given(&self) -> impl Iterator<Item = (&'static str, f64)> {
+        let clearance = [
+            ("clearance_warn_mm", self.clearance_warn_mm),
+            ("clearance_stop_mm", self.clearance_stop_mm),
+        ];
         self.entries()
             .into_iter()
             .filter_map(|e| e.file_value.map(|v| (e.key, v)))
+            .chain(clearance.into_iter().filter_map(|(k, v)| v.map(|v| (k, v))))
+    }
+
+    /// The clearance thresholds `[warn, stop]`, mm, when the table gives
+    /// either (the other at its assumed default: 2.0 mm to warn, 0.5 mm to stop);
+    /// `None` (clearance not supervised) when it gives neither.
+    pub fn clearance(&self) -> Option<[f64; 2]> {
+        if self.clearance_warn_mm.is_none() && self.clearance_stop_mm.is_none() {
+            return None;
+        }
+        let [warn, stop] = CLEARANCE_DEFAULTS_MM;
+        Some([
+            self.clearance_warn_mm.unwrap_or(warn),
+            self.clearance_stop_mm.unwrap_or(stop),
+        ])
     }
 
     /// `base` with the thresholds this table gives.
@@ -277,6 +318,8 @@ mod tests {
             "parallel_margin_stop",
             "stroke_warn_mm",
             "stroke_stop_mm",
+            "clearance_warn_mm",
+            "clearance_stop_mm",
         ];
         for (k, name) in names.iter().enumerate() {
             text.push_str(&format!("{name} = {}.5\n", k + 1));
@@ -289,6 +332,15 @@ mod tests {
             .map(|(k, n)| (*n, k as f64 + 1.5))
             .collect();
         assert_eq!(given, expected);
+    }
+
+    #[test]
+    fn clearance_is_supervised_only_when_a_key_is_given() {
+        assert_eq!(table("").clearance(), None);
+        assert_eq!(table("cos_qs2_warn = 0.2").clearance(), None);
+        assert_eq!(table("clearance_stop_mm = 1").clearance(), Some([2.0, 1.0]));
+        assert_eq!(table("clearance_warn_mm = 3").clearance(), Some([3.0, 0.5]));
+        assert!(!table("clearance_warn_mm = 3").is_empty());
     }
 
     #[test]

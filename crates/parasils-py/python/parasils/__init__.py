@@ -22,6 +22,8 @@ CLI's units, which its argument names and column names carry).
   threads or mapped over a Dask cluster (``client=``); :class:`ToleranceStudy`
   runs any range or list of its samples and pickles to workers.
 - :data:`COLUMNS`: the names of those columns, each with its unit.
+- :func:`segment_distance_mm`: the closest points of two segments and their
+  distance (the clearance kernel), on batches of segment pairs.
 - :func:`batch_threads`: the number of threads a large batch runs on
   (``PARASILS_NUM_THREADS``, else the CPUs available).
 - Errors: :class:`KinematicsError` (a ``ValueError``) and one subclass per
@@ -60,6 +62,7 @@ from ._parasils import (
     TrajectoryError,
     __version__,
     batch_threads,
+    segment_distance_mm,
 )
 
 #: The paper's scenario in the units of ``simulate``'s arguments, from the
@@ -419,6 +422,7 @@ __all__ = [
     "__version__",
     "batch_threads",
     "calibrate",
+    "segment_distance_mm",
     "simulate",
     "tolerance",
 ]

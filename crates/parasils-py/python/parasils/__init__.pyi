@@ -357,6 +357,20 @@ def tolerance(
     its workers, one thread each unless their PARASILS_NUM_THREADS says
     otherwise; the same rows, bit for bit."""
 
+def segment_distance_mm(
+    a0: _Array,
+    a1: _Array,
+    b0: _Array,
+    b1: _Array,
+    *,
+    errors: Literal["raise", "nan"] = "raise",
+) -> Any:
+    """The closest points of the segments a0-a1 and b0-b1 (mm, each end of
+    shape (3,) or (N, 3)) and their distance: (distance, point_a, point_b),
+    distance a float or shape (N,), the points (3,) or (N, 3); with
+    errors="nan" a mask last. Exact for parallel, near-parallel and
+    zero-length segments, never NaN (NonFiniteError for non-finite input)."""
+
 def batch_threads() -> int:
     """The number of threads a batch of 4096 rows or more runs on:
     PARASILS_NUM_THREADS (a positive integer) when set, else the CPUs this
@@ -461,5 +475,6 @@ __all__ = [
     "TrajectoryError",
     "__version__",
     "batch_threads",
+    "segment_distance_mm",
     "simulate",
 ]

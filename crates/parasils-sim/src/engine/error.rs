@@ -1,6 +1,6 @@
 //! What can stop a simulation or a run, each error naming its subject.
 
-use parasils::kin::LimitError;
+use parasils::kin::{ClearancePair, LimitError};
 
 use crate::timing::TimingError;
 
@@ -91,6 +91,29 @@ pub enum SimulationError {
     /// above the solvers' hard one, a warning below its stop threshold).
     #[error("supervisor thresholds: {0}")]
     Supervisor(parasils::Error),
+    /// Two bodies closer than the robot file's clearance stop threshold
+    /// (`[supervisor]`'s `clearance_stop_mm`) at a sample of a planned run
+    /// or a procedure: found while the run is planned, before any output.
+    #[error(
+        "{}clearance {pair} = {} mm is below the stop threshold {} mm, {} mm below the ports",
+        AtTime(*t), Fixed(*gap_mm, 3), Shortest(*stop_mm), Fixed(*depth_mm, 1)
+    )]
+    Clearance {
+        /// The sample's time, s.
+        t: f64,
+        /// The sample's index.
+        sample: Option<usize>,
+        /// Which two bodies.
+        pair: ClearancePair,
+        /// Their surface gap, mm (negative when they overlap).
+        gap_mm: f64,
+        /// The stop threshold, mm.
+        stop_mm: f64,
+        /// How deep the closest points are below the platform's port plane
+        /// (`z' = 0`), mm: positive inside the patient, negative above the
+        /// ports.
+        depth_mm: f64,
+    },
     /// The online controller refused a call for another reason than the
     /// kinematics or the trajectory (for instance, a supervisor threshold).
     #[error("{}{error}", AtTime(*t))]
@@ -112,6 +135,18 @@ impl SimulationError {
             SimulationError::Kinematics { error, .. } => error.to_string(),
             SimulationError::Controller { error, .. } => error.to_string(),
             SimulationError::ActuatorLimit { error, .. } => error.to_string(),
+            SimulationError::Clearance {
+                pair,
+                gap_mm,
+                stop_mm,
+                depth_mm,
+                ..
+            } => format!(
+                "clearance {pair} = {} mm is below the stop threshold {} mm, {} mm below the ports",
+                Fixed(*gap_mm, 3),
+                Shortest(*stop_mm),
+                Fixed(*depth_mm, 1)
+            ),
             e => e.to_string(),
         }
     }
@@ -121,7 +156,8 @@ impl SimulationError {
         match self {
             SimulationError::Kinematics { t, .. }
             | SimulationError::Controller { t, .. }
-            | SimulationError::ActuatorLimit { t, .. } => Some(*t),
+            | SimulationError::ActuatorLimit { t, .. }
+            | SimulationError::Clearance { t, .. } => Some(*t),
             SimulationError::Motion { error, .. } => error.time_s(),
             _ => None,
         }

@@ -4,12 +4,12 @@
 
 use super::procedure::ProcedurePlan;
 use parasils::kin::MarginTracker;
-use parasils::kin::{ControlStep, Controller};
+use parasils::kin::{Bodies, ClearancePair, ControlStep, Controller};
 use parasils::supervisor::Margins;
 use parasils::traj::{Sampler, Synchronization};
 use parasils::{MotionKind, OnlineController};
 
-use crate::record::Record;
+use crate::record::{ClearanceRecord, Record};
 use crate::scenario::CommandKind;
 
 use super::error::SimulationError;
@@ -32,6 +32,71 @@ pub struct Records<'a> {
 pub(super) enum Inner {
     Planned(ProcedureRun),
     Online(OnlineRun),
+}
+
+/// The three surface gaps of `step` (the shafts at its joints, the endoscope
+/// at `depth` mm), from the scenario's bodies, and the depth below the
+/// ports (mm, `-z'` of the platform frame) of the smallest gap's closest
+/// points.
+pub(super) fn clearance_of(
+    sim: &Simulation,
+    controller: &Controller<f64>,
+    step: &ControlStep<f64>,
+    depth: f64,
+) -> Result<(ClearanceRecord, ClearancePair, f64), parasils::kin::Error> {
+    let gaps = Bodies::at(
+        &sim.scenario.bodies,
+        &step.frame,
+        &controller.left,
+        &step.left.q,
+        &controller.right,
+        &step.right.q,
+        depth,
+    )?
+    .clearance()?;
+    let (pair, _) = gaps.min();
+    let axes = &gaps.get(pair).axes;
+    let middle = (axes.point_a + axes.point_b) * 0.5;
+    let below = -step.frame.to_platform(&middle).z;
+    Ok((
+        ClearanceRecord {
+            left_right: gaps.left_right.gap,
+            left_endoscope: gaps.left_endoscope.gap,
+            right_endoscope: gaps.right_endoscope.gap,
+        },
+        pair,
+        below,
+    ))
+}
+
+/// `record` with its clearance ([`clearance_of`]); a failure is the
+/// sample's kinematics error, and a gap below the robot file's clearance
+/// stop threshold (when it gives one) is [`SimulationError::Clearance`].
+pub(super) fn with_clearance(
+    sim: &Simulation,
+    controller: &Controller<f64>,
+    step: &ControlStep<f64>,
+    depth: f64,
+    mut record: Record,
+) -> Result<Record, SimulationError> {
+    let (t, sample) = (record.t, Some(record.index));
+    let (clearance, pair, depth_mm) = clearance_of(sim, controller, step, depth)
+        .map_err(|error| SimulationError::Kinematics { t, sample, error })?;
+    record.clearance = clearance;
+    if let Some([_, stop_mm]) = sim.scenario.supervisor.clearance() {
+        let gap_mm = clearance.min();
+        if !(gap_mm >= stop_mm) {
+            return Err(SimulationError::Clearance {
+                t,
+                sample,
+                pair,
+                gap_mm,
+                stop_mm,
+                depth_mm,
+            });
+        }
+    }
+    Ok(record)
 }
 
 /// `step` against the actuators' limits of `controller`.
@@ -129,6 +194,14 @@ impl ProcedureRun {
                 endoscope_tip,
             };
             let record = sim.record(k, t, &sample.platform, &out, &targets, context);
+            let record = with_clearance(
+                sim,
+                &self.controller,
+                &out,
+                sample.endoscope.position,
+                record,
+            )
+            .map_err(in_motion)?;
             Ok((record, margins))
         })();
         if result.is_err() {
@@ -199,6 +272,22 @@ impl OnlineRun {
             &sim.tips,
             Context::command(cycle.command, self.kind, cycle.warnings),
         );
+        // Recorded, not enforced: the online controller's supervisor does
+        // not hold the platform on clearance yet, and a run of commands is
+        // not planned ahead, so a stop threshold here would fail mid-run.
+        let mut record = record;
+        record.clearance = clearance_of(
+            sim,
+            self.controller.controller(),
+            &cycle.step,
+            sim.scenario.endoscope_depth_mm,
+        )
+        .map_err(|error| SimulationError::Kinematics {
+            t,
+            sample: Some(k),
+            error,
+        })?
+        .0;
         let finished = self.pending >= sim.schedule.len() && self.controller.is_at_rest(t);
         match k.checked_add(1) {
             Some(next) if !finished => self.next = next,

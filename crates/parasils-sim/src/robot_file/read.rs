@@ -19,7 +19,7 @@ pub fn parse(text: &str) -> Result<RobotGeometry<f64>, RobotFileError> {
 }
 
 /// The whole robot in a robot file's text, validated: its geometry and its
-/// `[supervisor]` thresholds, read in one pass. Errors name `"robot file"`
+/// `[supervisor]` thresholds and its `[bodies]`, read in one pass. Errors name `"robot file"`
 /// as their origin; see [`load_robot`] for a path.
 pub fn parse_robot(text: &str) -> Result<Robot, RobotFileError> {
     parse_from(text, "robot file")
@@ -47,9 +47,40 @@ fn parse_from(text: &str, origin: &str) -> Result<Robot, RobotFileError> {
             });
         }
     }
+    let supervisor = file.supervisor.unwrap_or_default();
+    if let Some([warn, stop]) = supervisor.clearance()
+        && !(warn >= stop && stop.is_finite() && warn.is_finite())
+    {
+        let (key, value) = if stop.is_finite() {
+            ("clearance_warn_mm", warn)
+        } else {
+            ("clearance_stop_mm", stop)
+        };
+        return Err(RobotFileError::Invalid {
+            origin: origin.into(),
+            line: None,
+            key: Some(key.into()),
+            text: None,
+            error: parasils::kin::Error::InvalidParameter {
+                what: "supervisor.clearance (warning below the stop threshold, or not finite)",
+                value,
+            },
+        });
+    }
+    let bodies = file.bodies.unwrap_or_default().to_bodies();
+    if let Err(error) = bodies.validate() {
+        return Err(RobotFileError::Invalid {
+            origin: origin.into(),
+            line: None,
+            key: None,
+            text: None,
+            error,
+        });
+    }
     Ok(Robot {
         geometry,
-        supervisor: file.supervisor.unwrap_or_default(),
+        supervisor,
+        bodies,
     })
 }
 

@@ -5,7 +5,7 @@
 use nalgebra::Vector3;
 use parasils::kin::limits;
 use parasils::kin::{
-    ActuatorLimits, Branch, Calibration, Camera, EndoscopeGeometry, FkOptions, Guide,
+    ActuatorLimits, BodyGeometry, Branch, Calibration, Camera, EndoscopeGeometry, FkOptions, Guide,
     InstrumentGeometry, Interval, JointLimits, ParallelGeometry, ParallelThresholds, RobotGeometry,
     Side, Thresholds,
 };
@@ -36,6 +36,60 @@ pub struct RobotFile {
     /// [`SupervisorTable`]; not part of the geometry).
     #[serde(default, skip_serializing)]
     pub supervisor: Option<SupervisorTable>,
+    /// `[bodies]`: the shafts' and the endoscope's sizes (see
+    /// [`BodiesFile`]; not part of the geometry; each key missing keeps its
+    /// assumed default).
+    #[serde(default, skip_serializing)]
+    pub bodies: Option<BodiesFile>,
+}
+
+/// The bodies in the file: `[bodies]`, the instrument shafts and the
+/// endoscope as capsules for the clearance checks. Every key is optional;
+/// the defaults are **assumed** (the real robot's are not published).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct BodiesFile {
+    /// Each instrument shaft's diameter, mm (assumed 5).
+    #[serde(deserialize_with = "non_negative")]
+    pub instrument_diameter_mm: f64,
+    /// Each instrument shaft's length from its tip, mm (assumed 400).
+    #[serde(deserialize_with = "non_negative")]
+    pub instrument_length_mm: f64,
+    /// The endoscope's diameter, mm (assumed 10).
+    #[serde(deserialize_with = "non_negative")]
+    pub endoscope_diameter_mm: f64,
+    /// The endoscope's length from its tip, mm (assumed 400).
+    #[serde(deserialize_with = "non_negative")]
+    pub endoscope_length_mm: f64,
+}
+
+impl Default for BodiesFile {
+    /// The assumed sizes ([`BodyGeometry::assumed`]).
+    fn default() -> Self {
+        Self::from_bodies(&BodyGeometry::assumed())
+    }
+}
+
+impl BodiesFile {
+    /// The file's table of `bodies`.
+    pub fn from_bodies(bodies: &BodyGeometry<f64>) -> Self {
+        Self {
+            instrument_diameter_mm: bodies.instrument_diameter,
+            instrument_length_mm: bodies.instrument_length,
+            endoscope_diameter_mm: bodies.endoscope_diameter,
+            endoscope_length_mm: bodies.endoscope_length,
+        }
+    }
+
+    /// The sizes the table gives.
+    pub fn to_bodies(&self) -> BodyGeometry<f64> {
+        BodyGeometry {
+            instrument_diameter: self.instrument_diameter_mm,
+            instrument_length: self.instrument_length_mm,
+            endoscope_diameter: self.endoscope_diameter_mm,
+            endoscope_length: self.endoscope_length_mm,
+        }
+    }
 }
 
 /// The endoscope in the file: `[endoscope]`.
@@ -277,6 +331,17 @@ fn positive<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
     }
 }
 
+fn non_negative<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    let v = f64::deserialize(d)?;
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(serde::de::Error::custom(format!(
+            "expected a finite number >= 0, got {v}"
+        )))
+    }
+}
+
 fn at_least_one<'de, D: Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
     let v = u32::deserialize(d)?;
     if v >= 1 {
@@ -414,6 +479,7 @@ impl RobotFile {
             },
             camera: CameraFile::from_camera(&g.endoscope.camera),
             supervisor: None,
+            bodies: None,
         }
     }
 

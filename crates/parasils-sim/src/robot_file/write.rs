@@ -1,10 +1,10 @@
 //! A geometry written as a robot file: the header, the file's keys with a
 //! comment each, numbers that read back exactly.
 
-use parasils::kin::RobotGeometry;
+use parasils::kin::{BodyGeometry, RobotGeometry};
 
 use super::error::RobotFileError;
-use super::schema::RobotFile;
+use super::schema::{BodiesFile, RobotFile};
 use crate::robot::Robot;
 
 /// The header of every file this module writes.
@@ -97,13 +97,18 @@ pub fn to_toml_string(geometry: &RobotGeometry<f64>) -> Result<String, RobotFile
 }
 
 /// The TOML text of a whole robot: [`to_toml_string`] of its geometry, then
-/// its `[supervisor]` table with the thresholds it gives (none: no table), so
+/// its `[supervisor]` table with the thresholds it gives (none: no table)
+/// and its `[bodies]` when they are not the assumed ones, so
 /// that [`parse_robot`](crate::robot_file::parse_robot) reads back the same [`Robot`].
 pub fn robot_to_toml_string(robot: &Robot) -> Result<String, RobotFileError> {
     let mut out = to_toml_string(&robot.geometry)?;
     if !robot.supervisor.is_empty() {
         out.push_str("\n[supervisor]\n");
         out.push_str(&toml::to_string(&robot.supervisor)?);
+    }
+    if robot.bodies != BodyGeometry::assumed() {
+        out.push_str("\n[bodies]\n");
+        out.push_str(&toml::to_string(&BodiesFile::from_bodies(&robot.bodies))?);
     }
     Ok(out)
 }

@@ -11,7 +11,7 @@ use parasils::supervisor::{Margin, Margins};
 
 use super::plan::ProcedurePlan;
 use crate::motion::{Inside, MotionName};
-use crate::record::Record;
+use crate::record::{ClearanceRecord, Record};
 
 /// What the check of a procedure found in one motion: its duration, its
 /// peak rates and its smallest margins.
@@ -42,6 +42,9 @@ pub struct MotionCheck {
     pub tip_err_mm: f64,
     /// What is inside the patient when it starts.
     pub inside: Inside,
+    /// The smallest surface gap of each pair of bodies over the motion's
+    /// samples, mm (sampled, not certified between samples).
+    pub clearance_mm: ClearanceRecord,
 }
 
 /// A margin below its warning threshold during a motion: from when, until
@@ -98,6 +101,11 @@ impl ProcedureCheck {
                     smallest: Margins::splat(f64::INFINITY),
                     tip_err_mm: 0.0,
                     inside: m.inside,
+                    clearance_mm: ClearanceRecord {
+                        left_right: f64::INFINITY,
+                        left_endoscope: f64::INFINITY,
+                        right_endoscope: f64::INFINITY,
+                    },
                 })
                 .collect(),
             warnings: Vec::new(),
@@ -129,6 +137,10 @@ impl ProcedureCheck {
         for margin in Margin::ALL {
             m.smallest[margin] = m.smallest[margin].min(margins[margin]);
         }
+        let (c, r) = (&mut m.clearance_mm, &record.clearance);
+        c.left_right = c.left_right.min(r.left_right);
+        c.left_endoscope = c.left_endoscope.min(r.left_endoscope);
+        c.right_endoscope = c.right_endoscope.min(r.right_endoscope);
         for (slot, margin) in self.open.iter_mut().zip(Margin::ALL) {
             if !record.warnings.contains(margin) {
                 *slot = None;
