@@ -61,6 +61,9 @@
 //!   geometry;
 //! - [`limits`]: the actuators' velocity and acceleration limits (assumed
 //!   defaults) and the check of a cycle against them;
+//! - [`statics`]: the forces every actuator exerts to hold the tips' forces
+//!   and the payload's weight (`tau = J^-T W` for module 1, `J^T R^T F` for
+//!   an instrument module), checked by the balance of power;
 //! - [`presets`]: the paper's numbers and module 1's assumed geometry, from
 //!   which every named constructor (`paper`, `assumed`, `paper_start`) is built;
 //! - [`error`]: what can go wrong, typed;
@@ -76,7 +79,7 @@
 //! no circle: `real`, `presets`, `side`, then `interval` and
 //! `linalg`, then `error`, `frame`, `check`, then `instrument` and
 //! `parallel` (each split by concept, the `mod.rs` only re-exporting), then
-//! `endoscope` and `limits`, then `controller` (the order of
+//! `endoscope` and `limits`, then `controller`, then `statics` (the order of
 //! `ARCHITECTURE.md`'s table, which the workspace's tests check). The model
 //! is described in `docs/model.md`.
 //!
@@ -103,6 +106,7 @@ pub mod parallel;
 pub mod presets;
 pub mod real;
 mod side;
+pub mod statics;
 
 pub use controller::{
     ControlStep, Controller, ModuleCommand, RobotGeometry, TipTargets, mirror_across_platform,
@@ -127,3 +131,4 @@ pub use parallel::{
 };
 pub use real::Real;
 pub use side::Side;
+pub use statics::{JointForces, Loads, Payload, RobotForces, SliderForces, Wrench};

@@ -1,0 +1,463 @@
+//! Statics (`parasils_kin::statics`) against truths from outside it: the
+//! balance of power with the controller's own rates along the paper's turn,
+//! the virtual work against central differences of the inverse and forward
+//! kinematics, and loads whose forces follow by hand (symmetry, a force
+//! along the tool).
+
+use nalgebra::{Matrix6, Vector3, Vector6};
+use parasils_kin::{
+    Controller, Error, Instrument, Joints, Loads, MarginTracker, ParallelRobot, Payload,
+    PlatformState, Pose, PoseRate, Real, Side, TipTargets, Wrench,
+};
+
+mod common;
+use common::module1::{symmetric_pose, unlimited};
+use common::motion::reorientation;
+
+/// A small deterministic generator (SplitMix64) of numbers in `[-1, 1)`.
+struct Numbers(u64);
+
+impl Numbers {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+
+    fn vector(&mut self, scale: f64) -> Vector3<f64> {
+        Vector3::new(self.next(), self.next(), self.next()) * scale
+    }
+
+    /// A wrench of tens of N and thousands of N mm.
+    fn wrench(&mut self) -> Wrench<f64> {
+        Wrench::new(self.vector(20.0), self.vector(3000.0))
+    }
+}
+
+/// The paper's turn, sampled every 50 ms over its 4.5 s, with the
+/// controller's step at each instant.
+fn paper_turn() -> impl Iterator<Item = (PlatformState<f64>, parasils_kin::ControlStep<f64>)> {
+    let controller = Controller::<f64>::paper();
+    let tips = TipTargets::paper();
+    let mut tracker = MarginTracker::new();
+    (0..=90).map(move |k| {
+        let state = reorientation::<f64>(0.05 * k as f64);
+        let step = controller
+            .step(&state, &tips, &mut tracker)
+            .expect("the paper's turn is regular");
+        (state, step)
+    })
+}
+
+#[test]
+fn module1_power_balance_along_the_paper_turn() {
+    let robot = ParallelRobot::<f64>::assumed();
+    let mut rng = Numbers(1);
+    let mut checked = 0;
+    for (_, step) in paper_turn() {
+        for _ in 0..10 {
+            let w = rng.wrench();
+            let f = robot
+                .slider_forces(&step.frame, &step.module1, &w)
+                .expect("regular");
+            let actuators: f64 = (0..6).map(|j| f.force[j] * step.module1.q_dot[j]).sum();
+            let scale: f64 = (0..6)
+                .map(|j| (f.force[j] * step.module1.q_dot[j]).abs())
+                .sum();
+            let platform = w.power_on(&step.frame);
+            if scale == 0.0 {
+                // At rest (t = 0, 4.5 s): no power on either side.
+                assert_eq!(platform, 0.0);
+                continue;
+            }
+            let rel = (actuators - platform).abs() / scale;
+            assert!(rel < 1e-12, "power {actuators} vs {platform}: {rel:e}");
+            checked += 1;
+        }
+    }
+    assert!(checked > 800);
+}
+
+/// The balance with a moving `P` too (motion type 1's `Pdot`), away from the
+/// paper's turn.
+#[test]
+fn module1_power_balance_with_translation() {
+    let robot = unlimited();
+    let mut rng = Numbers(2);
+    for _ in 0..200 {
+        let p0 = Pose::<f64>::paper_start().to_array();
+        let pose: [f64; 6] = core::array::from_fn(|i| {
+            p0[i] + rng.next() * if i < 3 { 30.0 } else { 15f64.to_radians() }
+        });
+        let v: [f64; 6] = core::array::from_fn(|i| rng.next() * if i < 3 { 50.0 } else { 0.3 });
+        let state = PlatformState {
+            pose: Pose::from_array(pose),
+            velocity: PoseRate::new(v[0], v[1], v[2], v[3], v[4], v[5]),
+            acceleration: PoseRate::zero(),
+        };
+        let frame = state.frame().expect("finite");
+        let solution = robot.solve(&frame).expect("regular");
+        let w = rng.wrench();
+        let f = robot.slider_forces(&frame, &solution, &w).expect("regular");
+        let terms: [f64; 6] = core::array::from_fn(|j| f.force[j] * solution.q_dot[j]);
+        let scale: f64 = terms.iter().map(|t| t.abs()).sum();
+        let rel = (terms.iter().sum::<f64>() - w.power_on(&frame)).abs() / scale;
+        assert!(rel < 1e-12, "{rel:e}");
+    }
+}
+
+/// Each instrument module holds its tip still while the platform turns: the
+/// joints' power cancels the platform's at the tip,
+/// `tau_s . qs_dot = -F . (Pdot + omega_F x (p - P))`, with the module's own
+/// rates.
+#[test]
+fn instrument_power_balance_along_the_paper_turn() {
+    let controller = Controller::<f64>::paper();
+    let tips = TipTargets::paper();
+    let mut rng = Numbers(3);
+    for (_, step) in paper_turn() {
+        let omega_f = step.frame.rotation * step.frame.omega;
+        for (module, solution, tip) in [
+            (&controller.left, &step.left, tips.left),
+            (&controller.right, &step.right, tips.right),
+        ] {
+            for _ in 0..10 {
+                let force = rng.vector(15.0);
+                let tau = module
+                    .joint_forces(&step.frame.rotation, &solution.q, &force)
+                    .expect("finite");
+                let platform_at_tip =
+                    step.frame.velocity + omega_f.cross(&(tip - step.frame.position));
+                let joints = tau.power(&solution.q_dot);
+                let expected = -force.dot(&platform_at_tip);
+                let scale = (tau.qs1 * solution.q_dot.qs1).abs()
+                    + (tau.qs2 * solution.q_dot.qs2).abs()
+                    + (tau.qs3 * solution.q_dot.qs3).abs();
+                if scale == 0.0 {
+                    assert_eq!(expected, 0.0);
+                    continue;
+                }
+                assert!(
+                    (joints - expected).abs() / scale < 1e-12,
+                    "{joints} vs {expected}"
+                );
+            }
+        }
+    }
+}
+
+/// The whole chain: the twelve actuators' power is the power the loads
+/// receive: the held tips' none, the endoscope tip's `F . v` and the
+/// weight's `-M g . v_com`, each from the point's own velocity.
+#[test]
+fn chain_power_balance_along_the_paper_turn() {
+    let controller = Controller::<f64>::paper();
+    let mut rng = Numbers(4);
+    for (_, step) in paper_turn() {
+        let payload = Payload::new(2.0 + rng.next(), rng.vector(80.0));
+        let loads = Loads {
+            endoscope: rng.vector(5.0),
+            endoscope_depth: 60.0,
+            payload,
+            ..Loads::tips(rng.vector(15.0), rng.vector(15.0))
+        };
+        let f = controller.forces(&step, &loads).expect("regular");
+        let terms = [
+            (0..6)
+                .map(|j| f.module1.force[j] * step.module1.q_dot[j])
+                .sum::<f64>(),
+            f.left.power(&step.left.q_dot),
+            f.right.power(&step.right.q_dot),
+        ];
+        let scale: f64 = (0..6)
+            .map(|j| (f.module1.force[j] * step.module1.q_dot[j]).abs())
+            .sum::<f64>()
+            + terms[1].abs()
+            + terms[2].abs();
+        let scope_velocity = step.frame.point_velocity(&Vector3::new(0.0, 0.0, -60.0));
+        let com_velocity = step.frame.point_velocity(&payload.com);
+        let weight = payload.gravity * payload.mass / 1000.0;
+        let expected = loads.endoscope.dot(&scope_velocity) - weight.dot(&com_velocity);
+        if scale == 0.0 {
+            assert_eq!(expected, 0.0);
+            continue;
+        }
+        let rel = (terms.iter().sum::<f64>() - expected).abs() / scale;
+        assert!(rel < 1e-12, "{rel:e}");
+    }
+}
+
+/// Virtual work: `sum_j tau_j dq_j/dx_k` by central differences of the IK
+/// equals the wrench's generalised force on each pose coordinate `x_k`
+/// (`X_P, Y_P, Z_P, psi, theta, phi`).
+#[test]
+fn module1_virtual_work_against_finite_differences_of_the_ik() {
+    let robot = unlimited();
+    let mut rng = Numbers(5);
+    let p0 = Pose::<f64>::paper_start().to_array();
+    for case in 0..50 {
+        let pose: [f64; 6] = if case == 0 {
+            p0
+        } else {
+            core::array::from_fn(|i| {
+                p0[i] + rng.next() * if i < 3 { 30.0 } else { 20f64.to_radians() }
+            })
+        };
+        let w = rng.wrench();
+        let f = robot.statics(&Pose::from_array(pose), &w).expect("regular");
+        let q_at = |k: usize, h: f64| {
+            let mut x = pose;
+            x[k] += h;
+            robot.ik(&Pose::from_array(x)).expect("in reach").0
+        };
+        let generalised = w.on_pose_coordinates(&Pose::from_array(pose));
+        let norm = generalised.iter().map(|g| g * g).sum::<f64>().sqrt();
+        for (k, expected) in generalised.iter().enumerate() {
+            let h = if k < 3 { 1e-3 } else { 1e-5 };
+            let (plus, minus) = (q_at(k, h), q_at(k, -h));
+            let fd: f64 = (0..6)
+                .map(|j| f.force[j] * (plus[j] - minus[j]) / (2.0 * h))
+                .sum();
+            let rel = (fd - expected).abs() / norm;
+            assert!(rel < 1e-7, "case {case}, x{k}: {fd} vs {expected}: {rel:e}");
+        }
+    }
+}
+
+/// Virtual work of an instrument module: `tau_k = F . d p / d qs_k` by
+/// central differences of the forward kinematics, the platform turned.
+#[test]
+fn instrument_virtual_work_against_finite_differences_of_the_fk() {
+    let mut rng = Numbers(6);
+    for side in [Side::Left, Side::Right] {
+        let module = Instrument::<f64>::paper(side);
+        for _ in 0..100 {
+            let pose = Pose::from_array(core::array::from_fn(|i| {
+                rng.next() * if i < 3 { 50.0 } else { 0.5 }
+            }));
+            let q = Joints::new(rng.next(), 0.8 * rng.next(), 150.0 + 100.0 * rng.next());
+            let force = rng.vector(15.0);
+            let tau = module
+                .joint_forces(&pose.rotation(), &q, &force)
+                .expect("finite")
+                .to_array();
+            let scale = tau.iter().map(|t| t.abs()).fold(0.0, f64::max);
+            for k in 0..3 {
+                let h = if k < 2 { 1e-6 } else { 1e-4 };
+                let at = |d: f64| {
+                    let mut x = q.to_array();
+                    x[k] += d;
+                    module
+                        .fk(&pose, &Joints::new(x[0], x[1], x[2]))
+                        .expect("finite")
+                };
+                let fd = force.dot(&(at(h) - at(-h))) / (2.0 * h);
+                assert!(
+                    (fd - tau[k]).abs() / scale < 1e-7,
+                    "{side:?} qs{}: {fd} vs {}",
+                    k + 1,
+                    tau[k]
+                );
+            }
+        }
+    }
+}
+
+/// By hand: at the symmetric pose the guides point down (`u = -z`) and the
+/// three legs are alike, so a vertical force `F_z` on `P` loads every link
+/// equally, `lambda e_j` with the same `lambda`, and each slider carries
+/// `tau_j = -F_z / 6`; a 2 kg mass below `P` is the same case with
+/// `F_z = 2 * 9.81` N.
+#[test]
+fn a_vertical_force_at_the_symmetric_pose_is_shared_equally() {
+    let robot = ParallelRobot::<f64>::assumed();
+    let pose = symmetric_pose::<f64>();
+    let f = robot
+        .statics(
+            &pose,
+            &Wrench::new(Vector3::new(0.0, 0.0, -30.0), Vector3::zeros()),
+        )
+        .expect("regular");
+    for j in 0..6 {
+        assert!(
+            (f.force[j] - 5.0).abs() < 1e-12,
+            "q{}: {}",
+            j + 1,
+            f.force[j]
+        );
+        assert!((f.link[j] - f.link[0]).abs() < 1e-12);
+    }
+    // The link is longer than its vertical share: sigma = tau l / |e_z|.
+    let q = robot.ik(&pose).expect("in reach");
+    let g = &robot.geometry().guides[0];
+    let node = pose.rotation() * robot.geometry().nodes[0] + pose.position();
+    let e = node - g.point - g.direction * q[0];
+    assert!((f.link[0] - 5.0 * 350.0 / e.z.abs()).abs() < 1e-9);
+    // A 2 kg mass on the platform's axis: the same case with F_z = 19.62 N up.
+    let frame = PlatformState::at_rest(pose).frame().expect("finite");
+    let hold = Payload::new(2.0, Vector3::new(0.0, 0.0, -100.0)).holding_wrench(&frame);
+    assert!((hold.force - Vector3::new(0.0, 0.0, 19.62)).norm() < 1e-12);
+    assert!(hold.moment.norm() < 1e-12);
+    let f = robot.statics(&pose, &hold).expect("regular");
+    assert!(
+        f.force
+            .0
+            .iter()
+            .all(|tau| (tau + 19.62 / 6.0).abs() < 1e-12)
+    );
+}
+
+/// By hand: a force along the tool moves only the insertion joint: the
+/// whole force on `qs3` and no torque (the first two columns of `J` are
+/// across the tool); a force across the tool at distance `qs3` from the RCM
+/// along the tip's path for `qs2` needs the torque `|F|` times that path's
+/// radius, `qs3 cos(beta)`.
+#[test]
+fn a_force_along_the_tool_loads_only_the_insertion() {
+    let pose = Pose::<f64>::paper_start();
+    for side in [Side::Left, Side::Right] {
+        let module = Instrument::<f64>::paper(side);
+        let q = Joints::new(0.3, -0.4, 140.0);
+        let inwards = pose.rotation() * module.fk_local(&q) / q.qs3;
+        let tau = module
+            .joint_forces(&pose.rotation(), &q, &(inwards * 12.0))
+            .expect("finite");
+        assert!((tau.qs3 - 12.0).abs() < 1e-12);
+        assert!(tau.qs1.abs() < 1e-10 && tau.qs2.abs() < 1e-10);
+        // Across the tool, along the tip's motion for qs2 alone.
+        let across = pose.rotation() * module.jacobian(&q).column(1);
+        let across = across / across.norm();
+        let tau = module
+            .joint_forces(&pose.rotation(), &q, &(across * 3.0))
+            .expect("finite");
+        let radius = module.jacobian(&q).column(1).norm();
+        assert!((tau.qs2 - 3.0 * radius).abs() < 1e-9);
+        assert!(tau.qs3.abs() < 1e-12);
+        // qs2 turns the tool on a cone of half-angle 90 deg - beta about
+        // its axis: the tip, qs3 from the RCM, moves qs3 cos(beta) per rad.
+        assert!((radius - q.qs3 * 10f64.to_radians().cos()).abs() < 1e-9);
+    }
+}
+
+/// The force transmission is at least the parallel margin and reaches it on
+/// the wrench that the weakest direction needs: `W_s = v_min`, the right
+/// singular vector of the smallest singular value of `J_s^T`.
+#[test]
+fn the_transmission_is_bounded_by_the_parallel_margin() {
+    let robot = ParallelRobot::<f64>::assumed();
+    let pose = Pose::<f64>::paper_start();
+    let margin = robot.margins(&pose).expect("in reach").parallel;
+    let mut rng = Numbers(7);
+    for _ in 0..500 {
+        let f = robot.statics(&pose, &rng.wrench()).expect("regular");
+        assert!(f.transmission >= margin * (1.0 - 1e-12));
+    }
+    let js: Matrix6<f64> = robot.jacobian(&pose).expect("in reach");
+    let svd = js.svd(true, true);
+    let (k, s_min) = svd.singular_values.argmin();
+    assert!((s_min - margin).abs() < 1e-12);
+    // J_s = U S V^T: J_s^T u_k = s_k v_k, so the wrench v_k needs u_k / s_k.
+    let v: Vector6<f64> = svd.v_t.expect("computed").row(k).transpose();
+    let l = robot.length_scale();
+    let w = Wrench::new(
+        Vector3::new(v[0], v[1], v[2]),
+        Vector3::new(v[3], v[4], v[5]) * l,
+    );
+    let f = robot.statics(&pose, &w).expect("regular");
+    assert!((f.transmission - margin).abs() < 1e-10 * margin);
+    let u = svd.u.expect("computed").column(k).into_owned();
+    let sign = f.link[0].signum() * u[0].signum();
+    for j in 0..6 {
+        assert!((f.link[j] - sign * u[j] / s_min).abs() < 1e-9 / s_min);
+    }
+    assert_eq!(
+        robot
+            .statics(&pose, &Wrench::zero())
+            .expect("regular")
+            .transmission,
+        1.0
+    );
+}
+
+#[test]
+fn near_the_parallel_singularity_the_forces_are_an_error() {
+    let mut g = *ParallelRobot::<f64>::assumed().geometry();
+    let margin = ParallelRobot::<f64>::assumed()
+        .margins(&Pose::paper_start())
+        .expect("in reach")
+        .parallel;
+    g.thresholds.parallel_command = margin * 1.01;
+    let robot = ParallelRobot::new(g).expect("valid");
+    let frame = PlatformState::at_rest(Pose::paper_start())
+        .frame()
+        .expect("finite");
+    // A solution whose margin says the pose is too close.
+    let mut solution = ParallelRobot::<f64>::assumed()
+        .solve(&frame)
+        .expect("regular");
+    solution.margins.parallel = margin;
+    match robot.slider_forces(&frame, &solution, &Wrench::zero()) {
+        Err(Error::ParallelSingular {
+            margin: m,
+            threshold,
+        }) => {
+            assert_eq!(m, margin);
+            assert_eq!(threshold, margin * 1.01);
+        }
+        other => panic!("expected ParallelSingular, got {other:?}"),
+    }
+    assert!(matches!(
+        robot.statics(&Pose::paper_start(), &Wrench::zero()),
+        Err(Error::ParallelSingular { .. })
+    ));
+}
+
+#[test]
+fn a_load_that_is_not_a_number_is_named() {
+    let controller = Controller::<f64>::paper();
+    let (_, step) = paper_turn().nth(30).expect("a sample");
+    let loads = Loads::tips(Vector3::new(0.0, f64::NAN, 0.0), Vector3::zeros());
+    match controller.forces(&step, &loads) {
+        Err(Error::NonFinite { what, .. }) => assert_eq!(what, "loads.left.y"),
+        other => panic!("expected NonFinite, got {other:?}"),
+    }
+    let wrench = Wrench::new(Vector3::zeros(), Vector3::new(f64::INFINITY, 0.0, 0.0));
+    assert!(matches!(
+        controller
+            .module1
+            .slider_forces(&step.frame, &step.module1, &wrench),
+        Err(Error::NonFinite {
+            what: "wrench.moment.x",
+            ..
+        })
+    ));
+}
+
+/// `f32`: the same balance of power, to single precision.
+#[test]
+fn f32_power_balance_along_the_paper_turn() {
+    let controller = Controller::<f32>::paper();
+    let tips = TipTargets::paper();
+    let mut tracker = MarginTracker::new();
+    let loads = Loads::<f32>::tips(Vector3::new(5.0, -3.0, 8.0), Vector3::new(-2.0, 4.0, 10.0));
+    for k in 1..90 {
+        let state = reorientation::<f32>(0.05 * k as f64);
+        let step = controller
+            .step(&state, &tips, &mut tracker)
+            .expect("regular");
+        let f = controller.forces(&step, &loads).expect("regular");
+        let module1: f32 = (0..6)
+            .map(|j| f.module1.force[j] * step.module1.q_dot[j])
+            .sum();
+        let scale: f32 = (0..6)
+            .map(|j| (f.module1.force[j] * step.module1.q_dot[j]).abs())
+            .sum();
+        let rel = (module1 - f.platform.power_on(&step.frame)).abs() / scale;
+        assert!(rel < 2e-4, "t = {}: {rel:e}", 0.05 * k as f64);
+        let total = module1 + f.left.power(&step.left.q_dot) + f.right.power(&step.right.q_dot);
+        assert!(total.abs() / scale < 2e-4, "{}", total.to_f64());
+    }
+}
