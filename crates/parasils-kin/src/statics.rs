@@ -479,7 +479,8 @@ impl<T: Real> Controller<T> {
     /// as one wrench about `P` (see the [module docs](self)).
     ///
     /// Errors: non-finite loads ([`Error::NonFinite`] naming the load), an
-    /// endoscope depth out of its range ([`Error::EndoscopeDepth`]), and as
+    /// endoscope depth out of its range under an endoscope force
+    /// ([`Error::EndoscopeDepth`]; without one the depth is not used), and as
     /// [`ParallelRobot::slider_forces`].
     pub fn forces(&self, step: &ControlStep<T>, loads: &Loads<T>) -> Result<RobotForces<T>, Error> {
         check_vector(
@@ -503,11 +504,15 @@ impl<T: Real> Controller<T> {
         let p = frame.position;
         let left_tip = frame.to_fixed(&self.left.fk_platform(&step.left.q));
         let right_tip = frame.to_fixed(&self.right.fk_platform(&step.right.q));
-        let scope_tip = self.endoscope.tip(frame, loads.endoscope_depth)?;
-        let platform = Wrench::at(&loads.left, &left_tip, &p)
+        let mut platform = Wrench::at(&loads.left, &left_tip, &p)
             + Wrench::at(&loads.right, &right_tip, &p)
-            + Wrench::at(&loads.endoscope, &scope_tip, &p)
             + loads.payload.holding_wrench(frame);
+        // A zero force has no moment wherever it acts: the depth matters
+        // (and is checked) only under a force.
+        if loads.endoscope != Vector3::zeros() {
+            let scope_tip = self.endoscope.tip(frame, loads.endoscope_depth)?;
+            platform = platform + Wrench::at(&loads.endoscope, &scope_tip, &p);
+        }
         Ok(RobotForces {
             platform,
             module1: self

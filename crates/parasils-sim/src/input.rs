@@ -10,7 +10,7 @@
 //!   paper's limit, and so does `omega_max_deg_s=10`;
 //! - **the defaults** are the paper's ([`Scenario::paper`]);
 //! - **the exclusions**: a procedure brings its own start, robot and motions,
-//!   so only the rate and the timing may be given with it
+//!   so only the rate, the timing and the tip loads may be given with it
 //!   ([`InputError::WithProcedure`] names the first field that may not);
 //! - **the timing rule**: under [`TimingKind::Optimal`], the angular limits
 //!   bind only when one of them is given;
@@ -118,6 +118,10 @@ pub enum InputField {
     Retarget,
     /// `stop_at_s`, `--stop-at`.
     StopAtS,
+    /// `tip_load_left_n`, `--tip-load-left`.
+    TipLoadLeftN,
+    /// `tip_load_right_n`, `--tip-load-right`.
+    TipLoadRightN,
 }
 
 impl InputField {
@@ -148,6 +152,8 @@ impl InputField {
             Self::Robot => ("robot", "--robot"),
             Self::Retarget => ("retarget", "--retarget"),
             Self::StopAtS => ("stop_at_s", "--stop-at"),
+            Self::TipLoadLeftN => ("tip_load_left_n", "--tip-load-left"),
+            Self::TipLoadRightN => ("tip_load_right_n", "--tip-load-right"),
         }
     }
 }
@@ -246,6 +252,12 @@ pub struct Input {
     pub retarget: Option<Vec<Retarget>>,
     /// The time of a controlled stop, s.
     pub stop_at_s: Option<f64>,
+    /// The force the left tip exerts on the tissue, N, fixed frame.
+    /// Default: none (zero), and no force columns unless a tip load is
+    /// given. Allowed with a procedure.
+    pub tip_load_left_n: Option<[f64; 3]>,
+    /// The force the right tip exerts, N, fixed frame. Default: none.
+    pub tip_load_right_n: Option<[f64; 3]>,
 }
 
 impl Input {
@@ -296,6 +308,8 @@ impl Input {
             return Ok(Scenario {
                 rate_hz,
                 timing,
+                tip_load_left_n: self.tip_load_left_n,
+                tip_load_right_n: self.tip_load_right_n,
                 ..scenario
             });
         }
@@ -320,6 +334,8 @@ impl Input {
             retargets: self.retarget.unwrap_or_default(),
             stop_at_s: self.stop_at_s,
             timing,
+            tip_load_left_n: self.tip_load_left_n,
+            tip_load_right_n: self.tip_load_right_n,
             ..paper
         })
     }

@@ -115,7 +115,7 @@ pub use output::{Flushed, Format, OutputError, OutputFile};
 #[cfg(feature = "plot")]
 pub use plot::PlotSink;
 pub use procedure::ProcedureError;
-pub use record::{InstrumentRecord, Module1Record, Record};
+pub use record::{ForceRecord, InstrumentRecord, Module1Record, Record};
 pub use robot::Robot;
 pub use robot_file::{
     EndoscopeFile, GuideFile, InstrumentFile, LegFile, Module1File, RobotFile, RobotFileError,

@@ -45,6 +45,19 @@ pub struct InstrumentRecord {
     pub tip_err: f64,
 }
 
+/// Every actuator's force at one instant holding the run's tip loads (zero
+/// in a run without them; see `parasils_kin::statics`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ForceRecord {
+    /// Module 1's slider forces `q1..q6`, N, positive pushing each slider
+    /// along its guide's direction `u`.
+    pub module1: [f64; 6],
+    /// The left module's `qs1`, `qs2` torques (N mm) and `qs3` force (N).
+    pub left: [f64; 3],
+    /// The right module's, the same.
+    pub right: [f64; 3],
+}
+
 /// Everything computed at one instant of a simulation.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Record {
@@ -91,6 +104,9 @@ pub struct Record {
     pub endoscope_depth: f64,
     /// The endoscope's tip, mm, fixed frame (written in procedures only).
     pub endoscope_tip: Vector3<f64>,
+    /// Every actuator's force for the tip loads (written with tip loads
+    /// only).
+    pub forces: ForceRecord,
 }
 
 impl Record {

@@ -85,6 +85,12 @@ pub struct Scenario {
     /// `[supervisor]` table; none by default): they replace the defaults in
     /// procedures' warnings and in runs with commands.
     pub supervisor: SupervisorTable,
+    /// The force the left tip exerts on the tissue, N, fixed frame; `None`
+    /// when not given (zero). With either tip's load the run writes every
+    /// actuator's force ([`columns::FORCES`](crate::columns::FORCES)).
+    pub tip_load_left_n: Option<[f64; 3]>,
+    /// The force the right tip exerts, N, fixed frame; `None` when not given.
+    pub tip_load_right_n: Option<[f64; 3]>,
 }
 
 /// A new goal commanded at `t_s`: `psi_deg` and `theta_deg` are read like
@@ -193,6 +199,8 @@ impl Scenario {
             endoscope_depth_mm: 0.0,
             supervisor: SupervisorTable::default(),
             timing: Timing::Trapezoid,
+            tip_load_left_n: None,
+            tip_load_right_n: None,
         }
     }
 

@@ -3,16 +3,18 @@
 //! controller's step.
 
 use super::procedure::ProcedurePlan;
+use nalgebra::Vector3;
 use parasils::kin::MarginTracker;
-use parasils::kin::{ControlStep, Controller, PlatformState};
+use parasils::kin::{ControlStep, Controller, Loads, PlatformState};
 use parasils::supervisor::{MarginSet, Margins};
 use parasils::traj::Sampler;
 use parasils::{MotionKind, OnCycle, OnlineController, Reorientation};
 
 use crate::timing::OptimalReorientation;
 
-use crate::record::Record;
+use crate::record::{ForceRecord, Record};
 use crate::scenario::CommandKind;
+use crate::scenario::Scenario;
 
 use super::error::SimulationError;
 use super::schedule::apply;
@@ -62,14 +64,54 @@ pub(super) fn planned_record(
             error,
         })?;
     check_limits(controller, &out, t, k)?;
-    Ok(sim.record(
+    let mut record = sim.record(
         k,
         t,
         state,
         &out,
         &sim.tips,
         Context::command(0, CommandKind::Reorient, MarginSet::EMPTY),
-    ))
+    );
+    record.forces = forces(&sim.scenario, controller, &out, t, k)?;
+    Ok(record)
+}
+
+/// The tip loads of `scenario` (`None` when neither is given), the
+/// endoscope's tip and the payload unloaded.
+fn loads(scenario: &Scenario) -> Option<Loads<f64>> {
+    let (left, right) = (scenario.tip_load_left_n, scenario.tip_load_right_n);
+    (left.is_some() || right.is_some()).then(|| {
+        Loads::tips(
+            Vector3::from(left.unwrap_or_default()),
+            Vector3::from(right.unwrap_or_default()),
+        )
+    })
+}
+
+/// Every actuator's force in `step` holding `scenario`'s tip loads
+/// (`parasils_kin::statics`); zero without loads.
+pub(super) fn forces(
+    scenario: &Scenario,
+    controller: &Controller<f64>,
+    step: &ControlStep<f64>,
+    t: f64,
+    k: usize,
+) -> Result<ForceRecord, SimulationError> {
+    let Some(loads) = loads(scenario) else {
+        return Ok(ForceRecord::default());
+    };
+    let f = controller
+        .forces(step, &loads)
+        .map_err(|error| SimulationError::Kinematics {
+            t,
+            sample: Some(k),
+            error,
+        })?;
+    Ok(ForceRecord {
+        module1: f.module1.force.0,
+        left: f.left.to_array(),
+        right: f.right.to_array(),
+    })
 }
 
 /// `step` against the actuators' limits of `controller`.
@@ -178,7 +220,9 @@ impl ProcedureRun {
                 endoscope_depth: sample.endoscope.position,
                 endoscope_tip,
             };
-            let record = sim.record(k, t, &sample.platform, &out, &targets, context);
+            let mut record = sim.record(k, t, &sample.platform, &out, &targets, context);
+            record.forces =
+                forces(&sim.scenario, &self.controller, &out, t, k).map_err(in_motion)?;
             Ok((record, margins))
         })();
         if result.is_err() {
@@ -247,7 +291,7 @@ impl OnlineRun {
         if cycle.kind == MotionKind::SupervisorStop {
             self.kind = CommandKind::SupervisorStop;
         }
-        let record = sim.record(
+        let mut record = sim.record(
             k,
             t,
             &cycle.state,
@@ -255,6 +299,13 @@ impl OnlineRun {
             &sim.tips,
             Context::command(cycle.command, self.kind, cycle.warnings),
         );
+        record.forces = forces(
+            &sim.scenario,
+            self.controller.controller(),
+            &cycle.step,
+            t,
+            k,
+        )?;
         let finished = self.pending >= sim.schedule.len() && self.controller.is_at_rest(t);
         match k.checked_add(1) {
             Some(next) if !finished => self.next = next,

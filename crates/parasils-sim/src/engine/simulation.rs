@@ -14,7 +14,7 @@ use parasils::{OnCycle, OnlineController, Reorientation, Supervisor};
 use crate::scenario::Timing;
 use crate::timing::{OptimalReorientation, TimingOptions};
 
-use crate::record::{InstrumentRecord, Module1Record, Record};
+use crate::record::{ForceRecord, InstrumentRecord, Module1Record, Record};
 use crate::scenario::{CommandKind, Scenario};
 use crate::sink::Sink;
 
@@ -494,6 +494,7 @@ impl Simulation {
             motion_type: context.motion_type,
             endoscope_depth: context.endoscope_depth,
             endoscope_tip: context.endoscope_tip,
+            forces: ForceRecord::default(),
         }
     }
 }
