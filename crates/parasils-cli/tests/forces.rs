@@ -1,0 +1,116 @@
+//! `parasils simulate --tip-load-left/--tip-load-right`: the force columns,
+//! checked by the balance of power from the CSV's own rate columns, the
+//! paper's columns unchanged, loads with a procedure, and a malformed load.
+
+mod common;
+
+use common::files::demo;
+use common::process::parasils;
+use common::table::Table;
+
+const FORCES: [&str; 12] = [
+    "q1_force_n",
+    "q2_force_n",
+    "q3_force_n",
+    "q4_force_n",
+    "q5_force_n",
+    "q6_force_n",
+    "left_qs1_torque_nmm",
+    "left_qs2_torque_nmm",
+    "left_qs3_force_n",
+    "right_qs1_torque_nmm",
+    "right_qs2_torque_nmm",
+    "right_qs3_force_n",
+];
+
+/// The rate column that goes with each force column, and the factor from
+/// its unit to the force's (deg/s to rad/s for the rotary joints).
+const RATES: [(&str, f64); 12] = {
+    const DEG: f64 = core::f64::consts::PI / 180.0;
+    [
+        ("q1_rate_mm_s", 1.0),
+        ("q2_rate_mm_s", 1.0),
+        ("q3_rate_mm_s", 1.0),
+        ("q4_rate_mm_s", 1.0),
+        ("q5_rate_mm_s", 1.0),
+        ("q6_rate_mm_s", 1.0),
+        ("left_qs1_rate_deg_s", DEG),
+        ("left_qs2_rate_deg_s", DEG),
+        ("left_qs3_rate_mm_s", 1.0),
+        ("right_qs1_rate_deg_s", DEG),
+        ("right_qs2_rate_deg_s", DEG),
+        ("right_qs3_rate_mm_s", 1.0),
+    ]
+};
+
+/// The paper's turn holds both tips still, so the twelve actuators together
+/// deliver no power: module 1's power to the platform is taken back by the
+/// instrument modules, row by row, whatever the loads.
+#[test]
+fn the_twelve_actuators_balance_power_on_the_paper_turn() {
+    let text = parasils(&[
+        "simulate",
+        "--tip-load-left",
+        "5,-3,8",
+        "--tip-load-right",
+        "-2,4,10",
+        "-o",
+        "-",
+    ])
+    .run()
+    .ok();
+    let t = Table::parse(&text);
+    assert_eq!(t.header().len(), 53 + 12);
+    assert_eq!(t.header()[53..], FORCES.map(String::from));
+    let forces = FORCES.map(|n| t.col(n));
+    let rates = RATES.map(|(n, k)| t.col(n).into_iter().map(|v| v * k).collect::<Vec<_>>());
+    let mut moving = 0;
+    for k in 0..t.rows() {
+        let terms: Vec<f64> = (0..12).map(|c| forces[c][k] * rates[c][k]).collect();
+        let scale: f64 = terms.iter().map(|v| v.abs()).sum();
+        let module1: f64 = terms[..6].iter().sum();
+        let total: f64 = terms.iter().sum();
+        assert!(total.abs() <= 1e-9 * scale, "row {k}: {total} of {scale}");
+        if module1.abs() > 1.0 {
+            moving += 1;
+        }
+    }
+    // Module 1 does work on most rows: the balance is not 0 = 0.
+    assert!(moving > 3000, "{moving}");
+    // The paper's columns are the unloaded run's, digit for digit.
+    let plain = Table::parse(&parasils(&["simulate", "-o", "-"]).run().ok());
+    for name in plain.header() {
+        assert_eq!(plain.text(name), t.text(name), "{name}");
+    }
+}
+
+#[test]
+fn loads_apply_to_a_procedure() {
+    let text = parasils(&[
+        "simulate",
+        "--procedure",
+        &demo(),
+        "--rate",
+        "100",
+        "--tip-load-right",
+        "0,0,-10",
+        "-o",
+        "-",
+    ])
+    .run()
+    .ok();
+    let t = Table::parse(&text);
+    assert_eq!(t.header().len(), 53 + 12 + 12);
+    assert_eq!(t.header()[65..], FORCES.map(String::from));
+    assert!(t.col("left_qs3_force_n").iter().all(|v| *v == 0.0));
+    assert!(t.col("right_qs3_force_n").iter().any(|v| v.abs() > 1.0));
+}
+
+#[test]
+fn a_malformed_load_names_its_flag() {
+    let err = parasils(&["simulate", "--tip-load-left", "1,2", "-o", "-"])
+        .run()
+        .fails();
+    assert!(err.contains("--tip-load-left"), "{err}");
+    assert!(err.contains("expected 3"), "{err}");
+}
