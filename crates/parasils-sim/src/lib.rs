@@ -27,6 +27,12 @@
 //! of the active command (the CSV's last column, and `/motion` in MCAP). A
 //! run without commands is written exactly as before they existed.
 //!
+//! With a tip load ([`Scenario::tip_load_left_n`],
+//! [`Scenario::tip_load_right_n`]: the force a tip exerts on the tissue, N,
+//! fixed frame), every record carries the twelve actuators' forces holding
+//! it ([`Record::forces`], from `parasils_kin::statics`), written as the
+//! twelve columns [`columns::FORCES`] after the run's others.
+//!
 //! The paper's run, written as CSV in memory:
 //!
 //! ```
