@@ -114,3 +114,48 @@ fn a_malformed_load_names_its_flag() {
     assert!(err.contains("--tip-load-left"), "{err}");
     assert!(err.contains("expected 3"), "{err}");
 }
+
+#[test]
+fn the_summary_and_the_check_give_each_actuator_s_peak_use_of_its_force_limit() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let text = parasils(&["simulate", "--rate", "100", "--tip-load-left", "0,0,-10"])
+        .dir(dir.path())
+        .run()
+        .ok();
+    assert!(text.contains("force limits, peak use:"), "{text}");
+    // The peak use of q1 is its largest force over the assumed 200 N.
+    let table = Table::parse(
+        &parasils(&[
+            "simulate",
+            "--rate",
+            "100",
+            "--tip-load-left",
+            "0,0,-10",
+            "-o",
+            "-",
+        ])
+        .run()
+        .ok(),
+    );
+    let peak = table
+        .col("q1_force_n")
+        .iter()
+        .fold(0.0_f64, |m, v| m.max(v.abs()));
+    assert!(text.contains(&format!(" q1 {:.3}", peak / 200.0)), "{text}");
+    let plain = parasils(&["simulate", "--rate", "100"])
+        .dir(dir.path())
+        .run()
+        .ok();
+    assert!(!plain.contains("force limits"), "{plain}");
+    let check = parasils(&[
+        "simulate",
+        "--procedure",
+        &demo(),
+        "--check",
+        "--tip-load-right",
+        "0,0,-10",
+    ])
+    .run()
+    .ok();
+    assert!(check.contains("force limits, peak use:"), "{check}");
+}

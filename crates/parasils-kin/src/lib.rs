@@ -59,7 +59,7 @@
 //! - [`endoscope`]: the endoscope's insertion depth and its tip;
 //! - [`controller`]: the one call per control cycle, and the whole robot's
 //!   geometry;
-//! - [`limits`]: the actuators' velocity and acceleration limits (assumed
+//! - [`limits`]: the actuators' velocity, acceleration and force limits (assumed
 //!   defaults) and the check of a cycle against them;
 //! - [`statics`]: the forces every actuator exerts to hold the tips' forces
 //!   and the payload's weight (`tau = J^-T W` for module 1, `J^T R^T F` for

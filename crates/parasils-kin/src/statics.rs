@@ -324,6 +324,20 @@ pub struct RobotForces<T: Real> {
     pub right: JointForces<T>,
 }
 
+impl<T: Real> RobotForces<T> {
+    /// The twelve actuators' forces in the order of
+    /// [`Actuator::ALL`](crate::Actuator::ALL): `q1..q6` (N), then each
+    /// module's `qs1`, `qs2` (N mm) and `qs3` (N), as
+    /// [`ActuatorLimits::check_forces`](crate::ActuatorLimits::check_forces)
+    /// takes them.
+    pub fn to_array(&self) -> [T; 12] {
+        let (m, l, r) = (self.module1.force.0, self.left, self.right);
+        [
+            m[0], m[1], m[2], m[3], m[4], m[5], l.qs1, l.qs2, l.qs3, r.qs1, r.qs2, r.qs3,
+        ]
+    }
+}
+
 impl<T: Real> ParallelRobot<T> {
     /// The slider forces holding `wrench` (about `P`, fixed frame) at the
     /// pose of `frame`, with the actuators and the parallel margin of that

@@ -436,6 +436,45 @@ fn a_load_that_is_not_a_number_is_named() {
     ));
 }
 
+/// The twelve forces in the order of the actuators' limits, and the first
+/// beyond its limit named.
+#[test]
+fn forces_are_checked_against_the_actuators_limits() {
+    let controller = Controller::<f64>::paper();
+    let (_, step) = paper_turn().nth(30).expect("a sample");
+    let f = controller
+        .forces(
+            &step,
+            &Loads::tips(Vector3::new(0.0, 0.0, -10.0), Vector3::zeros()),
+        )
+        .expect("regular");
+    let a = f.to_array();
+    assert_eq!(a[..6], f.module1.force.0);
+    assert_eq!(a[6..9], f.left.to_array());
+    assert_eq!(a[9..], f.right.to_array());
+    assert!(controller.limits.check_forces(&a).is_ok());
+    // Ten times the load: ten times the forces (statics is linear), and
+    // the left insertion, 10 N along the tool at most, now beyond 40 N.
+    let g = controller
+        .forces(
+            &step,
+            &Loads::tips(Vector3::new(0.0, 0.0, -100.0), Vector3::zeros()),
+        )
+        .expect("regular");
+    for (x, y) in g.to_array().iter().zip(&a) {
+        assert!((x - 10.0 * y).abs() <= 1e-12 * x.abs().max(1.0));
+    }
+    assert!(a[8].abs() <= 10.0 && g.to_array()[8].abs() > 40.0);
+    // The first actuator beyond its limit, in the order of the twelve.
+    let g = g.to_array();
+    let first = (0..12)
+        .find(|&k| g[k].abs() > controller.limits.force[k])
+        .expect("one is beyond");
+    let e = controller.limits.check_forces(&g).expect_err("beyond");
+    let name = parasils_kin::Actuator::ALL[first].to_string();
+    assert!(e.to_string().starts_with(&format!("{name}: ")), "{e}");
+}
+
 /// `f32`: the same balance of power, to single precision.
 #[test]
 fn f32_power_balance_along_the_paper_turn() {

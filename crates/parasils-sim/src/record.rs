@@ -139,6 +139,31 @@ impl Record {
         }
     }
 
+    /// The twelve actuators' forces in the order of
+    /// [`parasils::kin::Actuator::ALL`]: `q1..q6` (N), then each module's
+    /// `qs1`, `qs2` (N mm), `qs3` (N).
+    pub fn actuator_forces(&self) -> [f64; 12] {
+        let f = &self.forces;
+        core::array::from_fn(|k| match k {
+            0..6 => f.module1[k],
+            6..9 => f.left[k - 6],
+            _ => f.right[(k - 9).min(2)],
+        })
+    }
+
+    /// Raises each actuator's peak use of its force limit (fractions, in the
+    /// order of [`Actuator::ALL`](parasils::kin::Actuator::ALL)) to this
+    /// record's.
+    pub fn widen_force_usage(&self, usage: &mut [f64; 12], limits: &ActuatorLimits<f64>) {
+        for ((u, f), limit) in usage
+            .iter_mut()
+            .zip(self.actuator_forces())
+            .zip(&limits.force)
+        {
+            *u = u.max(f.abs() / limit);
+        }
+    }
+
     /// The pose's Euler angles in degrees as [`Record::angles_deg`] writes
     /// them, given the start's angles in degrees and in radians.
     pub fn degrees_from_start(

@@ -187,3 +187,52 @@ fn one_load_given_loads_that_tip_alone() {
     assert!(r.forces.left.iter().any(|v| v.abs() > 1.0));
     assert!(r.forces.module1.iter().all(|v| v.abs() > 1e-3));
 }
+
+#[test]
+fn a_force_beyond_its_limit_stops_the_run_naming_the_actuator() {
+    // 50 N along the left tool, outwards, at the start: by hand, the whole
+    // force on the insertion (beyond the assumed 40 N) and no torque.
+    let paper = Scenario::paper();
+    let start = paper.start();
+    let rcm = start.rotation() * Vector3::new(-10.0, 0.0, 0.0) + start.position();
+    let along = (paper.tips().left - rcm).normalize() * 50.0;
+    let sim = Simulation::new(Scenario {
+        tip_load_left_n: Some(along.into()),
+        ..paper
+    })
+    .expect("valid");
+    let e = sim.samples().find_map(Result::err).expect("a limit");
+    let text = e.to_string();
+    assert!(
+        text.ends_with("left qs3: force 50 N is beyond its limit 40 N"),
+        "{text}"
+    );
+    assert_eq!(e.time_s(), Some(0.0));
+}
+
+#[test]
+fn the_summary_gives_each_actuator_s_peak_use_of_its_force_limit() {
+    let (sim, records) = records(loaded(Scenario::paper()));
+    let mut summary = parasils_sim::Summary::for_simulation(&sim);
+    for r in &records {
+        parasils_sim::Sink::push(&mut summary, r).expect("infallible");
+    }
+    let text = summary.to_string();
+    let line = text
+        .lines()
+        .skip_while(|l| !l.starts_with("force limits, peak use:"))
+        .nth(1)
+        .expect("the force line");
+    // q1's peak use, from the records: max |tau_1| / 200 N.
+    let peak = records
+        .iter()
+        .map(|r| r.forces.module1[0].abs())
+        .fold(0.0, f64::max);
+    assert!(line.contains(&format!("q1 {:.3}", peak / 200.0)), "{line}");
+    let (plain_sim, plain) = self::records(Scenario::paper());
+    let mut summary = parasils_sim::Summary::for_simulation(&plain_sim);
+    for r in &plain {
+        parasils_sim::Sink::push(&mut summary, r).expect("infallible");
+    }
+    assert!(!summary.to_string().contains("force limits"));
+}

@@ -89,7 +89,8 @@ fn loads(scenario: &Scenario) -> Option<Loads<f64>> {
 }
 
 /// Every actuator's force in `step` holding `scenario`'s tip loads
-/// (`parasils_kin::statics`); zero without loads.
+/// (`parasils_kin::statics`), checked against the actuators' force limits;
+/// zero without loads.
 pub(super) fn forces(
     scenario: &Scenario,
     controller: &Controller<f64>,
@@ -107,11 +108,20 @@ pub(super) fn forces(
             sample: Some(k),
             error,
         })?;
-    Ok(ForceRecord {
+    let record = ForceRecord {
         module1: f.module1.force.0,
         left: f.left.to_array(),
         right: f.right.to_array(),
-    })
+    };
+    controller
+        .limits
+        .check_forces(&f.to_array())
+        .map_err(|error| SimulationError::ActuatorLimit {
+            t,
+            sample: Some(k),
+            error,
+        })?;
+    Ok(record)
 }
 
 /// `step` against the actuators' limits of `controller`.
