@@ -1,6 +1,7 @@
 //! The actuator forces of one control cycle, `parasils_kin::Controller::forces`:
-//! both tips loaded (10 N-scale forces, fixed frame) and the payload's weight
-//! (2 kg off the axis), through both instrument modules' `J^T R^T F` and
+//! both tips loaded (10 N-scale forces, fixed frame) and the payload's
+//! Newton-Euler wrench (2 kg off the axis, an inertia tensor), through both
+//! instrument modules' `J^T R^T F` and
 //! module 1's `J^-T W` (a 6x6 elimination), at `t = 1 s` of the paper's
 //! motion, `f64` and `f32`; and the step with its forces, as one cycle.
 //!
@@ -20,7 +21,9 @@ use common::paper_step_inputs;
 fn loads<T: Real>() -> Loads<T> {
     let v = |x: f64, y: f64, z: f64| Vector3::new(T::lit(x), T::lit(y), T::lit(z));
     Loads {
-        payload: Payload::new(T::lit(2.0), v(5.0, -3.0, 40.0)),
+        payload: Payload::new(T::lit(2.0), v(5.0, -3.0, 40.0)).with_inertia(
+            parasils::kin::nalgebra::Matrix3::from_diagonal(&v(2.0e4, 3.0e4, 1.5e4)),
+        ),
         ..Loads::tips(v(5.0, -3.0, 8.0), v(-2.0, 4.0, 10.0))
     }
 }

@@ -64,10 +64,14 @@
 //! each tip force `F` at `p` loads the platform with `(F, (p - P) x F)`, and
 //! the endoscope (not actuated: its insertion is held) with its tip's force at
 //! `P + R (0, 0, -depth)`. The platform and its payload (mass `M`, centre
-//! of mass `c` in the platform frame) weigh `M g`; holding them takes
-//! `(-M g, -(R c) x M g)`. Their sum is module 1's wrench ([`Controller::forces`]).
-//! The platform's inertia is not included: these are the forces of a slow
-//! motion.
+//! of mass `c` in the platform frame, inertia `I` about it) weigh `M g`;
+//! holding them at rest takes `(-M g, -(R c) x M g)`, and moving them, by
+//! Newton-Euler, `f = M (a_c - g)` and `m = (R c) x f + R (I alpha + omega x I omega)`
+//! ([`Payload::moving_wrench`]). Their sum is module 1's wrench
+//! ([`Controller::forces`]). The legs and the sliders are taken as massless
+//! (the platform with its modules is the one body that moves), and the
+//! instrument modules' own joint motions do not move their masses: an
+//! approximation whose error is the legs' and the modules' kinetic energy.
 //!
 //! ```
 //! use parasils_kin::nalgebra::Vector3;
@@ -212,8 +216,9 @@ impl<T: Real> JointForces<T> {
     }
 }
 
-/// The platform's payload and its weight: the platform with the modules it
-/// carries as one body.
+/// The platform's payload, its weight and its inertia: the platform with
+/// the modules it carries as one rigid body (the legs' and the sliders'
+/// masses are left out, see the [module docs](self)).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Payload<T: Real> {
@@ -224,6 +229,9 @@ pub struct Payload<T: Real> {
     /// The acceleration of gravity, mm/s^2, fixed frame (`(0, 0, -9810)` on
     /// a robot whose `-Z` points down).
     pub gravity: Vector3<T>,
+    /// The inertia tensor about the centre of mass, kg mm^2, platform axes
+    /// (zero: a point mass).
+    pub inertia: Matrix3<T>,
 }
 
 impl<T: Real> Payload<T> {
@@ -243,7 +251,31 @@ impl<T: Real> Payload<T> {
             mass,
             com,
             gravity: Vector3::new(T::zero(), T::zero(), g),
+            inertia: Matrix3::zeros(),
         }
+    }
+
+    /// The same body with the inertia tensor `inertia` (kg mm^2, about the
+    /// centre of mass, platform axes).
+    pub fn with_inertia(self, inertia: Matrix3<T>) -> Self {
+        Self { inertia, ..self }
+    }
+
+    /// The wrench (about `P`, N and N mm) that moves the body as `frame`
+    /// says and holds its weight, by Newton-Euler: with `a_c` the centre of
+    /// mass's acceleration (`PlatformFrame::point_acceleration`), `omega`
+    /// and `alpha` in the platform frame,
+    /// `f = M (a_c - g)`, `m = (R c) x f + R (I alpha + omega x I omega)`
+    /// (kg mm/s^2 and kg mm^2/s^2 divided by 1000). At rest it is
+    /// [`Payload::holding_wrench`].
+    pub fn moving_wrench(&self, frame: &PlatformFrame<T>) -> Wrench<T> {
+        let milli = T::lit(1e-3);
+        let a_c = frame.point_acceleration(&self.com);
+        let force = (a_c - self.gravity) * (self.mass * milli);
+        let (w, i) = (&frame.omega, &self.inertia);
+        let spin = frame.rotation * (i * frame.alpha + w.cross(&(i * w))) * milli;
+        let arm = frame.rotation * self.com;
+        Wrench::new(force, arm.cross(&force) + spin)
     }
 
     /// The wrench that holds the weight, about `P`: `(-M g, -(R c) x M g)`,
@@ -267,7 +299,11 @@ impl<T: Real> Payload<T> {
                 "payload.gravity.y",
                 "payload.gravity.z",
             ],
-        )
+        )?;
+        for &v in self.inertia.as_slice() {
+            crate::error::check_finite(v, "payload.inertia")?;
+        }
+        Ok(())
     }
 }
 
@@ -489,8 +525,10 @@ impl<T: Real> Controller<T> {
     /// Every actuator's force in the cycle `step` (from [`Controller::step`]
     /// or [`Controller::step_commanded`]) holding `loads`: each module's
     /// joint efforts for its tip force, then module 1's slider forces for
-    /// the sum of the tips' forces, the endoscope's and the payload's weight
-    /// as one wrench about `P` (see the [module docs](self)).
+    /// the sum of the tips' forces, the endoscope's and the payload's
+    /// Newton-Euler wrench (its weight, and its inertia in the step's
+    /// motion: [`Payload::moving_wrench`]) as one wrench about `P` (see the
+    /// [module docs](self)).
     ///
     /// Errors: non-finite loads ([`Error::NonFinite`] naming the load), an
     /// endoscope depth out of its range under an endoscope force
@@ -520,7 +558,7 @@ impl<T: Real> Controller<T> {
         let right_tip = frame.to_fixed(&self.right.fk_platform(&step.right.q));
         let mut platform = Wrench::at(&loads.left, &left_tip, &p)
             + Wrench::at(&loads.right, &right_tip, &p)
-            + loads.payload.holding_wrench(frame);
+            + loads.payload.moving_wrench(frame);
         // A zero force has no moment wherever it acts: the depth matters
         // (and is checked) only under a force.
         if loads.endoscope != Vector3::zeros() {

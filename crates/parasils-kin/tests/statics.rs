@@ -4,7 +4,7 @@
 //! kinematics, and loads whose forces follow by hand (symmetry, a force
 //! along the tool).
 
-use nalgebra::{Matrix6, Vector3, Vector6};
+use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 use parasils_kin::{
     Controller, Error, Instrument, Joints, Loads, MarginTracker, ParallelRobot, Payload,
     PlatformState, Pose, PoseRate, Real, Side, TipTargets, Wrench,
@@ -157,7 +157,7 @@ fn chain_power_balance_along_the_paper_turn() {
     let controller = Controller::<f64>::paper();
     let mut rng = Numbers(4);
     for (_, step) in paper_turn() {
-        let payload = Payload::new(2.0 + rng.next(), rng.vector(80.0));
+        let payload = Payload::new(2.0 + rng.next(), rng.vector(80.0)).with_inertia(inertia());
         let loads = Loads {
             endoscope: rng.vector(5.0),
             endoscope_depth: 60.0,
@@ -180,13 +180,115 @@ fn chain_power_balance_along_the_paper_turn() {
         let scope_velocity = step.frame.point_velocity(&Vector3::new(0.0, 0.0, -60.0));
         let com_velocity = step.frame.point_velocity(&payload.com);
         let weight = payload.gravity * payload.mass / 1000.0;
-        let expected = loads.endoscope.dot(&scope_velocity) - weight.dot(&com_velocity);
+        // The kinetic energy's rate: M a_c . v_c + omega . I alpha (the
+        // gyroscopic term does no work), kg mm^2/s^3 = 1e-3 N mm/s.
+        let a_com = step.frame.point_acceleration(&payload.com);
+        let (w, a) = (step.frame.omega, step.frame.alpha);
+        let kinetic =
+            (payload.mass * a_com.dot(&com_velocity) + w.dot(&(payload.inertia * a))) / 1000.0;
+        let expected = loads.endoscope.dot(&scope_velocity) - weight.dot(&com_velocity) + kinetic;
         if scale == 0.0 {
             assert_eq!(expected, 0.0);
             continue;
         }
         let rel = (terms.iter().sum::<f64>() - expected).abs() / scale;
         assert!(rel < 1e-12, "{rel:e}");
+    }
+}
+
+/// An inertia tensor about the centre of mass, kg mm^2: a 2 kg body of
+/// about 100 mm, its principal axes turned from the platform's.
+fn inertia() -> Matrix3<f64> {
+    Matrix3::new(
+        2.0e4, 1.5e3, -8.0e2, 1.5e3, 3.0e4, 2.0e3, -8.0e2, 2.0e3, 1.5e4,
+    )
+}
+
+/// The platform's dynamics against an independent derivation: the
+/// generalised forces of Lagrange's equations on the pose coordinates
+/// `(X, Y, Z, psi, theta, phi)`, `d/dt dL/dxdot - dL/dx` with
+/// `L = M |v_c|^2 / 2 + omega . I omega / 2 + M g . p_c`, every derivative
+/// taken numerically (five-point stencils), equal the Newton-Euler
+/// wrench's generalised forces.
+#[test]
+fn the_newton_euler_wrench_is_lagranges() {
+    let mut rng = Numbers(8);
+    for case in 0..20 {
+        let mut body = Payload::new(2.0 + rng.next(), rng.vector(80.0)).with_inertia(inertia());
+        if case % 2 == 1 {
+            // Without gravity the motion's terms are the whole of it.
+            body.gravity = Vector3::zeros();
+        }
+        let p0 = Pose::<f64>::paper_start().to_array();
+        let x0: [f64; 6] =
+            core::array::from_fn(|i| p0[i] + rng.next() * if i < 3 { 30.0 } else { 0.3 });
+        let v0: [f64; 6] = core::array::from_fn(|i| rng.next() * if i < 3 { 80.0 } else { 0.6 });
+        let a0: [f64; 6] = core::array::from_fn(|i| rng.next() * if i < 3 { 500.0 } else { 2.0 });
+        let state = |x: [f64; 6], v: [f64; 6], a: [f64; 6]| PlatformState {
+            pose: Pose::from_array(x),
+            velocity: PoseRate::new(v[0], v[1], v[2], v[3], v[4], v[5]),
+            acceleration: PoseRate::new(a[0], a[1], a[2], a[3], a[4], a[5]),
+        };
+        // L in kg mm^2/s^2.
+        let lagrangian = |x: [f64; 6], v: [f64; 6]| {
+            let f = state(x, v, [0.0; 6]).frame().expect("finite");
+            let v_c = f.point_velocity(&body.com);
+            let w = f.omega;
+            0.5 * body.mass * v_c.norm_squared()
+                + 0.5 * w.dot(&(body.inertia * w))
+                + body.mass * body.gravity.dot(&f.to_fixed(&body.com))
+        };
+        let stencil = |g: &dyn Fn(f64) -> f64, h: f64| {
+            (g(-2.0 * h) - 8.0 * g(-h) + 8.0 * g(h) - g(2.0 * h)) / (12.0 * h)
+        };
+        let at = |t: f64| -> ([f64; 6], [f64; 6]) {
+            (
+                core::array::from_fn(|i| x0[i] + v0[i] * t + 0.5 * a0[i] * t * t),
+                core::array::from_fn(|i| v0[i] + a0[i] * t),
+            )
+        };
+        let frame = state(x0, v0, a0).frame().expect("finite");
+        let expected = body
+            .moving_wrench(&frame)
+            .on_pose_coordinates(&Pose::from_array(x0));
+        let norm = expected.iter().map(|q| q * q).sum::<f64>().sqrt();
+        for k in 0..6 {
+            // dL/dxdot_k at time t (L is quadratic in the rates: the
+            // stencil is exact there up to rounding).
+            let momentum = |t: f64| {
+                let (x, v) = at(t);
+                stencil(
+                    &|d| {
+                        let mut v = v;
+                        v[k] += d;
+                        lagrangian(x, v)
+                    },
+                    if k < 3 { 1.0 } else { 0.01 },
+                )
+            };
+            let d_momentum = stencil(&momentum, 2e-3);
+            let d_position = stencil(
+                &|d| {
+                    let mut x = x0;
+                    x[k] += d;
+                    lagrangian(x, v0)
+                },
+                if k < 3 { 1e-2 } else { 1e-4 },
+            );
+            let lagrange = (d_momentum - d_position) / 1000.0;
+            let rel = (lagrange - expected[k]).abs() / norm;
+            assert!(
+                rel < 1e-8,
+                "case {case}, x{k}: {lagrange} vs {}: {rel:e}",
+                expected[k]
+            );
+        }
+        // At rest it is the weight's holding wrench.
+        let rest = PlatformState::at_rest(Pose::from_array(x0))
+            .frame()
+            .expect("finite");
+        let (a, b) = (body.moving_wrench(&rest), body.holding_wrench(&rest));
+        assert!((a.force - b.force).norm() + (a.moment - b.moment).norm() < 1e-12);
     }
 }
 
