@@ -63,7 +63,9 @@
 //!   defaults) and the check of a cycle against them;
 //! - [`statics`]: the forces every actuator exerts to hold the tips' forces
 //!   and the payload's weight (`tau = J^-T W` for module 1, `J^T R^T F` for
-//!   an instrument module), checked by the balance of power;
+//!   an instrument module), the payload's Newton-Euler wrench, the
+//!   platform's stiffness and a tip's deflection, checked by the balance of
+//!   power, virtual work and Lagrange's equations;
 //! - [`presets`]: the paper's numbers and module 1's assumed geometry, from
 //!   which every named constructor (`paper`, `assumed`, `paper_start`) is built;
 //! - [`error`]: what can go wrong, typed;
@@ -131,4 +133,6 @@ pub use parallel::{
 };
 pub use real::Real;
 pub use side::Side;
-pub use statics::{JointForces, Loads, Payload, RobotForces, SliderForces, Wrench};
+pub use statics::{
+    ActuatorStiffness, JointForces, Loads, Payload, RobotForces, SliderForces, Wrench,
+};

@@ -73,6 +73,17 @@
 //! instrument modules' own joint motions do not move their masses: an
 //! approximation whose error is the legs' and the modules' kinetic energy.
 //!
+//! # Stiffness
+//! With each actuator a spring (`ActuatorStiffness`, **assumed**: N/mm for
+//! the sliders and `qs3`, N mm/rad for `qs1`, `qs2`) and every link rigid,
+//! a load `W` on the platform compresses the sliders by `tau_j / k_j`
+//! (`tau = J^-T W`) and the platform follows, `J (dP, dtheta_F) = dq`: the
+//! displacement solves `K_x (dP, dtheta_F) = W` with `K_x = J^T diag(k) J`
+//! ([`ParallelRobot::displacement`], [`ParallelRobot::platform_stiffness`];
+//! `J = diag(e_j . u_j)^-1 J_x`). A force at a tip adds the module's own
+//! give, `R J dqs` with `dqs_k = tau_k / k_k`
+//! ([`Controller::tip_deflection`]).
+//!
 //! ```
 //! use parasils_kin::nalgebra::Vector3;
 //! use parasils_kin::{ParallelRobot, Pose, Wrench};
@@ -407,22 +418,13 @@ impl<T: Real> ParallelRobot<T> {
                 threshold: threshold.to_f64(),
             });
         }
-        let g = self.geometry();
         let inv_scale = T::one() / self.length_scale();
-        let rho = g.nodes.map(|a| frame.rotation * a);
+        let (rows, n_dot_u) = self.scaled_rows(frame, &solution.q);
         // The columns of J_s^T are the rows of J_s: (n_j, rho_i x n_j / L).
         let mut m = [[T::zero(); 7]; 6];
-        let mut n_dot_u = [T::zero(); 6];
-        for (j, guide) in g.guides.iter().enumerate() {
-            let e = frame.position + rho[j / 2]
-                - guide.point
-                - guide.direction * (solution.q[j] - guide.encoder_offset);
-            let n = e / guide.link_length;
-            n_dot_u[j] = n.dot(&guide.direction);
-            let k = rho[j / 2].cross(&n) * inv_scale;
-            let col = [n.x, n.y, n.z, k.x, k.y, k.z];
-            for (row, c) in m.iter_mut().zip(col) {
-                row[j] = c;
+        for (j, r) in rows.iter().enumerate() {
+            for (row, c) in m.iter_mut().zip(r) {
+                row[j] = *c;
             }
         }
         let moment = wrench.moment * inv_scale;
@@ -454,6 +456,92 @@ impl<T: Real> ParallelRobot<T> {
         })
     }
 
+    /// The rows `(n_j, (R a_i) x n_j / L)` of the dimensionless Jacobian
+    /// `J_s` at the actuators `q` of the frame's pose (`n_j = e_j / l_j`),
+    /// and `n_j . u_j`.
+    fn scaled_rows(&self, frame: &PlatformFrame<T>, q: &Actuators<T>) -> ([[T; 6]; 6], [T; 6]) {
+        let g = self.geometry();
+        let inv_scale = T::one() / self.length_scale();
+        let rho = g.nodes.map(|a| frame.rotation * a);
+        let mut rows = [[T::zero(); 6]; 6];
+        let mut n_dot_u = [T::zero(); 6];
+        for (j, (guide, row)) in g.guides.iter().zip(rows.iter_mut()).enumerate() {
+            let e = frame.position + rho[j / 2]
+                - guide.point
+                - guide.direction * (q[j] - guide.encoder_offset);
+            let n = e / guide.link_length;
+            n_dot_u[j] = n.dot(&guide.direction);
+            let k = rho[j / 2].cross(&n) * inv_scale;
+            *row = [n.x, n.y, n.z, k.x, k.y, k.z];
+        }
+        (rows, n_dot_u)
+    }
+
+    /// The platform's small displacement under the external load `load`
+    /// (a wrench applied to the platform, about `P`, fixed frame) with each
+    /// slider a spring of stiffness `stiffness[j]` (N/mm, along its guide)
+    /// and the links rigid: `(dP, dtheta_F)`, mm and rad (a rotation vector,
+    /// fixed frame), the solution of `K_x (dP, dtheta_F) = load` with
+    /// `K_x = J^T diag(k) J` ([`ParallelRobot::platform_stiffness`]). The
+    /// sliders carry `tau = J^-T load` ([`ParallelRobot::slider_forces`]),
+    /// give way by `tau_j / k_j`, and the platform follows:
+    /// `J (dP, dtheta_F) = dq`. Fails as [`ParallelRobot::slider_forces`],
+    /// and on a stiffness that is not a positive number
+    /// ([`Error::InvalidParameter`] `"stiffness"`).
+    pub fn displacement(
+        &self,
+        frame: &PlatformFrame<T>,
+        solution: &ParallelSolution<T>,
+        load: &Wrench<T>,
+        stiffness: &[T; 6],
+    ) -> Result<(Vector3<T>, Vector3<T>), Error> {
+        check_stiffness(stiffness)?;
+        let tau = self.slider_forces(frame, solution, load)?.force;
+        let (rows, n_dot_u) = self.scaled_rows(frame, &solution.q);
+        // J_s (dP, L dtheta) = (n_j . u_j) dq_j.
+        let mut m = [[T::zero(); 7]; 6];
+        for (j, (row, r)) in m.iter_mut().zip(rows).enumerate() {
+            row[..6].copy_from_slice(&r);
+            row[6] = n_dot_u[j] * tau[j] / stiffness[j];
+        }
+        let x = solve6(m);
+        check_results(&x, "module 1: displacement (overflow)")?;
+        let inv_scale = T::one() / self.length_scale();
+        Ok((
+            Vector3::new(x[0], x[1], x[2]),
+            Vector3::new(x[3], x[4], x[5]) * inv_scale,
+        ))
+    }
+
+    /// The platform's stiffness `K_x = J^T diag(k) J` (`J` the actuators'
+    /// rates per twist, `q_dot = J (Pdot, omega_F)`) at the pose of `frame`,
+    /// for slider stiffnesses `stiffness` (N/mm): a symmetric 6x6 matrix on
+    /// `(dP mm, dtheta_F rad)` giving the wrench about `P` (N, N mm), so
+    /// its blocks are in N/mm, N/rad, N mm/mm and N mm/rad. Fails as
+    /// [`ParallelRobot::displacement`].
+    pub fn platform_stiffness(
+        &self,
+        frame: &PlatformFrame<T>,
+        solution: &ParallelSolution<T>,
+        stiffness: &[T; 6],
+    ) -> Result<nalgebra::Matrix6<T>, Error> {
+        check_stiffness(stiffness)?;
+        // The threshold check of slider_forces, on no load.
+        self.slider_forces(frame, solution, &Wrench::zero())?;
+        let (rows, n_dot_u) = self.scaled_rows(frame, &solution.q);
+        let l = self.length_scale();
+        let mut k = nalgebra::Matrix6::zeros();
+        for (j, r) in rows.iter().enumerate() {
+            // Row j of J: (n_j, rho_i x n_j) / (n_j . u_j), the angular part
+            // unscaled.
+            let jr =
+                nalgebra::Vector6::new(r[0], r[1], r[2], r[3] * l, r[4] * l, r[5] * l) / n_dot_u[j];
+            k += jr * jr.transpose() * stiffness[j];
+        }
+        check_results(k.as_slice(), "module 1: stiffness (overflow)")?;
+        Ok(k)
+    }
+
     /// The slider forces holding `wrench` (about `P`, fixed frame) at
     /// `pose`, on their own: the IK and the parallel margin from the full
     /// decomposition ([`ParallelRobot::solve`] at rest), then
@@ -462,6 +550,18 @@ impl<T: Real> ParallelRobot<T> {
         let frame = PlatformState::at_rest(*pose).frame()?;
         let solution = self.solve(&frame)?;
         self.slider_forces(&frame, &solution, wrench)
+    }
+}
+
+/// [`Error::InvalidParameter`] `"stiffness"` for the first stiffness that
+/// is not a positive number.
+fn check_stiffness<T: Real>(stiffness: &[T]) -> Result<(), Error> {
+    match stiffness.iter().find(|k| !(**k > T::zero() && k.finite())) {
+        Some(k) => Err(Error::InvalidParameter {
+            what: "stiffness",
+            value: k.to_f64(),
+        }),
+        None => Ok(()),
     }
 }
 
@@ -521,7 +621,81 @@ impl<T: Real> Instrument<T> {
     }
 }
 
+/// Each actuator's stiffness, in the order of
+/// [`Actuator::ALL`](crate::Actuator::ALL): the sliders and `qs3` in N/mm,
+/// `qs1` and `qs2` in N mm/rad. The paper gives none: the defaults are
+/// **assumed**.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct ActuatorStiffness<T> {
+    /// The twelve stiffnesses.
+    pub stiffness: [T; 12],
+}
+
+impl<T: Real> ActuatorStiffness<T> {
+    /// Module 1's sliders' stiffness along their guides, N/mm (**assumed**).
+    pub const SLIDER_N_MM: f64 = 200.0;
+    /// `qs1`'s and `qs2`'s torsional stiffness, N mm/rad (**assumed**).
+    pub const QS12_NMM_RAD: f64 = 2.0e5;
+    /// `qs3`'s stiffness, N/mm (**assumed**).
+    pub const QS3_N_MM: f64 = 50.0;
+
+    /// The **assumed** stiffnesses: sliders 200 N/mm, `qs1` and `qs2`
+    /// 2e5 N mm/rad, `qs3` 50 N/mm.
+    pub fn assumed() -> Self {
+        let mut stiffness = [T::lit(Self::SLIDER_N_MM); 12];
+        for side in [6, 9] {
+            stiffness[side] = T::lit(Self::QS12_NMM_RAD);
+            stiffness[side + 1] = T::lit(Self::QS12_NMM_RAD);
+            stiffness[side + 2] = T::lit(Self::QS3_N_MM);
+        }
+        Self { stiffness }
+    }
+}
+
 impl<T: Real> Controller<T> {
+    /// How far the `side` module's tip gives way (mm, fixed frame) under
+    /// the external force `force` applied to it (N, fixed frame: the
+    /// tissue's push on the tip) in the cycle `step`, with the actuators
+    /// springs of `stiffness` and every link rigid: the platform's
+    /// displacement under the force's wrench about `P`
+    /// ([`ParallelRobot::displacement`]) carried to the tip,
+    /// `dP + dtheta_F x (p - P)`, plus the module's own, `R J dqs` with
+    /// `dqs_k = tau_k / k_k` and `tau = J^T R^T force`. Linear in `force`;
+    /// `force . deflection > 0`.
+    pub fn tip_deflection(
+        &self,
+        step: &ControlStep<T>,
+        side: crate::side::Side,
+        force: &Vector3<T>,
+        stiffness: &ActuatorStiffness<T>,
+    ) -> Result<Vector3<T>, Error> {
+        check_vector(force, ["force.x", "force.y", "force.z"])?;
+        let (module, q, base) = match side {
+            crate::side::Side::Left => (&self.left, &step.left.q, 6),
+            crate::side::Side::Right => (&self.right, &step.right.q, 9),
+        };
+        let k = &stiffness.stiffness;
+        check_stiffness(k)?;
+        let frame = &step.frame;
+        let tip = frame.to_fixed(&module.fk_platform(q));
+        let load = Wrench::at(force, &tip, &frame.position);
+        let slider_k = [k[0], k[1], k[2], k[3], k[4], k[5]];
+        let (dp, dtheta) = self
+            .module1
+            .displacement(frame, &step.module1, &load, &slider_k)?;
+        let tau = module.joint_forces(&frame.rotation, q, force)?;
+        let dqs = Vector3::new(
+            tau.qs1 / k[base],
+            tau.qs2 / k[base + 1],
+            tau.qs3 / k[base + 2],
+        );
+        let own = frame.rotation * (module.jacobian(q) * dqs);
+        let out = dp + dtheta.cross(&(tip - frame.position)) + own;
+        check_results(out.as_slice(), "tip deflection (overflow)")?;
+        Ok(out)
+    }
+
     /// Every actuator's force in the cycle `step` (from [`Controller::step`]
     /// or [`Controller::step_commanded`]) holding `loads`: each module's
     /// joint efforts for its tip force, then module 1's slider forces for

@@ -602,3 +602,160 @@ fn f32_power_balance_along_the_paper_turn() {
         assert!(total.abs() / scale < 2e-4, "{}", total.to_f64());
     }
 }
+
+/// The Euler-angle increments `(dpsi, dtheta, dphi)` that turn the platform
+/// at `pose` by the small fixed-frame rotation vector `dtheta_f` (rad), to
+/// first order: `dtheta_f = R E de`, `E` the Euler rates' map to `omega`.
+fn euler_increments(pose: &Pose<f64>, dtheta_f: &Vector3<f64>) -> Vector3<f64> {
+    let (s2, c2) = pose.theta.sin_cos();
+    let (s3, c3) = pose.phi.sin_cos();
+    let e = Matrix3::new(c2 * c3, s3, 0.0, -c2 * s3, c3, 0.0, s2, 0.0, 1.0);
+    (pose.rotation() * e).try_inverse().expect("regular") * dtheta_f
+}
+
+/// The platform's displacement under a load, against central differences
+/// of the IK: moving the platform by it changes each actuator by the
+/// slider's give, `tau_j / k_j`; and the stiffness matrix maps it back to
+/// the load.
+#[test]
+fn module1_displacement_against_the_ik() {
+    let robot = unlimited();
+    let k = [180.0, 220.0, 200.0, 150.0, 260.0, 210.0];
+    let mut rng = Numbers(9);
+    for _ in 0..30 {
+        let p0 = Pose::<f64>::paper_start().to_array();
+        let pose = Pose::from_array(core::array::from_fn(|i| {
+            p0[i] + rng.next() * if i < 3 { 30.0 } else { 0.3 }
+        }));
+        let frame = PlatformState::at_rest(pose).frame().expect("finite");
+        let solution = robot.solve(&frame).expect("regular");
+        let load = rng.wrench();
+        let (dp, dth) = robot
+            .displacement(&frame, &solution, &load, &k)
+            .expect("regular");
+        let tau = robot
+            .slider_forces(&frame, &solution, &load)
+            .expect("regular")
+            .force;
+        let de = euler_increments(&pose, &dth);
+        let dx = [dp.x, dp.y, dp.z, de.x, de.y, de.z];
+        let eps = 1e-3;
+        let q_at = |s: f64| {
+            let x = pose.to_array();
+            robot
+                .ik(&Pose::from_array(core::array::from_fn(|i| {
+                    x[i] + s * dx[i]
+                })))
+                .expect("in reach")
+                .0
+        };
+        let (plus, minus) = (q_at(eps), q_at(-eps));
+        let scale = (0..6).fold(0f64, |m, j| m.max((tau[j] / k[j]).abs()));
+        for j in 0..6 {
+            let fd = (plus[j] - minus[j]) / (2.0 * eps);
+            assert!(
+                (fd - tau[j] / k[j]).abs() < 1e-7 * scale,
+                "q{}: {fd} vs {}",
+                j + 1,
+                tau[j] / k[j]
+            );
+        }
+        // K_x (dP, dtheta_F) = load.
+        let kx = robot
+            .platform_stiffness(&frame, &solution, &k)
+            .expect("regular");
+        let w = kx * Vector6::new(dp.x, dp.y, dp.z, dth.x, dth.y, dth.z);
+        let expected = Vector6::new(
+            load.force.x,
+            load.force.y,
+            load.force.z,
+            load.moment.x,
+            load.moment.y,
+            load.moment.z,
+        );
+        assert!((w - expected).norm() < 1e-9 * expected.norm());
+        assert!((kx - kx.transpose()).norm() < 1e-9 * kx.norm());
+    }
+}
+
+/// By hand: at the symmetric pose a vertical load `W_z` on `P` is shared
+/// by the six sliders, `-W_z / 6` each along `u = -z`, so each gives way by
+/// `-W_z / (6 k)` along `u`, and the platform drops or rises with them:
+/// `dZ = W_z / (6 k)`, no turn.
+#[test]
+fn a_vertical_load_at_the_symmetric_pose_moves_the_platform_straight() {
+    let robot = ParallelRobot::<f64>::assumed();
+    let frame = PlatformState::at_rest(symmetric_pose())
+        .frame()
+        .expect("finite");
+    let solution = robot.solve(&frame).expect("regular");
+    let load = Wrench::new(Vector3::new(0.0, 0.0, -60.0), Vector3::zeros());
+    let (dp, dth) = robot
+        .displacement(&frame, &solution, &load, &[200.0; 6])
+        .expect("regular");
+    assert!((dp - Vector3::new(0.0, 0.0, -0.05)).norm() < 1e-12, "{dp}");
+    assert!(dth.norm() < 1e-15);
+    assert!(matches!(
+        robot.displacement(&frame, &solution, &load, &[200.0, 0.0, 1.0, 1.0, 1.0, 1.0]),
+        Err(Error::InvalidParameter {
+            what: "stiffness",
+            ..
+        })
+    ));
+}
+
+/// A tip's deflection: against central differences of the FK with the
+/// platform and the joints moved by their gives, symmetric between two
+/// forces (Maxwell-Betti) and along the force.
+#[test]
+fn tip_deflection_against_the_fk_and_reciprocal() {
+    let controller = Controller::<f64>::paper();
+    let stiffness = parasils_kin::ActuatorStiffness::assumed();
+    let k = stiffness.stiffness;
+    let mut rng = Numbers(10);
+    for (state, step) in paper_turn().step_by(9) {
+        for (side, module, q, base) in [
+            (Side::Left, &controller.left, step.left.q, 6),
+            (Side::Right, &controller.right, step.right.q, 9),
+        ] {
+            let force = rng.vector(10.0);
+            let d = controller
+                .tip_deflection(&step, side, &force, &stiffness)
+                .expect("regular");
+            assert!(force.dot(&d) > 0.0);
+            // The gives: the platform's and the joints'.
+            let tip = step.frame.to_fixed(&module.fk_platform(&q));
+            let load = Wrench::at(&force, &tip, &step.frame.position);
+            let slider_k = [k[0], k[1], k[2], k[3], k[4], k[5]];
+            let (dp, dth) = controller
+                .module1
+                .displacement(&step.frame, &step.module1, &load, &slider_k)
+                .expect("regular");
+            let tau = module
+                .joint_forces(&step.frame.rotation, &q, &force)
+                .expect("finite");
+            let dqs = [
+                tau.qs1 / k[base],
+                tau.qs2 / k[base + 1],
+                tau.qs3 / k[base + 2],
+            ];
+            let de = euler_increments(&state.pose, &dth);
+            let dx = [dp.x, dp.y, dp.z, de.x, de.y, de.z];
+            let eps = 1e-3;
+            let tip_at = |s: f64| {
+                let x = state.pose.to_array();
+                let pose = Pose::from_array(core::array::from_fn(|i| x[i] + s * dx[i]));
+                let qs = Joints::new(q.qs1 + s * dqs[0], q.qs2 + s * dqs[1], q.qs3 + s * dqs[2]);
+                module.fk(&pose, &qs).expect("finite")
+            };
+            let fd = (tip_at(eps) - tip_at(-eps)) / (2.0 * eps);
+            assert!((fd - d).norm() < 1e-7 * d.norm(), "{side:?}: {fd} vs {d}");
+            // Reciprocity: a . d(b) = b . d(a).
+            let b = rng.vector(10.0);
+            let db = controller
+                .tip_deflection(&step, side, &b, &stiffness)
+                .expect("regular");
+            assert!((force.dot(&db) - b.dot(&d)).abs() < 1e-10 * force.norm() * db.norm());
+        }
+    }
+}
