@@ -60,8 +60,12 @@ fn the_twelve_actuators_balance_power_on_the_paper_turn() {
     .run()
     .ok();
     let t = Table::parse(&text);
-    assert_eq!(t.header().len(), 53 + 12);
-    assert_eq!(t.header()[53..], FORCES.map(String::from));
+    assert_eq!(t.header().len(), 53 + 14);
+    assert_eq!(t.header()[53..65], FORCES.map(String::from));
+    assert_eq!(
+        t.header()[65..],
+        ["left_tip_deflection_mm", "right_tip_deflection_mm"]
+    );
     let forces = FORCES.map(|n| t.col(n));
     let rates = RATES.map(|(n, k)| t.col(n).into_iter().map(|v| v * k).collect::<Vec<_>>());
     let mut moving = 0;
@@ -100,10 +104,49 @@ fn loads_apply_to_a_procedure() {
     .run()
     .ok();
     let t = Table::parse(&text);
-    assert_eq!(t.header().len(), 53 + 12 + 12);
-    assert_eq!(t.header()[65..], FORCES.map(String::from));
+    assert_eq!(t.header().len(), 53 + 12 + 14);
+    assert_eq!(t.header()[65..77], FORCES.map(String::from));
     assert!(t.col("left_qs3_force_n").iter().all(|v| *v == 0.0));
+    assert!(t.col("left_tip_deflection_mm").iter().all(|v| *v == 0.0));
+    assert!(t.col("right_tip_deflection_mm").iter().all(|v| *v > 0.0));
     assert!(t.col("right_qs3_force_n").iter().any(|v| v.abs() > 1.0));
+}
+
+/// Statics and the springs are linear: twice the loads, twice every force
+/// and both deflections.
+#[test]
+fn twice_the_loads_twice_the_forces_and_deflections() {
+    let run = |left: &str, right: &str| {
+        Table::parse(
+            &parasils(&[
+                "simulate",
+                "--rate",
+                "50",
+                "--tip-load-left",
+                left,
+                "--tip-load-right",
+                right,
+                "-o",
+                "-",
+            ])
+            .run()
+            .ok(),
+        )
+    };
+    let once = run("5,-3,8", "-2,4,10");
+    let twice = run("10,-6,16", "-4,8,20");
+    for name in FORCES
+        .iter()
+        .chain(&["left_tip_deflection_mm", "right_tip_deflection_mm"])
+    {
+        for (a, b) in once.col(name).iter().zip(twice.col(name)) {
+            assert!(
+                (2.0 * a - b).abs() <= 1e-12 * b.abs().max(1e-3),
+                "{name}: {a} {b}"
+            );
+        }
+    }
+    assert!(once.col("left_tip_deflection_mm").iter().all(|d| *d > 0.0));
 }
 
 #[test]

@@ -16,6 +16,7 @@ FORCES = [f"q{j}_force_n" for j in range(1, 7)] + [
     for side in ("left", "right")
     for name in ("qs1_torque_nmm", "qs2_torque_nmm", "qs3_force_n")
 ]
+DEFLECTIONS = ["left_tip_deflection_mm", "right_tip_deflection_mm"]
 
 
 @pytest.fixture(scope="module")
@@ -34,9 +35,10 @@ def pose_at(table, k):
 
 
 def test_the_columns_come_last_only_with_a_load(table):
-    assert list(table)[-12:] == FORCES
+    assert list(table)[-14:] == FORCES + DEFLECTIONS
     plain = parasils.simulate(rate_hz=200.0)
-    assert list(table)[:-12] == list(plain)
+    assert list(table)[:-14] == list(plain)
+    assert np.all(table["left_tip_deflection_mm"] > 0) and np.all(table["right_tip_deflection_mm"] > 0)
     for name in plain:
         assert np.array_equal(table[name], plain[name]), name
 

@@ -562,8 +562,9 @@ const fn force(name: &'static str, unit: &'static str, get: fn(&Record) -> f64) 
 /// `docs/model.md`, *Forces*): module 1's slider forces `q1_force_n` ..
 /// `q6_force_n` (N, positive pushing the slider along its guide's direction
 /// `u`), then each instrument module's `qs1`, `qs2` torques (N mm) and
-/// `qs3` force (N). CSV and Python only.
-pub const FORCES: [Column; 12] = [
+/// `qs3` force (N), then how far each tip gives way under the tissue's push
+/// with the assumed actuator stiffnesses (mm). CSV and Python only.
+pub const FORCES: [Column; 14] = [
     force("q1_force_n", N, |r| r.forces.module1[0]),
     force("q2_force_n", N, |r| r.forces.module1[1]),
     force("q3_force_n", N, |r| r.forces.module1[2]),
@@ -576,6 +577,8 @@ pub const FORCES: [Column; 12] = [
     force("right_qs1_torque_nmm", N_MM, |r| r.forces.right[0]),
     force("right_qs2_torque_nmm", N_MM, |r| r.forces.right[1]),
     force("right_qs3_force_n", N, |r| r.forces.right[2]),
+    force("left_tip_deflection_mm", MM, |r| r.forces.deflection[0]),
+    force("right_tip_deflection_mm", MM, |r| r.forces.deflection[1]),
 ];
 
 /// `a` then `b` (`N = A + B`, checked when the constant is evaluated).
@@ -594,11 +597,11 @@ const fn join<const A: usize, const B: usize, const N: usize>(
 }
 
 /// [`CSV`], then [`FORCES`].
-pub const CSV_WITH_FORCES: [Column; CSV_COUNT + 12] = join(&CSV, &FORCES);
+pub const CSV_WITH_FORCES: [Column; CSV_COUNT + 14] = join(&CSV, &FORCES);
 /// [`CSV_WITH_COMMAND`], then [`FORCES`].
-pub const CSV_WITH_COMMAND_AND_FORCES: [Column; CSV_COUNT + 13] = join(&CSV_WITH_COMMAND, &FORCES);
+pub const CSV_WITH_COMMAND_AND_FORCES: [Column; CSV_COUNT + 15] = join(&CSV_WITH_COMMAND, &FORCES);
 /// [`CSV_WITH_PROCEDURE`], then [`FORCES`].
-pub const CSV_WITH_PROCEDURE_AND_FORCES: [Column; CSV_COUNT + 24] =
+pub const CSV_WITH_PROCEDURE_AND_FORCES: [Column; CSV_COUNT + 26] =
     join(&CSV_WITH_PROCEDURE, &FORCES);
 
 /// The position of `column` among the [`CSV`] columns (by name, which is
@@ -700,9 +703,10 @@ mod tests {
         };
         assert_eq!(csv_columns_of(&Scenario::paper()).len(), 53);
         let cols = csv_columns_of(&loaded);
-        assert_eq!(cols.len(), 65);
+        assert_eq!(cols.len(), 67);
         assert_eq!(cols[53].name, "q1_force_n");
         assert_eq!(cols[64].name, "right_qs3_force_n");
+        assert_eq!(cols[66].name, "right_tip_deflection_mm");
         let with_command = Scenario {
             stop_at_s: Some(1.0),
             ..loaded.clone()
@@ -722,7 +726,7 @@ mod tests {
             .collect();
         names.sort_unstable();
         names.dedup();
-        assert_eq!(names.len(), CSV_COUNT + 24);
+        assert_eq!(names.len(), CSV_COUNT + 26);
     }
 
     #[test]

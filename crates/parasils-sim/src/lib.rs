@@ -31,7 +31,9 @@
 //! [`Scenario::tip_load_right_n`]: the force a tip exerts on the tissue, N,
 //! fixed frame), every record carries the twelve actuators' forces holding
 //! it ([`Record::forces`], from `parasils_kin::statics`), written as the
-//! twelve columns [`columns::FORCES`] after the run's others.
+//! fourteen columns [`columns::FORCES`] after the run's others (the last
+//! two each tip's deflection under the tissue's push, with the assumed
+//! actuator stiffnesses).
 //!
 //! The paper's run, written as CSV in memory:
 //!

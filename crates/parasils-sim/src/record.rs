@@ -56,6 +56,10 @@ pub struct ForceRecord {
     pub left: [f64; 3],
     /// The right module's, the same.
     pub right: [f64; 3],
+    /// How far each tip, `[left, right]`, gives way under the tissue's
+    /// push (minus its load), mm, with the **assumed** actuator
+    /// stiffnesses (`parasils_kin::ActuatorStiffness::assumed`).
+    pub deflection: [f64; 2],
 }
 
 /// Everything computed at one instant of a simulation.

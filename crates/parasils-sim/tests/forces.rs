@@ -173,7 +173,7 @@ fn the_demo_procedure_under_tip_loads_balances_power() {
     // (the positioning) are left out: a record has no `Pdot`.
     let checked = check_balance(&sim, &records, 1e-7);
     assert!(checked > 9000, "{checked} of {}", records.len());
-    assert_eq!(columns::csv_columns_of(sim.scenario()).len(), 53 + 12 + 12);
+    assert_eq!(columns::csv_columns_of(sim.scenario()).len(), 53 + 12 + 14);
 }
 
 #[test]
@@ -184,6 +184,47 @@ fn one_load_given_loads_that_tip_alone() {
     });
     let r = &records[2000];
     assert_eq!(r.forces.right, [0.0; 3]);
+    assert_eq!(r.forces.deflection[1], 0.0);
+    // The left tip gives way under the tissue's push (0, 0, 10) N: its
+    // deflection is the library's, and upwards.
+    let sim = Simulation::new(Scenario::paper()).expect("valid");
+    let step = sim
+        .controller()
+        .step(
+            &PlatformState {
+                pose: Pose::from_array(r.pose),
+                velocity: PoseRate::new(
+                    0.0,
+                    0.0,
+                    0.0,
+                    r.euler_dot[0],
+                    r.euler_dot[1],
+                    r.euler_dot[2],
+                ),
+                acceleration: PoseRate::new(
+                    0.0,
+                    0.0,
+                    0.0,
+                    r.euler_ddot[0],
+                    r.euler_ddot[1],
+                    r.euler_ddot[2],
+                ),
+            },
+            &sim.scenario().tips(),
+            &mut parasils::kin::MarginTracker::new(),
+        )
+        .expect("regular");
+    let d = sim
+        .controller()
+        .tip_deflection(
+            &step,
+            parasils::kin::Side::Left,
+            &Vector3::new(0.0, 0.0, 10.0),
+            &parasils::kin::ActuatorStiffness::assumed(),
+        )
+        .expect("regular");
+    assert!((d.norm() - r.forces.deflection[0]).abs() < 1e-12 * d.norm());
+    assert!(d.z > 0.0);
     assert!(r.forces.left.iter().any(|v| v.abs() > 1.0));
     assert!(r.forces.module1.iter().all(|v| v.abs() > 1e-3));
 }

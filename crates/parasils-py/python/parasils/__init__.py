@@ -141,13 +141,15 @@ def simulate(
       the stop has got to.
     - tip_load_left_n, tip_load_right_n: the force each tip exerts on the
       tissue, (fx, fy, fz) N, fixed frame (--tip-load-left,
-      --tip-load-right); default none. With either, the table has twelve
+      --tip-load-right); default none. With either, the table has fourteen
       more columns, last: every actuator's force holding the loads,
       ``q1_force_n`` .. ``q6_force_n`` (N, positive pushing the slider along
       its guide's direction), ``left_qs1_torque_nmm``,
       ``left_qs2_torque_nmm`` (N mm), ``left_qs3_force_n`` (N), the same for
-      the right module (see docs/model.md, "Forces"). Allowed with a
-      procedure.
+      the right module, then ``left_tip_deflection_mm`` and
+      ``right_tip_deflection_mm``: how far each tip gives way under the
+      tissue's push with the assumed actuator stiffnesses (see
+      docs/model.md, "Forces"). Allowed with a procedure.
     - force: write ``out`` even above the 10 GB cap (--force).
     - pose: deprecated name of pose_mm_deg (a DeprecationWarning; removed in
       the next release).

@@ -259,10 +259,11 @@ def simulate(
     either has one more column, ``command`` (int64, the index of the active
     command). ``tip_load_left_n``, ``tip_load_right_n``: the force each tip
     exerts, (fx, fy, fz) N, fixed frame (``--tip-load-left``,
-    ``--tip-load-right``); with either, twelve more columns, last: every
+    ``--tip-load-right``); with either, fourteen more columns, last: every
     actuator's force (``q1_force_n`` .. ``q6_force_n``, N;
     ``left_qs1_torque_nmm``, ``left_qs2_torque_nmm``, N mm;
-    ``left_qs3_force_n``, N; the same for the right). ``out`` is checked before writing: OSError (ENOSPC) above the
+    ``left_qs3_force_n``, N; the same for the right) and each tip's
+    deflection (``left_tip_deflection_mm``, ``right_tip_deflection_mm``). ``out`` is checked before writing: OSError (ENOSPC) above the
     free space, ValueError above the 10 GB cap unless ``force=True``. The
     defaults are the paper's scenario.
 

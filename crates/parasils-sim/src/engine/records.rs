@@ -5,7 +5,7 @@
 use super::procedure::ProcedurePlan;
 use nalgebra::Vector3;
 use parasils::kin::MarginTracker;
-use parasils::kin::{ControlStep, Controller, Loads, PlatformState};
+use parasils::kin::{ActuatorStiffness, ControlStep, Controller, Loads, PlatformState, Side};
 use parasils::supervisor::{MarginSet, Margins};
 use parasils::traj::Sampler;
 use parasils::{MotionKind, OnCycle, OnlineController, Reorientation};
@@ -108,10 +108,21 @@ pub(super) fn forces(
             sample: Some(k),
             error,
         })?;
+    let stiffness = ActuatorStiffness::assumed();
+    let deflection = [(Side::Left, loads.left), (Side::Right, loads.right)].map(|(side, load)| {
+        controller
+            .tip_deflection(step, side, &-load, &stiffness)
+            .map(|d| d.norm())
+    });
+    let [left_d, right_d] = deflection;
     let record = ForceRecord {
         module1: f.module1.force.0,
         left: f.left.to_array(),
         right: f.right.to_array(),
+        deflection: [
+            left_d.map_err(|error| kinematics(error, t, k))?,
+            right_d.map_err(|error| kinematics(error, t, k))?,
+        ],
     };
     controller
         .limits
@@ -122,6 +133,14 @@ pub(super) fn forces(
             error,
         })?;
     Ok(record)
+}
+
+fn kinematics(error: parasils::kin::Error, t: f64, k: usize) -> SimulationError {
+    SimulationError::Kinematics {
+        t,
+        sample: Some(k),
+        error,
+    }
 }
 
 /// `step` against the actuators' limits of `controller`.
