@@ -195,6 +195,19 @@ pub struct SimulateArgs {
     /// later --retarget replans from wherever the stop has got to.
     #[arg(long, value_name = "T", value_parser = parse_finite, allow_hyphen_values = true)]
     pub stop_at: Option<f64>,
+    /// The force the left tip exerts on the tissue, N, fixed frame
+    /// [default: none]. With a tip load the output gets every actuator's
+    /// force holding it: q1_force_n..q6_force_n (positive pushing the
+    /// slider along its guide's direction), left_/right_qs1_torque_nmm,
+    /// _qs2_torque_nmm (N mm) and _qs3_force_n (N), and each tip's
+    /// deflection under the tissue's push, left_/right_tip_deflection_mm
+    /// (assumed actuator stiffnesses).
+    #[arg(long, value_name = "FX,FY,FZ", value_parser = parse_floats::<3>, allow_hyphen_values = true)]
+    pub tip_load_left: Option<[f64; 3]>,
+    /// The force the right tip exerts on the tissue, N, fixed frame
+    /// [default: none]; see --tip-load-left.
+    #[arg(long, value_name = "FX,FY,FZ", value_parser = parse_floats::<3>, allow_hyphen_values = true)]
+    pub tip_load_right: Option<[f64; 3]>,
     /// The start pose and the tips.
     #[command(flatten)]
     pub place: PlaceArgs,
@@ -220,7 +233,7 @@ pub struct SimulateArgs {
     /// ended; its start pose, tips and robot come from the file. The whole
     /// procedure is planned and checked before any output; the output gets
     /// the columns motion, motion_type, endoscope_depth_mm and the three
-    /// tips. Only --rate and --timing may be given with it.
+    /// tips. Only --rate, --timing and the tip loads may be given with it.
     #[arg(long, value_name = "FILE.toml")]
     pub procedure: Option<PathBuf>,
     /// Plan and check the procedure, print the verdict and a table per
@@ -253,6 +266,8 @@ impl SimulateArgs {
             robot: self.robot.source(),
             retarget: (!self.retarget.is_empty()).then(|| self.retarget.clone()),
             stop_at_s: self.stop_at,
+            tip_load_left_n: self.tip_load_left,
+            tip_load_right_n: self.tip_load_right,
         }
     }
 

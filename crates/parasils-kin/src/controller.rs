@@ -164,7 +164,9 @@ impl<T: Real> RobotGeometry<T> {
             g.validate()?;
         }
         self.endoscope.validate()?;
-        if let Err(LimitError::Invalid { value, .. }) = self.limits.validate() {
+        if let Err(LimitError::Invalid { value, .. } | LimitError::InvalidForce { value, .. }) =
+            self.limits.validate()
+        {
             return Err(Error::InvalidParameter {
                 what: "limits",
                 value,

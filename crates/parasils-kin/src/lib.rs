@@ -62,8 +62,13 @@
 //!   form, and the surface gaps between the three bodies at a cycle;
 //! - [`controller`]: the one call per control cycle, and the whole robot's
 //!   geometry;
-//! - [`limits`]: the actuators' velocity and acceleration limits (assumed
+//! - [`limits`]: the actuators' velocity, acceleration and force limits (assumed
 //!   defaults) and the check of a cycle against them;
+//! - [`statics`]: the forces every actuator exerts to hold the tips' forces
+//!   and the payload's weight (`tau = J^-T W` for module 1, `J^T R^T F` for
+//!   an instrument module), the payload's Newton-Euler wrench, the
+//!   platform's stiffness and a tip's deflection, checked by the balance of
+//!   power, virtual work and Lagrange's equations;
 //! - [`presets`]: the paper's numbers and module 1's assumed geometry, from
 //!   which every named constructor (`paper`, `assumed`, `paper_start`) is built;
 //! - [`error`]: what can go wrong, typed;
@@ -79,7 +84,7 @@
 //! no circle: `real`, `presets`, `side`, then `interval` and
 //! `linalg`, then `error`, `frame`, `check`, then `instrument` and
 //! `parallel` (each split by concept, the `mod.rs` only re-exporting), then
-//! `endoscope`, `clearance` and `limits`, then `controller` (the order of
+//! `endoscope`, `clearance` and `limits`, then `controller`, then `statics` (the order of
 //! `ARCHITECTURE.md`'s table, which the workspace's tests check). The model
 //! is described in `docs/model.md`.
 //!
@@ -108,6 +113,7 @@ pub mod parallel;
 pub mod presets;
 pub mod real;
 mod side;
+pub mod statics;
 
 pub use camera::{Camera, CameraError, ImagePoint};
 pub use clearance::{
@@ -137,3 +143,6 @@ pub use parallel::{
 };
 pub use real::Real;
 pub use side::Side;
+pub use statics::{
+    ActuatorStiffness, JointForces, Loads, Payload, RobotForces, SliderForces, Wrench,
+};

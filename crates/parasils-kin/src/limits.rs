@@ -1,12 +1,14 @@
-//! The actuators' velocity and acceleration limits, and the check of one
-//! control cycle against them.
+//! The actuators' velocity, acceleration and force limits, and the check of
+//! one control cycle against them.
 //!
 //! The robot has twelve actuators, always listed in this order (the
 //! [`Actuator::index`]): module 1's sliders `q1..q6` (mm), then the left
 //! module's `qs1`, `qs2` (rad), `qs3` (mm), then the right module's. An
 //! [`ActuatorLimits`] holds one velocity and one acceleration maximum per
 //! actuator, in the crate's units (mm/s, mm/s^2 for sliders and `qs3`;
-//! rad/s, rad/s^2 for `qs1`, `qs2`). The paper gives none: the defaults
+//! rad/s, rad/s^2 for `qs1`, `qs2`), and one force maximum (N for the
+//! sliders and `qs3`, N mm for the torques of `qs1`, `qs2`; see
+//! `docs/model.md`, *Forces*). The paper gives none: the defaults
 //! ([`ActuatorLimits::assumed`]) are **assumed** (see `docs/model.md`,
 //! *Time-optimal timing*).
 //!
@@ -47,6 +49,12 @@ pub const QS12_ACCELERATION_MAX_DEG_S2: f64 = 60.0;
 pub const QS3_VELOCITY_MAX_MM_S: f64 = 60.0;
 /// `qs3`'s acceleration limit, mm/s^2 (**assumed**).
 pub const QS3_ACCELERATION_MAX_MM_S2: f64 = 60.0;
+/// Module 1's slider force limit, N (**assumed**).
+pub const SLIDER_FORCE_MAX_N: f64 = 200.0;
+/// `qs1`'s and `qs2`'s torque limit, N mm (**assumed**).
+pub const QS12_TORQUE_MAX_NMM: f64 = 3000.0;
+/// `qs3`'s force limit, N (**assumed**).
+pub const QS3_FORCE_MAX_N: f64 = 40.0;
 
 /// One of the robot's twelve actuators.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -147,6 +155,16 @@ impl Actuator {
     pub fn display_unit(self) -> &'static str {
         if self.is_angular() { "deg" } else { "mm" }
     }
+
+    /// What it exerts and its unit: `("torque", "N mm")` for `qs1`, `qs2`,
+    /// `("force", "N")` otherwise.
+    pub fn effort(self) -> (&'static str, &'static str) {
+        if self.is_angular() {
+            ("torque", "N mm")
+        } else {
+            ("force", "N")
+        }
+    }
 }
 
 impl fmt::Display for Actuator {
@@ -212,6 +230,33 @@ pub enum LimitError {
         /// The value given (crate units).
         value: f64,
     },
+    /// A force or torque beyond its limit (N, or N mm for `qs1`, `qs2`).
+    #[error(
+        "{actuator}: {} {} {} is beyond its limit {} {}",
+        actuator.effort().0,
+        Num::apart_from(*value, *limit), actuator.effort().1,
+        Num::new(*limit), actuator.effort().1
+    )]
+    ForceExceeded {
+        /// Which actuator.
+        actuator: Actuator,
+        /// The force or torque (signed), N or N mm.
+        value: f64,
+        /// The limit, a magnitude.
+        limit: f64,
+    },
+    /// A force limit that is zero, negative or NaN (an infinite limit
+    /// means none).
+    #[error(
+        "{actuator}: {} limit {} is not a positive number",
+        actuator.effort().0, Num::new(*value)
+    )]
+    InvalidForce {
+        /// Which actuator.
+        actuator: Actuator,
+        /// The value given, N or N mm.
+        value: f64,
+    },
 }
 
 fn kind_power(kind: RateKind) -> &'static str {
@@ -223,7 +268,9 @@ fn kind_power(kind: RateKind) -> &'static str {
 
 /// One velocity and one acceleration maximum per actuator, in the order of
 /// [`Actuator::ALL`], in the crate's units (mm/s, mm/s^2; rad/s, rad/s^2).
-/// A limit is a magnitude: `|rate| <= limit`; `+inf` means none.
+/// A limit is a magnitude: `|rate| <= limit`; `+inf` means none. With them,
+/// one force maximum per actuator: N for the sliders and `qs3`, N mm for
+/// the torques of `qs1`, `qs2`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ActuatorLimits<T> {
@@ -231,11 +278,14 @@ pub struct ActuatorLimits<T> {
     pub velocity: [T; ACTUATOR_COUNT],
     /// Acceleration maxima.
     pub acceleration: [T; ACTUATOR_COUNT],
+    /// Force (N) and torque (N mm) maxima.
+    pub force: [T; ACTUATOR_COUNT],
 }
 
 impl<T: Real> ActuatorLimits<T> {
-    /// The **assumed** defaults: module 1's sliders 50 mm/s and 100 mm/s^2,
-    /// `qs1` and `qs2` 30 deg/s and 60 deg/s^2, `qs3` 60 mm/s and 60 mm/s^2.
+    /// The **assumed** defaults: module 1's sliders 50 mm/s, 100 mm/s^2 and
+    /// 200 N, `qs1` and `qs2` 30 deg/s, 60 deg/s^2 and 3000 N mm, `qs3`
+    /// 60 mm/s, 60 mm/s^2 and 40 N.
     pub fn assumed() -> Self {
         let mut velocity = [T::lit(SLIDER_VELOCITY_MAX_MM_S); ACTUATOR_COUNT];
         let mut acceleration = [T::lit(SLIDER_ACCELERATION_MAX_MM_S2); ACTUATOR_COUNT];
@@ -256,9 +306,17 @@ impl<T: Real> ActuatorLimits<T> {
                 };
             }
         }
+        let force = Actuator::ALL.map(|a| match a {
+            Actuator::Module1(_) => T::lit(SLIDER_FORCE_MAX_N),
+            Actuator::Instrument {
+                joint: Joint::Qs3, ..
+            } => T::lit(QS3_FORCE_MAX_N),
+            Actuator::Instrument { .. } => T::lit(QS12_TORQUE_MAX_NMM),
+        });
         Self {
             velocity,
             acceleration,
+            force,
         }
     }
 
@@ -267,6 +325,7 @@ impl<T: Real> ActuatorLimits<T> {
         Self {
             velocity: [T::lit(f64::INFINITY); ACTUATOR_COUNT],
             acceleration: [T::lit(f64::INFINITY); ACTUATOR_COUNT],
+            force: [T::lit(f64::INFINITY); ACTUATOR_COUNT],
         }
     }
 
@@ -286,6 +345,30 @@ impl<T: Real> ActuatorLimits<T> {
                         value: value.to_f64(),
                     });
                 }
+            }
+        }
+        for (&actuator, &value) in Actuator::ALL.iter().zip(&self.force) {
+            if !(value > T::zero()) {
+                return Err(LimitError::InvalidForce {
+                    actuator,
+                    value: value.to_f64(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks forces and torques given in the order of [`Actuator::ALL`]
+    /// (N, N mm: `RobotForces::to_array`): the first beyond its limit is the
+    /// error ([`LimitError::ForceExceeded`]). A NaN is beyond any limit.
+    pub fn check_forces(&self, force: &[T; ACTUATOR_COUNT]) -> Result<(), LimitError> {
+        for ((&actuator, &value), &limit) in Actuator::ALL.iter().zip(force).zip(&self.force) {
+            if !(value.abs() <= limit) {
+                return Err(LimitError::ForceExceeded {
+                    actuator,
+                    value: value.to_f64(),
+                    limit: limit.to_f64(),
+                });
             }
         }
         Ok(())
@@ -385,5 +468,36 @@ mod tests {
             Err("left qs2: acceleration limit 0 is not a positive number".to_string())
         );
         assert!(ActuatorLimits::<f32>::unlimited().validate().is_ok());
+    }
+
+    #[test]
+    fn forces_beyond_their_limits_are_named_in_newtons_or_newton_millimetres() {
+        let l = ActuatorLimits::<f64>::assumed();
+        assert_eq!((l.force[0], l.force[7], l.force[11]), (200.0, 3000.0, 40.0));
+        let mut f = [0.0; 12];
+        f[5] = -200.0;
+        f[10] = 3000.0;
+        assert!(
+            l.check_forces(&f).is_ok(),
+            "a limit is reached, not exceeded"
+        );
+        f[10] = -3100.0;
+        assert_eq!(
+            l.check_forces(&f).map_err(|e| e.to_string()),
+            Err("right qs2: torque -3100 N mm is beyond its limit 3000 N mm".to_string())
+        );
+        f[2] = 250.5;
+        assert_eq!(
+            l.check_forces(&f).map_err(|e| e.to_string()),
+            Err("module 1 q3: force 250.5 N is beyond its limit 200 N".to_string())
+        );
+        f[2] = f64::NAN;
+        assert!(l.check_forces(&f).is_err(), "NaN is never within a limit");
+        let mut bad = l;
+        bad.force[8] = -1.0;
+        assert_eq!(
+            bad.validate().map_err(|e| e.to_string()),
+            Err("left qs3: force limit -1 is not a positive number".to_string())
+        );
     }
 }

@@ -6,7 +6,8 @@
 //! flags; the library's [`Simulation::run`] is the loop, the same as the
 //! CLI's, into a [`Tee`] of the output file (if any) and the table. A run
 //! with commands (`retarget=`, `stop_at_s=`) has the CLI's `command` column
-//! too, as integers.
+//! too, as integers; a run with tip loads (`tip_load_left_n=`,
+//! `tip_load_right_n=`) the CLI's force columns.
 
 use core::convert::Infallible;
 use std::path::PathBuf;
@@ -238,6 +239,8 @@ pub(crate) fn paper_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     force = false,
     procedure = None,
     timing = None,
+    tip_load_left_n = None,
+    tip_load_right_n = None,
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn simulate<'py>(
@@ -260,6 +263,8 @@ pub(crate) fn simulate<'py>(
     force: bool,
     procedure: Option<Bound<'py, PyAny>>,
     timing: Option<&str>,
+    tip_load_left_n: Option<ArrayArg<'py>>,
+    tip_load_right_n: Option<ArrayArg<'py>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let format = match format {
         None => None,
@@ -293,6 +298,8 @@ pub(crate) fn simulate<'py>(
         robot: robot.map(|r| robot_source(&r)).transpose()?,
         retarget: retarget.map(retargets).transpose()?,
         stop_at_s,
+        tip_load_left_n: fixed::<3>(tip_load_left_n, "tip_load_left_n")?,
+        tip_load_right_n: fixed::<3>(tip_load_right_n, "tip_load_right_n")?,
     };
     let scenario = input.resolve().map_err(|e| input_error(py, e))?;
     finish(py, scenario, out, format, force)

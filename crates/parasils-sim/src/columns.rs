@@ -555,14 +555,79 @@ pub const CSV_WITH_PROCEDURE: [Column; CSV_COUNT + 12] = {
 };
 
 /// The CSV's columns of `scenario`'s run: [`CSV_WITH_PROCEDURE`] for a
-/// procedure, [`CSV_WITH_COMMAND`] with commands, [`CSV`] otherwise.
+/// procedure, [`CSV_WITH_COMMAND`] with commands, [`CSV`] otherwise; with
+/// a tip load given, the same followed by [`FORCES`].
 pub fn csv_columns_of(scenario: &crate::scenario::Scenario) -> &'static [Column] {
-    if !scenario.is_procedure() {
-        csv_columns(scenario.has_commands())
-    } else {
-        &CSV_WITH_PROCEDURE
+    let loads = scenario.tip_load_left_n.is_some() || scenario.tip_load_right_n.is_some();
+    match (scenario.is_procedure(), loads) {
+        (true, false) => &CSV_WITH_PROCEDURE,
+        (true, true) => &CSV_WITH_PROCEDURE_AND_FORCES,
+        (false, false) => csv_columns(scenario.has_commands()),
+        (false, true) if scenario.has_commands() => &CSV_WITH_COMMAND_AND_FORCES,
+        (false, true) => &CSV_WITH_FORCES,
     }
 }
+
+const N: &str = "N";
+const N_MM: &str = "N mm";
+
+const fn force(name: &'static str, unit: &'static str, get: fn(&Record) -> f64) -> Column {
+    Column {
+        name,
+        unit,
+        channel: None,
+        csv: true,
+        integer: false,
+        get,
+    }
+}
+
+/// The columns a run with tip loads adds after its others: every
+/// actuator's force holding the loads ([`Record::forces`], see
+/// `docs/model.md`, *Forces*): module 1's slider forces `q1_force_n` ..
+/// `q6_force_n` (N, positive pushing the slider along its guide's direction
+/// `u`), then each instrument module's `qs1`, `qs2` torques (N mm) and
+/// `qs3` force (N), then how far each tip gives way under the tissue's push
+/// with the assumed actuator stiffnesses (mm). CSV and Python only.
+pub const FORCES: [Column; 14] = [
+    force("q1_force_n", N, |r| r.forces.module1[0]),
+    force("q2_force_n", N, |r| r.forces.module1[1]),
+    force("q3_force_n", N, |r| r.forces.module1[2]),
+    force("q4_force_n", N, |r| r.forces.module1[3]),
+    force("q5_force_n", N, |r| r.forces.module1[4]),
+    force("q6_force_n", N, |r| r.forces.module1[5]),
+    force("left_qs1_torque_nmm", N_MM, |r| r.forces.left[0]),
+    force("left_qs2_torque_nmm", N_MM, |r| r.forces.left[1]),
+    force("left_qs3_force_n", N, |r| r.forces.left[2]),
+    force("right_qs1_torque_nmm", N_MM, |r| r.forces.right[0]),
+    force("right_qs2_torque_nmm", N_MM, |r| r.forces.right[1]),
+    force("right_qs3_force_n", N, |r| r.forces.right[2]),
+    force("left_tip_deflection_mm", MM, |r| r.forces.deflection[0]),
+    force("right_tip_deflection_mm", MM, |r| r.forces.deflection[1]),
+];
+
+/// `a` then `b` (`N = A + B`, checked when the constant is evaluated).
+const fn join<const A: usize, const B: usize, const N: usize>(
+    a: &[Column; A],
+    b: &[Column; B],
+) -> [Column; N] {
+    assert!(A + B == N, "N must be A + B");
+    let mut out = [T_S; N];
+    let mut k = 0;
+    while k < N {
+        out[k] = if k < A { a[k] } else { b[k - A] };
+        k += 1;
+    }
+    out
+}
+
+/// [`CSV`], then [`FORCES`].
+pub const CSV_WITH_FORCES: [Column; CSV_COUNT + 14] = join(&CSV, &FORCES);
+/// [`CSV_WITH_COMMAND`], then [`FORCES`].
+pub const CSV_WITH_COMMAND_AND_FORCES: [Column; CSV_COUNT + 15] = join(&CSV_WITH_COMMAND, &FORCES);
+/// [`CSV_WITH_PROCEDURE`], then [`FORCES`].
+pub const CSV_WITH_PROCEDURE_AND_FORCES: [Column; CSV_COUNT + 26] =
+    join(&CSV_WITH_PROCEDURE, &FORCES);
 
 /// The position of `column` among the [`CSV`] columns (by name, which is
 /// unique); `None` for an MCAP-only column and for [`COMMAND`].
@@ -661,6 +726,46 @@ mod tests {
         assert_eq!(MODULE1_PARALLEL_MARGIN.channel, Some(Channel::Margins));
         assert_eq!(Q_ACC_MM_S2[5].channel, Some(Channel::Module1));
         assert_eq!(PSI_DEG.channel, Some(Channel::Platform));
+    }
+
+    #[test]
+    fn the_force_columns_come_last_and_only_with_loads() {
+        use crate::scenario::{Online, Run, Scenario, Turn};
+        let loaded = Scenario {
+            tip_load_right_n: Some([0.0, 0.0, 1.0]),
+            ..Scenario::paper()
+        };
+        let n = CSV_COUNT;
+        assert_eq!(csv_columns_of(&Scenario::paper()).len(), n);
+        let cols = csv_columns_of(&loaded);
+        assert_eq!(cols.len(), n + 14);
+        assert_eq!(cols[n].name, "q1_force_n");
+        assert_eq!(cols[n + 11].name, "right_qs3_force_n");
+        assert_eq!(cols[n + 13].name, "right_tip_deflection_mm");
+        let with_command = Scenario {
+            run: Run::Online(Online {
+                turn: Turn::paper(),
+                retargets: Vec::new(),
+                stop_at_s: Some(1.0),
+            }),
+            ..loaded.clone()
+        };
+        let cols = csv_columns_of(&with_command);
+        assert_eq!((cols[n].name, cols[n + 1].name), ("command", "q1_force_n"));
+        let mut r = Record::default();
+        r.forces.module1[4] = -3.5;
+        r.forces.left[2] = 2.0;
+        r.forces.right[0] = 40.0;
+        assert_eq!(FORCES[4].value(&r), -3.5);
+        assert_eq!(FORCES[8].value(&r), 2.0);
+        assert_eq!(FORCES[9].value(&r), 40.0);
+        let mut names: Vec<&str> = CSV_WITH_PROCEDURE_AND_FORCES
+            .iter()
+            .map(|c| c.name)
+            .collect();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), CSV_COUNT + 26);
     }
 
     #[test]

@@ -10,7 +10,7 @@
 //!   paper's limit, and so does `omega_max_deg_s=10`;
 //! - **the defaults** are the paper's ([`Scenario::paper`]);
 //! - **the exclusions**: a procedure brings its own start, robot and motions,
-//!   so only the rate and the timing may be given with it
+//!   so only the rate, the timing and the tip loads may be given with it
 //!   ([`InputError::WithProcedure`] names the first field that may not);
 //! - **the timing rule**: under [`TimingKind::Optimal`], the angular limits
 //!   bind only when one of them is given, and no command (retarget, stop)
@@ -125,6 +125,10 @@ pub enum InputField {
     Retarget,
     /// `stop_at_s`, `--stop-at`.
     StopAtS,
+    /// `tip_load_left_n`, `--tip-load-left`.
+    TipLoadLeftN,
+    /// `tip_load_right_n`, `--tip-load-right`.
+    TipLoadRightN,
 }
 
 impl InputField {
@@ -155,6 +159,8 @@ impl InputField {
             Self::Robot => ("robot", "--robot"),
             Self::Retarget => ("retarget", "--retarget"),
             Self::StopAtS => ("stop_at_s", "--stop-at"),
+            Self::TipLoadLeftN => ("tip_load_left_n", "--tip-load-left"),
+            Self::TipLoadRightN => ("tip_load_right_n", "--tip-load-right"),
         }
     }
 }
@@ -264,6 +270,12 @@ pub struct Input {
     pub retarget: Option<Vec<Retarget>>,
     /// The time of a controlled stop, s.
     pub stop_at_s: Option<f64>,
+    /// The force the left tip exerts on the tissue, N, fixed frame.
+    /// Default: none (zero), and no force columns unless a tip load is
+    /// given. Allowed with a procedure.
+    pub tip_load_left_n: Option<[f64; 3]>,
+    /// The force the right tip exerts, N, fixed frame. Default: none.
+    pub tip_load_right_n: Option<[f64; 3]>,
 }
 
 impl Input {
@@ -315,6 +327,8 @@ impl Input {
             };
             let mut scenario = scenario;
             scenario.rate_hz = rate_hz;
+            scenario.tip_load_left_n = self.tip_load_left_n;
+            scenario.tip_load_right_n = self.tip_load_right_n;
             if let Run::Planned(timeline) = &mut scenario.run {
                 timeline.timing = timing;
             }
@@ -363,6 +377,8 @@ impl Input {
             supervisor: robot.supervisor,
             run,
             bodies: robot.bodies,
+            tip_load_left_n: self.tip_load_left_n,
+            tip_load_right_n: self.tip_load_right_n,
             ..paper
         })
     }

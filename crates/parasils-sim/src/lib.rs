@@ -29,6 +29,14 @@
 //!   (the CSV's last column, and `/motion` in MCAP). A run without commands
 //!   is written exactly as before they existed.
 //!
+//! With a tip load ([`Scenario::tip_load_left_n`],
+//! [`Scenario::tip_load_right_n`]: the force a tip exerts on the tissue, N,
+//! fixed frame), every record carries the twelve actuators' forces holding
+//! it ([`Record::forces`], from `parasils_kin::statics`), written as the
+//! fourteen columns [`columns::FORCES`] after the run's others (the last
+//! two each tip's deflection under the tissue's push, with the assumed
+//! actuator stiffnesses).
+//!
 //! The paper's run, written as CSV in memory:
 //!
 //! ```
@@ -119,7 +127,7 @@ pub use output::{Flushed, Format, OutputError, OutputFile};
 #[cfg(feature = "plot")]
 pub use plot::PlotSink;
 pub use procedure::ProcedureError;
-pub use record::{ClearanceRecord, InstrumentRecord, Module1Record, Record};
+pub use record::{ClearanceRecord, ForceRecord, InstrumentRecord, Module1Record, Record};
 pub use robot::Robot;
 pub use robot_file::{
     BodiesFile, CameraFile, EndoscopeFile, GuideFile, InstrumentFile, LegFile, Module1File,

@@ -67,6 +67,23 @@ impl ClearanceRecord {
     }
 }
 
+/// Every actuator's force at one instant holding the run's tip loads (zero
+/// in a run without them; see `parasils_kin::statics`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ForceRecord {
+    /// Module 1's slider forces `q1..q6`, N, positive pushing each slider
+    /// along its guide's direction `u`.
+    pub module1: [f64; 6],
+    /// The left module's `qs1`, `qs2` torques (N mm) and `qs3` force (N).
+    pub left: [f64; 3],
+    /// The right module's, the same.
+    pub right: [f64; 3],
+    /// How far each tip, `[left, right]`, gives way under the tissue's
+    /// push (minus its load), mm, with the **assumed** actuator
+    /// stiffnesses (`parasils_kin::ActuatorStiffness::assumed`).
+    pub deflection: [f64; 2],
+}
+
 /// Everything computed at one instant of a simulation.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Record {
@@ -115,6 +132,9 @@ pub struct Record {
     pub endoscope_tip: Vector3<f64>,
     /// The surface gaps between the shafts and the endoscope, mm.
     pub clearance: ClearanceRecord,
+    /// Every actuator's force for the tip loads (written with tip loads
+    /// only).
+    pub forces: ForceRecord,
 }
 
 impl Record {
@@ -144,6 +164,31 @@ impl Record {
         for (k, (v, a)) in q_dot.iter().zip(&q_ddot).enumerate() {
             uv[k] = uv[k].max(v.abs() / limits.velocity[k]);
             ua[k] = ua[k].max(a.abs() / limits.acceleration[k]);
+        }
+    }
+
+    /// The twelve actuators' forces in the order of
+    /// [`parasils::kin::Actuator::ALL`]: `q1..q6` (N), then each module's
+    /// `qs1`, `qs2` (N mm), `qs3` (N).
+    pub fn actuator_forces(&self) -> [f64; 12] {
+        let f = &self.forces;
+        core::array::from_fn(|k| match k {
+            0..6 => f.module1[k],
+            6..9 => f.left[k - 6],
+            _ => f.right[(k - 9).min(2)],
+        })
+    }
+
+    /// Raises each actuator's peak use of its force limit (fractions, in the
+    /// order of [`Actuator::ALL`](parasils::kin::Actuator::ALL)) to this
+    /// record's.
+    pub fn widen_force_usage(&self, usage: &mut [f64; 12], limits: &ActuatorLimits<f64>) {
+        for ((u, f), limit) in usage
+            .iter_mut()
+            .zip(self.actuator_forces())
+            .zip(&limits.force)
+        {
+            *u = u.max(f.abs() / limit);
         }
     }
 

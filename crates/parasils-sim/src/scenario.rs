@@ -72,6 +72,12 @@ pub struct Scenario {
     /// The shafts' and the endoscope's sizes for the clearance columns (the
     /// robot file's `[bodies]`; assumed by default).
     pub bodies: BodyGeometry<f64>,
+    /// The force the left tip exerts on the tissue, N, fixed frame; `None`
+    /// when not given (zero). With either tip's load the run writes every
+    /// actuator's force ([`columns::FORCES`](crate::columns::FORCES)).
+    pub tip_load_left_n: Option<[f64; 3]>,
+    /// The force the right tip exerts, N, fixed frame; `None` when not given.
+    pub tip_load_right_n: Option<[f64; 3]>,
     /// What kind of run, with what only that kind has.
     pub run: Run,
 }
@@ -326,6 +332,8 @@ impl Scenario {
             supervisor: SupervisorTable::default(),
             run: Run::turn(Turn::paper()),
             bodies: BodyGeometry::assumed(),
+            tip_load_left_n: None,
+            tip_load_right_n: None,
         }
     }
 

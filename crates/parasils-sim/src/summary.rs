@@ -52,6 +52,8 @@ pub struct Summary {
     /// velocity and of its acceleration limit so far.
     limits: ActuatorLimits<f64>,
     usage: [[f64; ACTUATOR_COUNT]; 2],
+    /// With tip loads, each actuator's largest fraction of its force limit.
+    force_usage: Option<[f64; ACTUATOR_COUNT]>,
     /// The time-optimal law's phases, for a run timed with it.
     phases: Vec<NamedPhase>,
     /// A single planned turn's law duration before it was stretched onto
@@ -79,6 +81,9 @@ impl Sink for Summary {
             self.warnings = self.warnings.union(record.warnings);
         }
         record.widen_usage(&mut self.usage, &self.limits);
+        if let Some(usage) = &mut self.force_usage {
+            record.widen_force_usage(usage, &self.limits);
+        }
         for (i, column) in columns::CSV.iter().enumerate() {
             let v = column.value(record);
             self.min[i] = self.min[i].min(v);
@@ -107,6 +112,7 @@ impl Summary {
             procedure: None,
             limits: ActuatorLimits::assumed(),
             usage: [[0.0; ACTUATOR_COUNT]; 2],
+            force_usage: None,
             phases: Vec::new(),
             planned_s: None,
         }
@@ -123,6 +129,9 @@ impl Summary {
             s.absolute = sim.scenario().turn().is_some_and(|t| t.absolute);
         }
         s.procedure = sim.procedure_check().cloned();
+        if has_loads(sim) {
+            s.force_usage = Some([0.0; ACTUATOR_COUNT]);
+        }
         s.limits = sim.controller().limits;
         s.phases = optimal_phases(sim);
         s.planned_s = planned_turn(sim).filter(|&t| t != sim.duration());
@@ -275,6 +284,9 @@ impl fmt::Display for Summary {
             Fixed(r(&columns::MODULE1_PARALLEL_MARGIN).0, 4)
         )?;
         write!(f, "\n{}", Usage(&self.usage))?;
+        if let Some(usage) = &self.force_usage {
+            write!(f, "\n{}", ForceUsage(usage))?;
+        }
         if !self.phases.is_empty() {
             write!(f, "\n{}", Phases(&self.phases))?;
         }
@@ -305,6 +317,29 @@ impl fmt::Display for Usage<'_> {
                 Fixed(self.0[0][k], 3),
                 Fixed(self.0[1][k], 3)
             )?;
+        }
+        Ok(())
+    }
+}
+
+/// Whether `sim`'s run has tip loads, and so forces.
+fn has_loads(sim: &Simulation) -> bool {
+    let s = sim.scenario();
+    s.tip_load_left_n.is_some() || s.tip_load_right_n.is_some()
+}
+
+/// Each actuator's peak use of its force limit.
+struct ForceUsage<'a>(&'a [f64; ACTUATOR_COUNT]);
+
+impl fmt::Display for ForceUsage<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "force limits, peak use:")?;
+        for (k, a) in Actuator::ALL.iter().enumerate() {
+            let name = a.to_string().replace("module 1 ", "");
+            if k % 6 == 0 {
+                write!(f, "\n ")?;
+            }
+            write!(f, " {name} {}", Fixed(self.0[k], 3))?;
         }
         Ok(())
     }
@@ -430,6 +465,9 @@ impl fmt::Display for CheckReport<'_> {
         }
         writeln!(f, "{}", MotionTable(self.check))?;
         write!(f, "{}", Usage(&self.check.usage))?;
+        if has_loads(self.sim) {
+            write!(f, "\n{}", ForceUsage(&self.check.force_usage))?;
+        }
         let phases = optimal_phases(self.sim);
         if !phases.is_empty() {
             write!(f, "\n{}", Phases(&phases))?;

@@ -52,6 +52,9 @@ fn unusual() -> RobotGeometry<f64> {
         oblique: 30f64.to_radians(),
         oblique_direction: (-45.5f64).to_radians(),
     };
+    g.limits.force[3] = 123.5;
+    g.limits.force[7] = 2_500.25;
+    g.limits.force[11] = 35.0;
     g
 }
 
@@ -86,6 +89,9 @@ fn keys_name_their_units() {
         "qs3_mm = [10.0, 300.0]",
         "fk_tolerance_rel = 1e-13",
         "assumed = true",
+        "force_max_n = 200.0",
+        "qs1_torque_max_nmm = 3000.0",
+        "qs3_force_max_n = 40.0",
     ] {
         assert!(text.contains(key), "missing `{key}`");
     }

@@ -91,6 +91,8 @@ def simulate(
     force=False,
     procedure=None,
     timing=None,
+    tip_load_left_n=None,
+    tip_load_right_n=None,
 ):
     """Simulates an endoscope reorientation (motion type 4) with the
     simulation library, as ``parasils simulate`` does: the platform turns
@@ -140,6 +142,17 @@ def simulate(
       psi and theta brought to rest together at the acceleration limit,
       along their current direction; a later retarget replans from wherever
       the stop has got to.
+    - tip_load_left_n, tip_load_right_n: the force each tip exerts on the
+      tissue, (fx, fy, fz) N, fixed frame (--tip-load-left,
+      --tip-load-right); default none. With either, the table has fourteen
+      more columns, last: every actuator's force holding the loads,
+      ``q1_force_n`` .. ``q6_force_n`` (N, positive pushing the slider along
+      its guide's direction), ``left_qs1_torque_nmm``,
+      ``left_qs2_torque_nmm`` (N mm), ``left_qs3_force_n`` (N), the same for
+      the right module, then ``left_tip_deflection_mm`` and
+      ``right_tip_deflection_mm``: how far each tip gives way under the
+      tissue's push with the assumed actuator stiffnesses (see
+      docs/model.md, "Forces"). Allowed with a procedure.
     - force: write ``out`` even above the 10 GB cap (--force).
     - pose: deprecated name of pose_mm_deg (a DeprecationWarning; removed in
       the next release).
@@ -157,8 +170,8 @@ def simulate(
       ``{"motion": [{"type": "insert", "instrument": "endoscope",
       "depth_mm": 40}]}``. It gives the start (pose, tips, endoscope depth),
       the robot and the motions (motion types 1 to 4: "position", "insert",
-      "manipulate", "reorient"), so only rate_hz, timing, out, format and
-      force may be given with it (TypeError otherwise). The whole procedure is planned
+      "manipulate", "reorient"), so only rate_hz, timing, the tip loads, out,
+      format and force may be given with it (TypeError otherwise). The whole procedure is planned
       and checked before anything is returned or written. Its table has
       twelve more columns after the others: ``motion`` and ``motion_type``
       (int64: the motion's index from 0, the paper's type 1 to 4),
@@ -222,6 +235,8 @@ def simulate(
         force=force,
         procedure=procedure,
         timing=timing,
+        tip_load_left_n=tip_load_left_n,
+        tip_load_right_n=tip_load_right_n,
     )
 
 

@@ -247,6 +247,8 @@ def simulate(
     force: bool = False,
     procedure: Union[_Path, Dict[str, Any], None] = None,
     timing: Optional[Literal["trapezoid", "optimal"]] = None,
+    tip_load_left_n: Optional[Sequence[float]] = None,
+    tip_load_right_n: Optional[Sequence[float]] = None,
 ) -> Dict[str, npt.NDArray[Any]]:
     """``parasils simulate`` from the simulation library: the CSV table as
     NumPy columns keyed by COLUMNS (float64). ``pose_mm_deg`` is (x, y, z mm,
@@ -255,7 +257,13 @@ def simulate(
     theta_deg) goals commanded while the platform moves (``--retarget``),
     ``stop_at_s`` a controlled stop's time, s (``--stop-at``); a run with
     either has one more column, ``command`` (int64, the index of the active
-    command). ``out`` is checked before writing: OSError (ENOSPC) above the
+    command). ``tip_load_left_n``, ``tip_load_right_n``: the force each tip
+    exerts, (fx, fy, fz) N, fixed frame (``--tip-load-left``,
+    ``--tip-load-right``); with either, fourteen more columns, last: every
+    actuator's force (``q1_force_n`` .. ``q6_force_n``, N;
+    ``left_qs1_torque_nmm``, ``left_qs2_torque_nmm``, N mm;
+    ``left_qs3_force_n``, N; the same for the right) and each tip's
+    deflection (``left_tip_deflection_mm``, ``right_tip_deflection_mm``). ``out`` is checked before writing: OSError (ENOSPC) above the
     free space, ValueError above the 10 GB cap unless ``force=True``. The
     defaults are the paper's scenario.
 

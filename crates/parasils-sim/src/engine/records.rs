@@ -3,14 +3,17 @@
 //! through the controller's step.
 
 use super::procedure::ProcedurePlan;
+use nalgebra::Vector3;
 use parasils::kin::MarginTracker;
-use parasils::kin::{Bodies, ClearancePair, ControlStep, Controller};
+use parasils::kin::{
+    ActuatorStiffness, Bodies, ClearancePair, ControlStep, Controller, Loads, Side,
+};
 use parasils::supervisor::Margins;
 use parasils::traj::{Sampler, Synchronization};
 use parasils::{MotionKind, OnlineController};
 
-use crate::record::{ClearanceRecord, Record};
-use crate::scenario::CommandKind;
+use crate::record::{ClearanceRecord, ForceRecord, Record};
+use crate::scenario::{CommandKind, Scenario};
 
 use super::error::SimulationError;
 use super::schedule::apply;
@@ -97,6 +100,73 @@ pub(super) fn with_clearance(
         }
     }
     Ok(record)
+}
+
+/// The tip loads of `scenario` (`None` when neither is given), the
+/// endoscope's tip and the payload unloaded.
+fn loads(scenario: &Scenario) -> Option<Loads<f64>> {
+    let (left, right) = (scenario.tip_load_left_n, scenario.tip_load_right_n);
+    (left.is_some() || right.is_some()).then(|| {
+        Loads::tips(
+            Vector3::from(left.unwrap_or_default()),
+            Vector3::from(right.unwrap_or_default()),
+        )
+    })
+}
+
+/// Every actuator's force in `step` holding `scenario`'s tip loads
+/// (`parasils_kin::statics`), checked against the actuators' force limits;
+/// zero without loads.
+pub(super) fn forces(
+    scenario: &Scenario,
+    controller: &Controller<f64>,
+    step: &ControlStep<f64>,
+    t: f64,
+    k: usize,
+) -> Result<ForceRecord, SimulationError> {
+    let Some(loads) = loads(scenario) else {
+        return Ok(ForceRecord::default());
+    };
+    let f = controller
+        .forces(step, &loads)
+        .map_err(|error| SimulationError::Kinematics {
+            t,
+            sample: Some(k),
+            error,
+        })?;
+    let stiffness = ActuatorStiffness::assumed();
+    let deflection = [(Side::Left, loads.left), (Side::Right, loads.right)].map(|(side, load)| {
+        controller
+            .tip_deflection(step, side, &-load, &stiffness)
+            .map(|d| d.norm())
+    });
+    let [left_d, right_d] = deflection;
+    let record = ForceRecord {
+        module1: f.module1.force.0,
+        left: f.left.to_array(),
+        right: f.right.to_array(),
+        deflection: [
+            left_d.map_err(|error| kinematics(error, t, k))?,
+            right_d.map_err(|error| kinematics(error, t, k))?,
+        ],
+    };
+    controller
+        .limits
+        .check_forces(&f.to_array())
+        .map_err(|error| SimulationError::ActuatorLimit {
+            t,
+            sample: Some(k),
+            error,
+        })?;
+    Ok(record)
+}
+
+fn kinematics(error: parasils::kin::Error, t: f64, k: usize) -> SimulationError {
+    SimulationError::Kinematics {
+        t,
+        sample: Some(k),
+        error,
+    }
 }
 
 /// `step` against the actuators' limits of `controller`.
@@ -193,7 +263,9 @@ impl ProcedureRun {
                 endoscope_depth: sample.endoscope.position,
                 endoscope_tip,
             };
-            let record = sim.record(k, t, &sample.platform, &out, &targets, context);
+            let mut record = sim.record(k, t, &sample.platform, &out, &targets, context);
+            record.forces =
+                forces(&sim.scenario, &self.controller, &out, t, k).map_err(in_motion)?;
             let record = with_clearance(
                 sim,
                 &self.controller,
@@ -288,6 +360,13 @@ impl OnlineRun {
             error,
         })?
         .0;
+        record.forces = forces(
+            &sim.scenario,
+            self.controller.controller(),
+            &cycle.step,
+            t,
+            k,
+        )?;
         let finished = self.pending >= sim.schedule.len() && self.controller.is_at_rest(t);
         match k.checked_add(1) {
             Some(next) if !finished => self.next = next,

@@ -12,7 +12,7 @@ use parasils::supervisor::{MarginSet, Margins};
 use parasils::traj::{Sampler, Synchronization};
 use parasils::{OnlineController, Reorientation, Supervisor};
 
-use crate::record::{ClearanceRecord, InstrumentRecord, Module1Record, Record};
+use crate::record::{ClearanceRecord, ForceRecord, InstrumentRecord, Module1Record, Record};
 use crate::scenario::{CommandKind, Online, Run, Scenario};
 use crate::sink::Sink;
 use crate::timing::OptimalMotion;
@@ -463,6 +463,7 @@ impl Simulation {
             endoscope_tip: context.endoscope_tip,
             // Filled in by the caller (`records::with_clearance`), which can fail.
             clearance: ClearanceRecord::default(),
+            forces: ForceRecord::default(),
         }
     }
 }

@@ -225,6 +225,9 @@ pub struct GuideFile {
     /// The slider's acceleration limit, mm/s^2 (default assumed 100).
     #[serde(default = "limit_slider_a", deserialize_with = "positive")]
     pub acceleration_max_mm_s2: f64,
+    /// The slider's force limit, N (default assumed 200).
+    #[serde(default = "limit_slider_f", deserialize_with = "positive")]
+    pub force_max_n: f64,
 }
 
 /// One leg in the file.
@@ -288,6 +291,15 @@ pub struct InstrumentFile {
     /// `qs3`'s acceleration limit, mm/s^2 (default assumed 60).
     #[serde(default = "limit_qs3_a", deserialize_with = "positive")]
     pub qs3_acceleration_max_mm_s2: f64,
+    /// `qs1`'s torque limit, N mm (default assumed 3000).
+    #[serde(default = "limit_qs12_t", deserialize_with = "positive")]
+    pub qs1_torque_max_nmm: f64,
+    /// `qs2`'s torque limit, N mm (default assumed 3000).
+    #[serde(default = "limit_qs12_t", deserialize_with = "positive")]
+    pub qs2_torque_max_nmm: f64,
+    /// `qs3`'s force limit, N (default assumed 40).
+    #[serde(default = "limit_qs3_f", deserialize_with = "positive")]
+    pub qs3_force_max_n: f64,
 }
 
 fn limit_slider_v() -> f64 {
@@ -307,6 +319,15 @@ fn limit_qs3_v() -> f64 {
 }
 fn limit_qs3_a() -> f64 {
     limits::QS3_ACCELERATION_MAX_MM_S2
+}
+fn limit_slider_f() -> f64 {
+    limits::SLIDER_FORCE_MAX_N
+}
+fn limit_qs12_t() -> f64 {
+    limits::QS12_TORQUE_MAX_NMM
+}
+fn limit_qs3_f() -> f64 {
+    limits::QS3_FORCE_MAX_N
 }
 
 fn finite<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
@@ -424,11 +445,13 @@ impl RobotFile {
         for (j, g) in self.module1.guides.iter().enumerate() {
             out.velocity[j] = g.velocity_max_mm_s;
             out.acceleration[j] = g.acceleration_max_mm_s2;
+            out.force[j] = g.force_max_n;
         }
         for (base, m) in [(6, &self.left), (9, &self.right)] {
-            let [v, a] = m.limits();
+            let [v, a, f] = m.limits();
             out.velocity[base..base + 3].copy_from_slice(&v);
             out.acceleration[base..base + 3].copy_from_slice(&a);
+            out.force[base..base + 3].copy_from_slice(&f);
         }
         out
     }
@@ -440,10 +463,11 @@ impl RobotFile {
         for (j, guide) in file.module1.guides.iter_mut().enumerate() {
             guide.velocity_max_mm_s = l.velocity[j];
             guide.acceleration_max_mm_s2 = l.acceleration[j];
+            guide.force_max_n = l.force[j];
         }
         for (base, m) in [(6, &mut file.left), (9, &mut file.right)] {
             let pick = |x: &[f64; 12]| [x[base], x[base + 1], x[base + 2]];
-            m.set_limits([pick(&l.velocity), pick(&l.acceleration)]);
+            m.set_limits([pick(&l.velocity), pick(&l.acceleration), pick(&l.force)]);
         }
         file
     }
@@ -468,6 +492,7 @@ impl RobotFile {
                     encoder_offset_mm: (g.encoder_offset != 0.0).then_some(g.encoder_offset),
                     velocity_max_mm_s: limit_slider_v(),
                     acceleration_max_mm_s2: limit_slider_a(),
+                    force_max_n: limit_slider_f(),
                 }),
                 legs: m.nodes.map(|a| LegFile { node_mm: a.into() }),
                 calibration: m.calibration,
@@ -542,12 +567,15 @@ impl InstrumentFile {
             qs1_acceleration_max_deg_s2: limit_qs12_a(),
             qs2_acceleration_max_deg_s2: limit_qs12_a(),
             qs3_acceleration_max_mm_s2: limit_qs3_a(),
+            qs1_torque_max_nmm: limit_qs12_t(),
+            qs2_torque_max_nmm: limit_qs12_t(),
+            qs3_force_max_n: limit_qs3_f(),
         }
     }
 
-    /// The file's limits of this module, `[qs1, qs2, qs3]`, velocity then
-    /// acceleration, in library units (rad and mm).
-    fn limits(&self) -> [[f64; 3]; 2] {
+    /// The file's limits of this module, `[qs1, qs2, qs3]`, velocity,
+    /// acceleration, then force, in library units (rad and mm; N mm and N).
+    fn limits(&self) -> [[f64; 3]; 3] {
         [
             [
                 self.qs1_velocity_max_deg_s.to_radians(),
@@ -559,18 +587,28 @@ impl InstrumentFile {
                 self.qs2_acceleration_max_deg_s2.to_radians(),
                 self.qs3_acceleration_max_mm_s2,
             ],
+            [
+                self.qs1_torque_max_nmm,
+                self.qs2_torque_max_nmm,
+                self.qs3_force_max_n,
+            ],
         ]
     }
 
     /// Sets this module's limits from library units (`[qs1, qs2, qs3]`,
-    /// velocity then acceleration).
-    fn set_limits(&mut self, [v, a]: [[f64; 3]; 2]) {
+    /// velocity, acceleration, then force).
+    fn set_limits(&mut self, [v, a, f]: [[f64; 3]; 3]) {
         self.qs1_velocity_max_deg_s = to_deg(v[0]);
         self.qs2_velocity_max_deg_s = to_deg(v[1]);
         self.qs3_velocity_max_mm_s = v[2];
         self.qs1_acceleration_max_deg_s2 = to_deg(a[0]);
         self.qs2_acceleration_max_deg_s2 = to_deg(a[1]);
         self.qs3_acceleration_max_mm_s2 = a[2];
+        [
+            self.qs1_torque_max_nmm,
+            self.qs2_torque_max_nmm,
+            self.qs3_force_max_n,
+        ] = f;
     }
 
     /// The module on `side` (degrees to radians), not yet validated.

@@ -11,7 +11,8 @@ use crate::robot::Robot;
 const HEADER: &str = "\
 # PARA-SILSROB robot geometry: module 1 (the 6-DOF parallel robot) and the
 # two spherical instrument modules, with their limits and thresholds.
-# Every key names its unit: _mm millimetres, _deg degrees, _rel relative;
+# Every key names its unit: _mm millimetres, _deg degrees, _rel relative,
+# _n newtons, _nmm newton millimetres;
 # module 1's positions are in the fixed frame OXYZ (-Z towards the patient),
 # its nodes and the ports (rcm_mm) in the platform frame.
 #
@@ -50,7 +51,9 @@ const KEY_COMMENTS: &[(&str, &str)] = &[
     ("qs3_min_mm", "singular below"),
     ("velocity_max_mm_s", "the slider's velocity limit (assumed)"),
     ("acceleration_max_mm_s2", "its acceleration limit (assumed)"),
+    ("force_max_n", "its force limit (assumed)"),
     ("qs1_velocity_max_deg_s", "the joints' limits (assumed)"),
+    ("qs1_torque_max_nmm", "the joints' force limits (assumed)"),
     (
         "depth_mm",
         "[min, max], 0 at the port, positive inwards (assumed)",

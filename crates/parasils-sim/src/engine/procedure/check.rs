@@ -77,6 +77,9 @@ pub struct ProcedureCheck {
     /// of its acceleration limit (`[1]`) over the procedure, in the order of
     /// [`parasils::kin::Actuator::ALL`].
     pub usage: [[f64; 12]; 2],
+    /// Each actuator's largest fraction of its force limit over the
+    /// procedure (0 without tip loads), in the same order.
+    pub force_usage: [f64; 12],
     /// Per margin, the warning under way: its place in `warnings` and the
     /// last sample's index.
     open: [Option<(usize, usize)>; Margin::COUNT],
@@ -110,6 +113,7 @@ impl ProcedureCheck {
                 .collect(),
             warnings: Vec::new(),
             usage: [[0.0; 12]; 2],
+            force_usage: [0.0; 12],
             open: [None; Margin::COUNT],
         }
     }
@@ -123,6 +127,7 @@ impl ProcedureCheck {
         limits: &ActuatorLimits<f64>,
     ) {
         record.widen_usage(&mut self.usage, limits);
+        record.widen_force_usage(&mut self.force_usage, limits);
         let k = record.motion as usize;
         let Some(m) = self.motions.get_mut(k) else {
             return;
