@@ -57,7 +57,7 @@ def test_a_jerk_limited_insertion_has_a_continuous_acceleration():
     plain = parasils.simulate(procedure={**START, "motion": [insert]}, rate_hz=1000.0)
     for table in (smooth, plain):
         qs3 = table["left_qs3_mm"]
-        assert qs3[-1] - qs3[0] == 30.0
+        assert qs3[-1] - qs3[0] == pytest.approx(30.0, abs=1e-12)
     # The double S: 3 s by hand (v 20 mm/s, a 20 mm/s^2, j 40 mm/s^3);
     # its acceleration moves by at most j dt per row, the trapezoid's jumps.
     assert smooth["t_s"][-1] == pytest.approx(3.0, abs=1e-12)
