@@ -30,7 +30,8 @@
 //!     joints: [Joints::from_deg_mm(3.0, -10.0, 120.0), Joints::from_deg_mm(-3.0, 10.0, 120.0)],
 //!     endoscope_depth: 0.0,
 //! };
-//! // The left instrument 30 mm deeper: halfway, at 2 mm/s per unit of s-rate.
+//! // The left instrument 30 mm deeper: halfway along, moving with s_dot = 2 /s,
+//! // so qs3 at 135 mm and 60 mm/s.
 //! let insert = Geometry::insertion(&start, Port::Left, 30.0);
 //! let half = insert.along(0.5, 2.0, 0.0);
 //! let Moving::Depth(Port::Left, qs3) = half else { unreachable!() };

@@ -1,19 +1,24 @@
-//! The paper's four motion types as planned, rest-to-rest motions, each
+//! The paper's four motion types timed: each a [`Geometry`] (what moves,
+//! written once in [`crate::geometry`]) and a law for its own coordinates,
 //! sampled into what [`Controller::step_commanded`] takes.
 //!
-//! | type | [`Motion`] | what moves | the profile |
+//! | type | [`Motion`] | what moves | the law from rest |
 //! |---|---|---|---|
 //! | 1 | [`Positioning`] | module 1 takes the platform along a straight line in pose space; the instrument joints are held, so the tips ride along | `(x, y, z, psi, theta, phi)` on one phase-synchronised trapezoid |
 //! | 2 | [`Insertion`] | one instrument's `qs3`, or the endoscope's depth: the tip moves on the tool's axis through its port | a trapezoid in `qs3` (or the depth) |
 //! | 3 | [`Manipulation`] | one tip, or both, on a straight line in the fixed frame, the platform still; the joints from the closed-form IK at every sample | a trapezoid in arc length (both tips phase-synchronised) |
-//! | 4 | [`Reorientation`] | the platform turns in `(psi, theta)`; both tips held | as [`Reorientation`] |
+//! | 4 | [`Turning`] | the platform turns in `(psi, theta)`; both tips held | as [`Reorientation`] |
 //!
 //! Each motion starts from a [`RobotState`] (the platform's pose, both
 //! modules' joints, the endoscope's depth): the state where the previous one
-//! ended. [`Motion::sample`] gives, at any time, a [`MotionSample`]: the
+//! ended. Besides the law from rest in the table, a motion may be planned
+//! from a moving state (`from_moving`, `stop`: each coordinate's online
+//! profile) or timed by the jerk-limited double S along its line
+//! ([`Motion::jerk_limited`]). [`Motion::sample`] gives, at any time, a
+//! [`MotionSample`]: the law's coordinates through [`Geometry::at`], the
 //! platform's state and each module's command (its tip, or its joints) with
-//! rates and accelerations from the profile, in closed form. The assembly
-//! modes are the controller's, kept from motion to motion.
+//! rates and accelerations in closed form. The assembly modes are the
+//! controller's, kept from motion to motion.
 //!
 //! Units as in the libraries: mm, rad, s. Everything is `no_std`,
 //! allocation-free and generic over `f32`/`f64`.
