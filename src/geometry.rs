@@ -283,7 +283,7 @@ impl<T: Real> Geometry<T> {
     }
 
     /// A manipulation's tips at the start and at the target (`[left,
-    /// right]`, mm); the start's tips twice for the other types.
+    /// right]`, mm); a turn's held tips twice; zeros for types 1 and 2.
     pub(crate) fn tips_line(&self) -> ([Vector3<T>; 2], [Vector3<T>; 2]) {
         match &self.kind {
             Kind::Manipulate { from, to, .. } => (*from, *to),

@@ -293,13 +293,12 @@ impl<T: Real> Insertion<T> {
 /// target is held still.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Manipulation<T: Real> {
+    /// Where the tips start and end (exactly), and which are driven.
     geometry: Geometry<T>,
-    from: [Vector3<T>; 2],
-    /// Each tip's displacement, mm (zero for a tip held).
+    /// Each tip's displacement, mm (zero for a tip held), kept for the
+    /// samples.
     delta: [Vector3<T>; 2],
-    /// Each tip's target, mm (`from` for a tip held): where it ends, exactly.
-    to: [Vector3<T>; 2],
-    /// Each tip's path length, mm.
+    /// Each tip's path length, mm, kept for the samples.
     length: [T; 2],
     /// From rest: the arc lengths, from 0 to `length`; from a moving state:
     /// `x, y, z` of both tips.
@@ -320,18 +319,27 @@ impl<T: Real> Manipulation<T> {
         limits: Limits<T>,
     ) -> Result<Self, crate::traj::Error> {
         let geometry = Geometry::manipulation(start, from, to);
-        let to = [0, 1].map(|i| to[i].unwrap_or(from[i]));
-        let delta = [to[0] - from[0], to[1] - from[1]];
-        let length = delta.map(|d| d.norm());
+        let (_, length) = Self::lines(&geometry);
         let profile = Multi::new([T::zero(); 2], length, [limits; 2], Synchronization::Phase)?;
-        Ok(Self {
+        Ok(Self::on(geometry, Law::Rest(profile)))
+    }
+
+    /// Each tip's displacement and path length along `geometry`.
+    fn lines(geometry: &Geometry<T>) -> ([Vector3<T>; 2], [T; 2]) {
+        let (from, to) = geometry.tips_line();
+        let delta = [to[0] - from[0], to[1] - from[1]];
+        (delta, delta.map(|d| d.norm()))
+    }
+
+    /// The tips along `geometry`, timed by `law`.
+    fn on(geometry: Geometry<T>, law: Law<T, Multi<T, 2>, OnlineMulti<T, 6>>) -> Self {
+        let (delta, length) = Self::lines(&geometry);
+        Self {
             geometry,
-            from,
             delta,
-            to,
             length,
-            law: Law::Rest(profile),
-        })
+            law,
+        }
     }
 
     /// Plans both tips from their moving `tips` (a manipulation cut short;
@@ -387,15 +395,8 @@ impl<T: Real> Manipulation<T> {
         };
         let from = [at(&tips, 0), at(&tips, 1)];
         let to = [at(&end, 0), at(&end, 1)];
-        let delta = [to[0] - from[0], to[1] - from[1]];
-        Ok(Self {
-            geometry: Geometry::manipulation_driven(start, from, to, [true; 2]),
-            from,
-            delta,
-            to,
-            length: delta.map(|d| d.norm()),
-            law: Law::Online(profile),
-        })
+        let geometry = Geometry::manipulation_driven(start, from, to, [true; 2]);
+        Ok(Self::on(geometry, Law::Online(profile)))
     }
 
     /// The duration, s.
@@ -429,10 +430,11 @@ impl<T: Real> Manipulation<T> {
     /// `s`: `from + delta (s / length)`, on the segment whatever the
     /// rounding of `s`, and the target itself at the end (`s = length`).
     fn tip(&self, i: usize, s: &State<T>) -> TipMotion<T> {
+        let (from, to) = self.geometry.tips_line();
         let (from, delta, to, length) = match (
-            self.from.get(i),
+            from.get(i),
             self.delta.get(i),
-            self.to.get(i),
+            to.get(i),
             self.length.get(i),
         ) {
             (Some(f), Some(d), Some(to), Some(l)) => (*f, *d, *to, *l),
@@ -620,16 +622,7 @@ impl<T: Real> Motion<T> {
                 law: Law::Path(path),
             }),
             MotionType::Manipulate => {
-                let (from, to) = geometry.tips_line();
-                let delta = [to[0] - from[0], to[1] - from[1]];
-                Motion::Manipulate(Manipulation {
-                    geometry,
-                    from,
-                    delta,
-                    to,
-                    length: delta.map(|d| d.norm()),
-                    law: Law::Path(path),
-                })
+                Motion::Manipulate(Manipulation::on(geometry, Law::Path(path)))
             }
             MotionType::Reorient => Motion::Reorient(Turning {
                 geometry,
