@@ -33,6 +33,24 @@ fn port_name<S: serde::Serializer>(port: &Port, s: S) -> Result<S::Ok, S::Error>
     s.serialize_str(port.name())
 }
 
+/// The final `[psi, theta]` (rad) of a turn given as `psi_deg`,
+/// `theta_deg`: increments from `from` (rad), or final angles with
+/// `absolute`. How every turn reads its angles: a procedure's, the paper's
+/// and a retarget's.
+pub(crate) fn turn_goal_rad(
+    psi_deg: f64,
+    theta_deg: f64,
+    absolute: bool,
+    from: [f64; 2],
+) -> [f64; 2] {
+    let [psi, theta] = [psi_deg.to_radians(), theta_deg.to_radians()];
+    if absolute {
+        [psi, theta]
+    } else {
+        [from[0] + psi, from[1] + theta]
+    }
+}
+
 /// The default linear velocity limit of a motion, mm/s: the platform's `x`,
 /// `y`, `z` (type 1), an insertion's depth (type 2), a tip's arc length
 /// (type 3). Chosen here, not the paper's: a slow, deliberate speed inside

@@ -17,7 +17,7 @@ use parasils::paper;
 use parasils::traj::{Limits, Synchronization};
 use serde::Serialize;
 
-use crate::motion::{MotionGoal, MotionLimits, MotionSpec};
+use crate::motion::{MotionGoal, MotionLimits, MotionSpec, turn_goal_rad};
 use crate::supervisor::SupervisorTable;
 
 /// A run, resolved: what every run shares (the robot, where it starts, the
@@ -201,12 +201,7 @@ impl Turn {
     /// in deg, or final angles with `absolute`) as final angles, rad: the
     /// goal of the turn or of a [`Retarget`].
     pub fn angles_rad(&self, start: &Pose<f64>, [psi_deg, theta_deg]: [f64; 2]) -> [f64; 2] {
-        let [psi, theta] = [psi_deg.to_radians(), theta_deg.to_radians()];
-        if self.absolute {
-            [psi, theta]
-        } else {
-            [start.psi + psi, start.theta + theta]
-        }
+        turn_goal_rad(psi_deg, theta_deg, self.absolute, [start.psi, start.theta])
     }
 
     /// The final `[psi, theta]` from `start`, rad.

@@ -11,7 +11,7 @@ use parasils::motions::{
 };
 use parasils::traj::Synchronization;
 
-use crate::motion::{LookAt, MotionGoal, MotionLimits, MotionSpec};
+use crate::motion::{LookAt, MotionGoal, MotionLimits, MotionSpec, turn_goal_rad};
 use crate::timing::{MotionPath, OptimalMotion, TimingError, TimingOptions};
 
 /// The tips where `joints` put them with the platform at `pose`, mm, fixed
@@ -77,7 +77,7 @@ pub(super) fn plan(
             theta_deg,
             absolute,
         } => {
-            let goal = reorient_goal(
+            let goal = turn_goal_rad(
                 psi_deg,
                 theta_deg,
                 absolute,
@@ -139,7 +139,7 @@ fn geometry_of(
             absolute,
         } => {
             let from = [state.pose.psi, state.pose.theta];
-            let goal = reorient_goal(psi_deg, theta_deg, absolute, from);
+            let goal = turn_goal_rad(psi_deg, theta_deg, absolute, from);
             Geometry::turning(state, goal, held)
         }
         MotionGoal::LookAt { target } => {
@@ -180,17 +180,6 @@ pub(super) fn optimal_plan(
     };
     let path = MotionPath::new(controller, geometry);
     OptimalMotion::plan(path, &controller.limits, own, &TimingOptions::default()).map(Some)
-}
-
-/// A reorientation's goal `[psi, theta]` (rad): the angles given (deg), or
-/// `from` turned by them.
-fn reorient_goal(psi_deg: f64, theta_deg: f64, absolute: bool, from: [f64; 2]) -> [f64; 2] {
-    let [psi, theta] = [psi_deg.to_radians(), theta_deg.to_radians()];
-    if absolute {
-        [psi, theta]
-    } else {
-        [from[0] + psi, from[1] + theta]
-    }
 }
 
 /// Why a motion cannot continue the one before.
@@ -278,7 +267,7 @@ pub(super) fn continued(
             },
             Moving::Angles(a),
         ) => {
-            let goal = reorient_goal(psi_deg, theta_deg, absolute, [a[0].position, a[1].position]);
+            let goal = turn_goal_rad(psi_deg, theta_deg, absolute, [a[0].position, a[1].position]);
             Motion::Reorient(Turning::from_moving(state, a, goal, angular, held)?)
         }
         (MotionGoal::LookAt { target }, Moving::Angles(a)) => {
