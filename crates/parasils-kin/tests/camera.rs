@@ -19,6 +19,19 @@ impl Rng {
         z ^= z >> 31;
         lo + (hi - lo) * ((z >> 11) as f64 / (1u64 << 53) as f64)
     }
+
+    /// A platform pose near the paper's height, `psi` and `theta` within
+    /// `+-turn` rad, `phi` within 1.5 rad.
+    fn pose(&mut self, turn: f64) -> Pose<f64> {
+        Pose {
+            x: self.next(-20.0, 20.0),
+            y: self.next(-20.0, 20.0),
+            z: self.next(-520.0, -480.0),
+            psi: self.next(-turn, turn),
+            theta: self.next(-turn, turn),
+            phi: self.next(-1.5, 1.5),
+        }
+    }
 }
 
 /// `R = R_X(psi) R_Y(theta) R_Z(phi)`, written out here.
@@ -81,14 +94,7 @@ fn a_straight_scope_projects_as_the_pinhole_of_the_model() -> Result {
     let mut rng = Rng(7);
     let tan = (35f64).to_radians().tan();
     for _ in 0..2000 {
-        let pose = Pose {
-            x: rng.next(-20.0, 20.0),
-            y: rng.next(-20.0, 20.0),
-            z: rng.next(-520.0, -480.0),
-            psi: rng.next(-0.6, 0.6),
-            theta: rng.next(-0.6, 0.6),
-            phi: rng.next(-1.5, 1.5),
-        };
+        let pose = rng.pose(0.6);
         let depth = rng.next(0.0, 120.0);
         let p = Vector3::new(
             rng.next(-150.0, 150.0),
@@ -171,14 +177,7 @@ fn random_targets(camera: &Camera<f64>, seed: u64, count: usize) -> Result<f64> 
     let mut rng = Rng(seed);
     let mut worst = 0.0_f64;
     for _ in 0..count {
-        let aim = Pose {
-            x: rng.next(-20.0, 20.0),
-            y: rng.next(-20.0, 20.0),
-            z: rng.next(-520.0, -480.0),
-            psi: rng.next(-0.7, 0.7),
-            theta: rng.next(-0.7, 0.7),
-            phi: rng.next(-1.5, 1.5),
-        };
+        let aim = rng.pose(0.7);
         let depth = rng.next(0.0, 120.0);
         let r = rotation(aim.psi, aim.theta, aim.phi);
         let eye = aim.position() + r * Vector3::new(0.0, 0.0, -depth);

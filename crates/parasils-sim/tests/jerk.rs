@@ -4,7 +4,9 @@
 use std::path::Path;
 
 use parasils::traj::{DoubleS, JerkLimits};
-use parasils_sim::{Simulation, procedure};
+use parasils_sim::Simulation;
+
+mod common;
 
 type Result<T = ()> = core::result::Result<T, Box<dyn core::error::Error>>;
 
@@ -14,20 +16,11 @@ tip_left_mm = [50, -50, -580]
 "#;
 
 fn simulate(motions: &str) -> Result<Simulation> {
-    let text = format!("{START}{motions}");
-    let scenario = procedure::parse(&text, "test", Path::new("."))?;
-    Ok(Simulation::new(scenario)?)
+    common::simulate_text(&format!("{START}{motions}"), Path::new("."))
 }
 
 fn error(motions: &str) -> String {
-    let text = format!("{START}{motions}");
-    match procedure::parse(&text, "test", Path::new(".")) {
-        Err(e) => e.to_string(),
-        Ok(scenario) => match Simulation::new(scenario) {
-            Err(e) => e.to_string(),
-            Ok(_) => String::from("accepted"),
-        },
-    }
+    common::refusal(&format!("{START}{motions}"))
 }
 
 const INSERT: &str = r#"

@@ -6,7 +6,9 @@ use std::path::Path;
 
 use parasils::kin::nalgebra::{Matrix3, Vector3};
 use parasils::kin::{Camera, PlatformState, Pose};
-use parasils_sim::{Record, Simulation, procedure};
+use parasils_sim::{Record, Simulation};
+
+mod common;
 
 type Result<T = ()> = core::result::Result<T, Box<dyn core::error::Error>>;
 
@@ -18,19 +20,11 @@ endoscope_depth_mm = 60
 "#;
 
 fn simulate_in(text: &str, base: &Path) -> Result<Simulation> {
-    let scenario = procedure::parse(text, "test", base)?;
-    Ok(Simulation::new(scenario)?)
+    common::simulate_text(text, base)
 }
 
 fn error(motions: &str) -> String {
-    let text = format!("{START}{motions}");
-    match procedure::parse(&text, "test", Path::new(".")) {
-        Err(e) => e.to_string(),
-        Ok(scenario) => match Simulation::new(scenario) {
-            Err(e) => e.to_string(),
-            Ok(_) => String::from("accepted"),
-        },
-    }
+    common::refusal(&format!("{START}{motions}"))
 }
 
 fn rows(sim: &Simulation) -> Result<Vec<Record>> {
