@@ -217,6 +217,16 @@ fn lerp<T: Real>(from: T, to: T, s: T) -> T {
     }
 }
 
+/// Tip `i`'s command (0 left, 1 right) from type 3's coordinates.
+fn tip_command<T: Real>(c: &[State<T>; 6], i: usize) -> ModuleCommand<T> {
+    let v = |f: fn(&State<T>) -> T| Vector3::from_fn(|k, _| c.get(3 * i + k).map_or(T::zero(), f));
+    ModuleCommand::Tip(TipMotion {
+        position: v(|a| a.position),
+        velocity: v(|a| a.velocity),
+        acceleration: v(|a| a.acceleration),
+    })
+}
+
 /// The largest magnitude in `d` (0 for none).
 fn largest<T: Real>(d: &[T]) -> T {
     d.iter().fold(T::zero(), |m, &x| {
@@ -395,21 +405,11 @@ impl<T: Real> Geometry<T> {
                 }
             }
             (Kind::Manipulate { driven, .. }, Moving::Tips(c)) => {
-                let tip = |i: usize| {
-                    let v = |f: fn(&State<T>) -> T| {
-                        Vector3::from_fn(|k, _| c.get(3 * i + k).map_or(T::zero(), f))
-                    };
-                    ModuleCommand::Tip(TipMotion {
-                        position: v(|a| a.position),
-                        velocity: v(|a| a.velocity),
-                        acceleration: v(|a| a.acceleration),
-                    })
-                };
                 if driven[0] {
-                    out.left = tip(0);
+                    out.left = tip_command(c, 0);
                 }
                 if driven[1] {
-                    out.right = tip(1);
+                    out.right = tip_command(c, 1);
                 }
             }
             (Kind::Reorient { tips, .. }, Moving::Angles(a)) => {
@@ -418,6 +418,23 @@ impl<T: Real> Geometry<T> {
                 out.right = ModuleCommand::still(tips[1]);
             }
             _ => {}
+        }
+        out
+    }
+
+    /// A type-3 motion seen by a camera that follows the tips: the tips at
+    /// `coordinates`, both commanded by position in the fixed frame (a tip
+    /// the motion does not drive is held where it is, not by its joints),
+    /// while the platform turns to `angles` (`[psi, theta]`, rad, with rates
+    /// and accelerations; `P` and `phi` of the start held), so both modules
+    /// compensate the turn. For any other geometry, or coordinates of
+    /// another type, the same as [`Geometry::at`].
+    pub fn followed(&self, coordinates: &Moving<T>, angles: [State<T>; 2]) -> MotionSample<T> {
+        let mut out = self.at(coordinates);
+        if let (Kind::Manipulate { .. }, Moving::Tips(c)) = (&self.kind, coordinates) {
+            out.platform = turned(&self.start.pose, angles);
+            out.left = tip_command(c, 0);
+            out.right = tip_command(c, 1);
         }
         out
     }

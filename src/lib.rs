@@ -18,6 +18,7 @@ pub use parasils_traj as traj;
 
 pub mod cycle;
 mod error;
+pub mod follow;
 pub mod geometry;
 pub mod margin;
 pub mod motions;
@@ -29,6 +30,7 @@ pub mod supervisor;
 
 pub use cycle::{OnCycle, Stretch, TimeScaled};
 pub use error::Error;
+pub use follow::{Follow, FollowError, FollowParams, FollowPhase, FollowStep};
 pub use geometry::{Geometry, MotionSample, MotionType, Moving, Port, RobotState};
 pub use margin::Margin;
 pub use motions::{Insertion, Manipulation, Motion, Positioning, Turning};

@@ -114,14 +114,17 @@ pub mod timing;
 
 pub use columns::{Channel, Column, InstrumentColumns};
 pub use csv::CsvSink;
-pub use engine::procedure::{MotionCheck, PlannedMotion, ProcedureCheck, ProcedurePlan, Warning};
+pub use engine::procedure::{
+    CameraCheck, MotionCheck, PlannedMotion, ProcedureCheck, ProcedurePlan, Warning,
+};
 pub use engine::{
     CommandError, CommandName, Records, RunError, Scheduled, Simulation, SimulationError,
 };
 pub use input::{Input, InputError, InputField, ProcedureSource, RobotSource, TimingKind};
 pub use mcap::{McapError, McapOptions, McapSink, SceneGeometry};
 pub use motion::{
-    Inside, InsideRule, LookAt, LookAtTips, MotionGoal, MotionLimits, MotionName, MotionSpec,
+    CameraMode, Inside, InsideRule, LookAt, LookAtTips, MotionGoal, MotionLimits, MotionName,
+    MotionSpec,
 };
 pub use output::{Flushed, Format, OutputError, OutputFile};
 #[cfg(feature = "plot")]

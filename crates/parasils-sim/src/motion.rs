@@ -240,6 +240,27 @@ impl MotionGoal {
     }
 }
 
+/// What the camera does during a type-3 motion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CameraMode {
+    /// The platform holds still (`camera = "fixed"`, the default).
+    #[default]
+    Fixed,
+    /// The platform turns to keep the tips in view while they move
+    /// (`camera = "follow"`, [`parasils::Follow`] with its assumed
+    /// parameters and the motion's angular limits), both tips commanded in
+    /// the fixed frame; the motion lasts until the camera has settled.
+    Follow,
+}
+
+impl CameraMode {
+    /// Whether the platform holds still.
+    pub fn is_fixed(&self) -> bool {
+        *self == CameraMode::Fixed
+    }
+}
+
 /// One motion of a procedure: its goal, its limits and an optional name.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct MotionSpec {
@@ -262,6 +283,10 @@ pub struct MotionSpec {
     /// one of the same type) starts from its moving state; after its end, the
     /// robot rests until then. `None`: at the motion's end.
     pub until_s: Option<f64>,
+    /// What the camera does while a type-3 motion moves the tips (the
+    /// platform still, by default).
+    #[serde(skip_serializing_if = "CameraMode::is_fixed")]
+    pub camera: CameraMode,
 }
 
 impl MotionSpec {
@@ -273,6 +298,7 @@ impl MotionSpec {
             stated: [false; 2],
             name: None,
             until_s: None,
+            camera: CameraMode::Fixed,
         }
     }
 

@@ -30,6 +30,7 @@
 //! type = "manipulate"                 # 3: instrument = "left" or "right" with tip_mm,
 //! instrument = "left"                 #    or "both" with tip_left_mm and tip_right_mm
 //! tip_mm = [60, -40, -630]
+//! camera = "follow"                   #    optional: the camera follows the tips
 //! [[motion]]
 //! type = "reorient"                   # 4: increments, or final angles with absolute = true
 //! psi_deg = 15
@@ -45,7 +46,11 @@
 //! [`MotionLimits`] for the defaults. A jerk limit, `jerk_mm_s3` (types 1
 //! to 3) or `jerk_deg_s3` (types 1 and 4; type 1 gives both), times the
 //! motion by the jerk-limited double S along its straight line instead of
-//! the trapezoid, under either timing. `until_s = T` hands over to the next
+//! the trapezoid, under either timing. A type-3 motion with
+//! `camera = "follow"` turns the platform to keep the tips in view while
+//! they move ([`parasils::Follow`]), within its `velocity_deg_s` and
+//! `acceleration_deg_s2` (which it then takes), and lasts until the camera
+//! has settled; `camera = "fixed"` (the default) holds the platform. `until_s = T` hands over to the next
 //! motion `T` s after the motion's start: before its end, the motion is cut
 //! short and the next one (`type = "stop"`, the controlled stop, or a motion
 //! of the same type, replanned from the moving state) starts at its speed;
@@ -58,7 +63,9 @@ use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
 
-use crate::motion::{LookAt, LookAtTips, MotionGoal, MotionLimits, MotionSpec, MotionType, Port};
+use crate::motion::{
+    CameraMode, LookAt, LookAtTips, MotionGoal, MotionLimits, MotionSpec, MotionType, Port,
+};
 use crate::robot_file::{self, RobotFileError};
 use crate::scenario::{Run, Scenario};
 use parasils_io::Shortest;
@@ -152,6 +159,7 @@ struct MotionFile {
     jerk_mm_s3: Option<f64>,
     jerk_deg_s3: Option<f64>,
     until_s: Option<f64>,
+    camera: Option<String>,
 }
 
 /// Reads the procedure at `path` (a robot it names is read relative to the
@@ -361,7 +369,7 @@ fn build(
 }
 
 /// The keys of a motion that are given, with their names.
-fn given(m: &MotionFile) -> [(&'static str, bool); 17] {
+fn given(m: &MotionFile) -> [(&'static str, bool); 18] {
     [
         ("pose", m.pose.is_some()),
         ("instrument", m.instrument.is_some()),
@@ -380,6 +388,7 @@ fn given(m: &MotionFile) -> [(&'static str, bool); 17] {
         ("acceleration_deg_s2", m.acceleration_deg_s2.is_some()),
         ("jerk_mm_s3", m.jerk_mm_s3.is_some()),
         ("jerk_deg_s3", m.jerk_deg_s3.is_some()),
+        ("camera", m.camera.is_some()),
     ]
 }
 
@@ -397,7 +406,13 @@ fn applies(t: Option<MotionType>, key: &str) -> bool {
         Some(MotionType::Manipulate) => {
             matches!(
                 key,
-                "instrument" | "tip_mm" | "tip_left_mm" | "tip_right_mm"
+                "instrument"
+                    | "tip_mm"
+                    | "tip_left_mm"
+                    | "tip_right_mm"
+                    | "camera"
+                    | "velocity_deg_s"
+                    | "acceleration_deg_s2"
             ) || linear
         }
         Some(MotionType::Reorient) => {
@@ -606,6 +621,44 @@ fn motion(errors: &Errors<'_>, k: usize, m: MotionFile) -> Result<MotionSpec, Pr
             ));
         }
     };
+    let camera = match m.camera.as_deref() {
+        None | Some("fixed") => CameraMode::Fixed,
+        Some("follow") => CameraMode::Follow,
+        Some(other) => {
+            return Err(errors.at(
+                at,
+                "camera",
+                format!("{other:?} is not one of \"fixed\", \"follow\""),
+            ));
+        }
+    };
+    if motion_type == Some(MotionType::Manipulate) && camera == CameraMode::Fixed {
+        // The angular limits bind the platform's turn, which only a
+        // following camera makes in a type-3 motion.
+        for (key, v) in [
+            ("velocity_deg_s", m.velocity_deg_s),
+            ("acceleration_deg_s2", m.acceleration_deg_s2),
+        ] {
+            if v.is_some() {
+                return Err(errors.at(
+                    at,
+                    key,
+                    String::from(
+                        "applies to a \"manipulate\" motion only with camera = \"follow\" (the platform is still otherwise)",
+                    ),
+                ));
+            }
+        }
+    }
+    if camera == CameraMode::Follow && until_s.is_some() {
+        return Err(errors.at(
+            at,
+            "until_s",
+            String::from(
+                "does not apply with camera = \"follow\": the motion lasts until the camera has settled",
+            ),
+        ));
+    }
     let stated = [
         m.velocity_mm_s.is_some() || m.acceleration_mm_s2.is_some(),
         m.velocity_deg_s.is_some() || m.acceleration_deg_s2.is_some(),
@@ -616,6 +669,7 @@ fn motion(errors: &Errors<'_>, k: usize, m: MotionFile) -> Result<MotionSpec, Pr
         stated,
         name: m.name,
         until_s,
+        camera,
     })
 }
 

@@ -349,7 +349,8 @@ impl fmt::Display for ForceUsage<'_> {
 /// time line, the law's planned and stretched durations, peak
 /// rates, smallest margins, largest tip error, what is inside the patient
 /// when it starts), the smallest sampled clearance of each pair of bodies
-/// per motion, then every supervisor warning with its motion and times.
+/// per motion, what the camera saw in the motions that follow the tips,
+/// then every supervisor warning with its motion and times.
 struct MotionTable<'a>(&'a ProcedureCheck);
 
 impl fmt::Display for MotionTable<'_> {
@@ -405,6 +406,25 @@ impl fmt::Display for MotionTable<'_> {
                 Fixed(c.left_endoscope, 3),
                 Fixed(c.right_endoscope, 3)
             )?;
+        }
+        if self.0.motions.iter().any(|m| m.camera.is_some()) {
+            writeln!(
+                f,
+                "camera following the tips, per motion: both_in_view_pct central_80_pct settles settled_aim_error_deg"
+            )?;
+            for m in &self.0.motions {
+                let Some(c) = &m.camera else { continue };
+                writeln!(
+                    f,
+                    "{:>6} {:>16} {:>14} {:>7} {:>21}",
+                    m.name.index,
+                    Fixed(100.0 * c.in_view_share(), 3),
+                    Fixed(100.0 * c.central_share(), 3),
+                    c.settles,
+                    c.settled_aim_error_deg
+                        .map_or_else(|| String::from("-"), |e| format!("{e:.3e}")),
+                )?;
+            }
         }
         if self.0.warnings.is_empty() {
             write!(f, "supervisor: no margin below its warning threshold")

@@ -207,7 +207,7 @@ impl Simulation {
             // so that a run too long to write is refused before any sample
             // is computed.
             let sampler = sampler.clone();
-            let mut check = ProcedureCheck::new(sampler.motion());
+            let mut check = ProcedureCheck::new(sampler.motion(), &controller.endoscope.camera);
             let mut run = ProcedureRun::new(sampler.clone(), controller);
             while let Some(r) = run.next(&sim) {
                 let (record, margins) = r?;

@@ -4,7 +4,8 @@
 
 use parasils::Supervisor;
 use parasils::kin::{
-    ActuatorLimits, Controller, Instrument, ModuleCommand, PlatformFrame, TipTargets,
+    ActuatorLimits, Camera, Controller, ImagePoint, Instrument, ModuleCommand, PlatformFrame,
+    PlatformState, Pose, TipTargets,
 };
 use parasils::motions::MotionSample;
 use parasils::supervisor::{Margin, Margins};
@@ -45,6 +46,78 @@ pub struct MotionCheck {
     /// The smallest surface gap of each pair of bodies over the motion's
     /// samples, mm (sampled, not certified between samples).
     pub clearance_mm: ClearanceRecord,
+    /// What the camera saw, for a motion whose camera follows the tips
+    /// (`None` otherwise).
+    pub camera: Option<CameraCheck>,
+}
+
+/// What the camera saw during a motion that follows the tips, from each
+/// sample's platform pose, endoscope depth and tips by forward kinematics
+/// (see `docs/model.md`, *The camera follows the tips*).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct CameraCheck {
+    /// The motion's samples.
+    pub samples: usize,
+    /// Those with both tips in view (ahead, `|u|, |v| <= 1`).
+    pub in_view: usize,
+    /// Those with both tips within the central 80 % of the image
+    /// (`|u|, |v| <= 0.8`, ahead).
+    pub central: usize,
+    /// How many times the platform came to rest after turning (a recentring
+    /// settled).
+    pub settles: usize,
+    /// The largest angle between the view axis and the direction to the
+    /// tips' midpoint at a sample where the platform came to rest after
+    /// turning, deg (`None` when it never turned).
+    pub settled_aim_error_deg: Option<f64>,
+    /// Whether the platform turned at the previous sample.
+    turning: bool,
+}
+
+impl CameraCheck {
+    /// The share of samples with both tips in view, 0 to 1.
+    pub fn in_view_share(&self) -> f64 {
+        share(self.in_view, self.samples)
+    }
+
+    /// The share of samples with both tips in the central 80 %, 0 to 1.
+    pub fn central_share(&self) -> f64 {
+        share(self.central, self.samples)
+    }
+
+    /// Takes one sample into account.
+    fn push(&mut self, camera: &Camera<f64>, record: &Record) {
+        let [x, y, z, psi, theta, phi] = record.pose;
+        let frame =
+            PlatformFrame::new(&PlatformState::at_rest(Pose::new(x, y, z, psi, theta, phi)));
+        let depth = record.endoscope_depth;
+        let seen = [&record.left.tip, &record.right.tip].map(|p| camera.project(&frame, depth, p));
+        self.samples += 1;
+        self.in_view += usize::from(seen.iter().all(ImagePoint::in_view));
+        let central = |p: &ImagePoint<f64>| p.in_front && p.u.abs() <= 0.8 && p.v.abs() <= 0.8;
+        self.central += usize::from(seen.iter().all(central));
+        let turning = record.euler_dot[0] != 0.0 || record.euler_dot[1] != 0.0;
+        if self.turning && !turning {
+            let midpoint = (record.left.tip + record.right.tip) * 0.5;
+            let error = camera.aim_error(&frame, depth, &midpoint).to_degrees();
+            self.settles += 1;
+            self.settled_aim_error_deg =
+                Some(self.settled_aim_error_deg.map_or(error, |e| e.max(error)));
+        }
+        self.turning = turning;
+    }
+}
+
+#[allow(
+    clippy::cast_precision_loss,
+    reason = "counts of samples, far below 2^52"
+)]
+fn share(part: usize, whole: usize) -> f64 {
+    if whole == 0 {
+        0.0
+    } else {
+        part as f64 / whole as f64
+    }
 }
 
 /// A margin below its warning threshold during a motion: from when, until
@@ -83,11 +156,13 @@ pub struct ProcedureCheck {
     /// Per margin, the warning under way: its place in `warnings` and the
     /// last sample's index.
     open: [Option<(usize, usize)>; Margin::COUNT],
+    /// The endoscope's camera, for the motions that follow the tips.
+    camera: Option<Camera<f64>>,
 }
 
 impl ProcedureCheck {
-    /// An empty check of `plan`'s motions.
-    pub(crate) fn new(plan: &ProcedurePlan) -> Self {
+    /// An empty check of `plan`'s motions, seen through `camera`.
+    pub(crate) fn new(plan: &ProcedurePlan, camera: &Camera<f64>) -> Self {
         Self {
             motions: plan
                 .motions
@@ -109,12 +184,14 @@ impl ProcedureCheck {
                         left_endoscope: f64::INFINITY,
                         right_endoscope: f64::INFINITY,
                     },
+                    camera: m.follow.is_some().then(CameraCheck::default),
                 })
                 .collect(),
             warnings: Vec::new(),
             usage: [[0.0; 12]; 2],
             force_usage: [0.0; 12],
             open: [None; Margin::COUNT],
+            camera: Some(*camera),
         }
     }
 
@@ -141,6 +218,9 @@ impl ProcedureCheck {
         }
         for margin in Margin::ALL {
             m.smallest[margin] = m.smallest[margin].min(margins[margin]);
+        }
+        if let (Some(seen), Some(camera)) = (&mut m.camera, &self.camera) {
+            seen.push(camera, record);
         }
         let (c, r) = (&mut m.clearance_mm, &record.clearance);
         c.left_right = c.left_right.min(r.left_right);

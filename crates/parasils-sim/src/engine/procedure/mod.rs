@@ -7,10 +7,11 @@
 //! [`Simulation::new`](crate::engine::Simulation::new)).
 
 mod check;
+mod follow;
 mod inside;
 mod motion;
 mod plan;
 
 pub(crate) use check::commanded_tips;
-pub use check::{MotionCheck, ProcedureCheck, Warning};
+pub use check::{CameraCheck, MotionCheck, ProcedureCheck, Warning};
 pub use plan::{PlannedMotion, ProcedurePlan};

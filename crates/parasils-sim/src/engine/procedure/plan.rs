@@ -6,13 +6,14 @@ use std::borrow::Cow;
 
 use parasils::kin::{Controller, JointMotion, MarginTracker, ModuleCommand, PlatformState};
 use parasils::motions::{Motion, MotionSample, MotionType, Moving, RobotState};
-use parasils::traj::Synchronization;
+use parasils::traj::{State, Synchronization};
 use parasils::{Stretch, TimeScaled};
 
+use super::follow;
 use super::inside;
 use super::motion::{Continue, continued, optimal_plan, plan, tips_of};
 use crate::engine::error::SimulationError;
-use crate::motion::{Inside, MotionGoal, MotionLimits, MotionName};
+use crate::motion::{CameraMode, Inside, MotionGoal, MotionLimits, MotionName};
 use crate::scenario::{Motions, Scenario, Timeline, Timing};
 use crate::timing::OptimalMotion;
 use parasils_io::Shortest;
@@ -49,6 +50,11 @@ pub struct PlannedMotion {
     pub optimal: Option<OptimalMotion>,
     /// What is inside the patient when it starts, and the incision point.
     pub inside: Inside,
+    /// A type-3 motion whose camera follows the tips: the platform's
+    /// `[psi, theta]` (rad, with rates and accelerations) at each of its
+    /// rows, from the follow law stepped over them while planning; its
+    /// rows run past the tips' arrival until the camera has settled.
+    pub follow: Option<Vec<[State<f64>; 2]>>,
 }
 
 impl PlannedMotion {
@@ -73,6 +79,15 @@ impl PlannedMotion {
     /// Its row `j` (at its own `t = j / rate`): the law at the scaled time,
     /// and, from its stretched end on, the law's end state itself.
     pub fn sample_index(&self, j: usize) -> MotionSample<f64> {
+        if let Some(rows) = &self.follow {
+            let last = rows.len().saturating_sub(1);
+            if let Some(angles) = rows.get(j.min(last)) {
+                return self
+                    .motion
+                    .geometry()
+                    .followed(&self.moving_at_row(j), *angles);
+            }
+        }
         let tau = self.stretch.law_time(j);
         if j >= self.stretch.periods() {
             self.law(tau)
@@ -83,6 +98,16 @@ impl PlannedMotion {
 
     /// The motion at `t` (s from its start), on the control cycle.
     pub fn sample(&self, t: f64) -> MotionSample<f64> {
+        if self.follow.is_some() {
+            let row = (t * self.stretch.rate()).round().max(0.0);
+            #[allow(
+                clippy::cast_possible_truncation,
+                clippy::cast_sign_loss,
+                reason = "non-negative, capped at the motion's last row"
+            )]
+            let j = row.min(self.periods as f64) as usize;
+            return self.sample_index(j);
+        }
         if t >= self.stretch.duration() {
             return self.law(self.stretch.planned());
         }
@@ -288,7 +313,7 @@ impl ProcedurePlan {
                     ),
                 ));
             }
-            let placed = PlannedMotion {
+            let mut placed = PlannedMotion {
                 motion,
                 start_s: next_sample as f64 / rate,
                 length_s: length,
@@ -299,7 +324,48 @@ impl ProcedurePlan {
                 name,
                 optimal,
                 inside: inside_now,
+                follow: None,
             };
+            if spec.camera == CameraMode::Follow {
+                if placed.optimal.is_some() || from_moving {
+                    return Err(order(
+                        &placed.name,
+                        String::from(
+                            "camera = \"follow\" needs a motion planned from rest by its own profile (not the time-optimal timing, not the continuation of a motion cut short)",
+                        ),
+                    ));
+                }
+                let rows = follow::setpoints(
+                    camera,
+                    &state,
+                    &spec.limits,
+                    rate,
+                    placed.stretch.periods(),
+                    |j| placed.moving_at_row(j),
+                )
+                .map_err(|e| match e {
+                    follow::FollowFailure::Law(t, error) => fail(
+                        &placed.name,
+                        t,
+                        SimulationError::Procedure(format!(
+                            "the camera cannot follow the tips at t = {} s of the motion: {error}",
+                            Shortest(t)
+                        )),
+                    ),
+                    follow::FollowFailure::Unsettled => order(
+                        &placed.name,
+                        format!(
+                            "the camera following the tips had not settled {} s after they stopped",
+                            Shortest(follow::SETTLE_LIMIT_S)
+                        ),
+                    ),
+                })?;
+                placed.periods = rows.len().saturating_sub(1);
+                placed.length_s = placed.periods as f64 / rate;
+                placed.follow = Some(rows);
+            }
+            let periods = placed.periods;
+            let length = placed.length_s;
             inside::check_motion(
                 &inside_now,
                 &placed.name,
