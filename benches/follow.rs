@@ -26,14 +26,7 @@ fn pair<T: Real>(x: f64, y: f64, z: f64) -> [Vector3<T>; 2] {
 }
 
 fn bench<T: Real>(c: &mut Criterion, name: &str) {
-    let pose = Pose::<T>::from_mm_deg(
-        T::lit(15.0),
-        T::lit(20.0),
-        T::lit(-500.0),
-        T::lit(-8.0),
-        T::lit(4.0),
-        T::lit(-60.0),
-    );
+    let pose = Pose::<T>::from_mm_deg(15.0, 20.0, -500.0, -8.0, 4.0, -60.0);
     let depth = T::lit(40.0);
     let fresh = Follow::new(Camera::assumed(), FollowParams::assumed(), pose, depth)
         .expect("valid parameters");

@@ -446,8 +446,14 @@ impl<T: Real> Follow<T> {
                 phase = FollowPhase::Idle;
             }
         }
-        let frame = self.frame_at(angles.map(|a| a.position));
-        let midpoint = self.camera.project(&frame, self.depth, &midpoint);
+        let after = angles.map(|a| a.position);
+        let midpoint = if after == held {
+            // The platform held: the image is the one already seen.
+            m
+        } else {
+            self.camera
+                .project(&self.frame_at(after), self.depth, &midpoint)
+        };
         self.angles = angles;
         self.phase = phase;
         self.turn = turn;
