@@ -38,12 +38,12 @@
 //! let pose = Pose::<f64>::paper_start();
 //! let depth = 60.0;
 //! let mut law = Follow::new(Camera::assumed(), FollowParams::assumed(), pose, depth)?;
-//! // Tips far to one side of the view, held still: the law waits for the
-//! // dwell, then turns until the midpoint is on the view axis.
+//! // Tips far to one side of the view, held still: one is near the edge,
+//! // so the law turns at once, until the midpoint is on the view axis.
 //! let tips = [Vector3::new(40.0, 30.0, -640.0), Vector3::new(60.0, 30.0, -640.0)];
 //! let mut t = 0.0;
 //! let mut step = law.step(t, &tips)?;
-//! assert_eq!(step.phase, FollowPhase::Armed);
+//! assert_eq!(step.phase, FollowPhase::Recentring);
 //! while t < 20.0 {
 //!     t += 1e-3;
 //!     step = law.step(t, &tips)?;
