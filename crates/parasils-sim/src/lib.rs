@@ -116,7 +116,8 @@ pub use columns::{Channel, Column, InstrumentColumns};
 pub use csv::CsvSink;
 pub use engine::procedure::{MotionCheck, PlannedMotion, ProcedureCheck, ProcedurePlan, Warning};
 pub use engine::{
-    CommandError, CommandName, Records, RunError, Scheduled, Simulation, SimulationError,
+    CERTIFY_MAX_DEPTH, CERTIFY_TOLERANCE_MM, CommandError, CommandName, MotionClearance, Records,
+    RunError, Scheduled, Simulation, SimulationError,
 };
 pub use input::{Input, InputError, InputField, ProcedureSource, RobotSource, TimingKind};
 pub use mcap::{McapError, McapOptions, McapSink, SceneGeometry};

@@ -2,6 +2,7 @@
 //! per motion its durations, peak rates, smallest margins and tip error, and
 //! the supervisor's warnings.
 
+use nalgebra::Vector3;
 use parasils::Supervisor;
 use parasils::kin::{
     ActuatorLimits, Controller, Instrument, ModuleCommand, PlatformFrame, TipTargets,
@@ -43,8 +44,13 @@ pub struct MotionCheck {
     /// What is inside the patient when it starts.
     pub inside: Inside,
     /// The smallest surface gap of each pair of bodies over the motion's
-    /// samples, mm (sampled, not certified between samples).
+    /// samples, mm (sampled; [`Simulation::certify_clearance`](crate::Simulation::certify_clearance)
+    /// bounds it between samples).
     pub clearance_mm: ClearanceRecord,
+    /// Each port's largest distance from where it was at the motion's first
+    /// sample, mm, fixed frame, in the order of [`Record::PORTS`] (left,
+    /// right, endoscope).
+    pub port_motion_mm: [f64; 3],
 }
 
 /// A margin below its warning threshold during a motion: from when, until
@@ -83,6 +89,8 @@ pub struct ProcedureCheck {
     /// Per margin, the warning under way: its place in `warnings` and the
     /// last sample's index.
     open: [Option<(usize, usize)>; Margin::COUNT],
+    /// The motion under way and its ports at its first sample.
+    port_start: Option<(usize, [Vector3<f64>; 3])>,
 }
 
 impl ProcedureCheck {
@@ -109,12 +117,14 @@ impl ProcedureCheck {
                         left_endoscope: f64::INFINITY,
                         right_endoscope: f64::INFINITY,
                     },
+                    port_motion_mm: [0.0; 3],
                 })
                 .collect(),
             warnings: Vec::new(),
             usage: [[0.0; 12]; 2],
             force_usage: [0.0; 12],
             open: [None; Margin::COUNT],
+            port_start: None,
         }
     }
 
@@ -146,6 +156,16 @@ impl ProcedureCheck {
         c.left_right = c.left_right.min(r.left_right);
         c.left_endoscope = c.left_endoscope.min(r.left_endoscope);
         c.right_endoscope = c.right_endoscope.min(r.right_endoscope);
+        let from = match self.port_start {
+            Some((j, from)) if j == k => from,
+            _ => {
+                self.port_start = Some((k, record.ports));
+                record.ports
+            }
+        };
+        for ((largest, now), from) in m.port_motion_mm.iter_mut().zip(&record.ports).zip(&from) {
+            *largest = largest.max((now - from).norm());
+        }
         for (slot, margin) in self.open.iter_mut().zip(Margin::ALL) {
             if !record.warnings.contains(margin) {
                 *slot = None;
