@@ -80,15 +80,14 @@ fn the_check_gives_each_motions_largest_port_displacement() {
     for (k, m) in check.motions.iter().enumerate() {
         let mine: Vec<&Record> = rs.iter().filter(|r| r.motion as usize == k).collect();
         let start = ports(mine[0]);
-        for p in 0..3 {
+        for (p, (from, got)) in start.iter().zip(m.port_motion_mm).enumerate() {
             let largest = mine
                 .iter()
-                .map(|r| (ports(r)[p] - start[p]).norm())
+                .map(|r| (ports(r)[p] - from).norm())
                 .fold(0.0, f64::max);
             assert!(
-                (m.port_motion_mm[p] - largest).abs() < 1e-9,
-                "motion {k}, port {p}: {} vs {largest}",
-                m.port_motion_mm[p]
+                (got - largest).abs() < 1e-9,
+                "motion {k}, port {p}: {got} vs {largest}"
             );
         }
     }

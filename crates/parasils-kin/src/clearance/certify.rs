@@ -358,29 +358,29 @@ mod tests {
         };
         let acc = [AxisAccelerations::default(); 2];
         let c = certify(
-            (0.0, probe(0.0).unwrap()),
-            (0.5, probe(0.5).unwrap()),
+            (0.0, probe(0.0).expect("the probe never fails")),
+            (0.5, probe(0.5).expect("the probe never fails")),
             f64::INFINITY,
             &acc,
             1e-3,
             30,
             probe,
         )
-        .unwrap();
+        .expect("the probe never fails");
         assert!(c.converged);
         assert!(c.certified <= -0.5 && c.certified > -0.5 - 1e-3, "{c:?}");
         assert_eq!(c.sampled, -0.5);
         // Capped at no refinement, the bound still holds but is loose.
         let c = certify(
-            (0.0, probe(0.0).unwrap()),
-            (0.5, probe(0.5).unwrap()),
+            (0.0, probe(0.0).expect("the probe never fails")),
+            (0.5, probe(0.5).expect("the probe never fails")),
             f64::INFINITY,
             &acc,
             1e-3,
             0,
             probe,
         )
-        .unwrap();
+        .expect("the probe never fails");
         assert!(!c.converged && c.certified <= -0.5, "{c:?}");
         assert_eq!(c.sampled, 1.0);
     }
@@ -401,15 +401,15 @@ mod tests {
         };
         let acc = [AxisAccelerations::default(); 2];
         let c = certify(
-            (0.0, probe(0.0).unwrap()),
-            (0.5, probe(0.5).unwrap()),
+            (0.0, probe(0.0).expect("the probe never fails")),
+            (0.5, probe(0.5).expect("the probe never fails")),
             -1.0,
             &acc,
             1e-3,
             30,
             probe,
         )
-        .unwrap();
+        .expect("the probe never fails");
         assert_eq!((c.evaluations, c.sampled), (0, -1.0));
         assert!(c.certified <= -0.5 && c.converged, "{c:?}");
     }
@@ -424,15 +424,15 @@ mod tests {
         };
         let acc = [AxisAccelerations::default(); 2];
         let c = certify(
-            (0.0, probe(0.0).unwrap()),
-            (1.0, probe(1.0).unwrap()),
+            (0.0, probe(0.0).expect("the probe never fails")),
+            (1.0, probe(1.0).expect("the probe never fails")),
             f64::INFINITY,
             &acc,
             1e-3,
             3,
             probe,
         )
-        .unwrap();
+        .expect("the probe never fails");
         assert!(!(c.certified >= 0.0));
     }
 }
