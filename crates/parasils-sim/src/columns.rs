@@ -664,6 +664,3 @@ pub fn csv_index(column: &Column) -> Option<usize> {
 pub fn csv_row(record: &Record) -> [f64; CSV_COUNT] {
     CSV.map(|c| c.value(record))
 }
-
-#[cfg(test)]
-mod tests;

@@ -94,6 +94,8 @@
 //!   turns it on, the Python bindings leave it off.
 
 pub mod columns;
+#[cfg(test)]
+mod columns_tests;
 pub mod csv;
 mod engine;
 pub mod input;
