@@ -88,10 +88,44 @@ pub struct PlaceArgs {
     /// Left tip X,Y,Z (mm, fixed frame), held still. Default: 50,-50,-620.
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_floats::<3>, allow_hyphen_values = true)]
     pub tip_left: Option<[f64; 3]>,
-    /// Right tip X,Y,Z (mm, fixed frame), held still. Default: the mirror
-    /// image of the left tip across the platform's Y'Z' plane at the pose.
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse_floats::<3>, allow_hyphen_values = true)]
-    pub tip_right: Option<[f64; 3]>,
+    /// Right tip X,Y,Z (mm, fixed frame), held still, or `mirror`: the left
+    /// tip's mirror image across the platform's Y'Z' plane at the pose (the
+    /// two shafts then intersect). Default: that mirror image moved 35 mm
+    /// along X' and 100 mm along Y', clear of the left shaft.
+    #[arg(long, value_name = "X,Y,Z|mirror", value_parser = parse_right_tip, allow_hyphen_values = true)]
+    pub tip_right: Option<RightTip>,
+}
+
+/// `--tip-right`: a point, or the mirror of the left tip.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RightTip {
+    /// X, Y, Z, mm, fixed frame.
+    Mm([f64; 3]),
+    /// The left tip's mirror image across the platform's Y'Z' plane.
+    Mirror,
+}
+
+/// `mirror` or three comma-separated numbers.
+pub fn parse_right_tip(s: &str) -> Result<RightTip, String> {
+    if s.trim() == "mirror" {
+        return Ok(RightTip::Mirror);
+    }
+    parse_floats::<3>(s).map(RightTip::Mm)
+}
+
+impl PlaceArgs {
+    /// `input` with the place's pose and tips: the right tip `mirror`
+    /// resolved against the input's pose and left tip.
+    pub fn fill(&self, mut input: Input) -> Input {
+        input.pose_mm_deg = self.pose;
+        input.tip_left_mm = self.tip_left;
+        input.tip_right_mm = match self.tip_right {
+            Some(RightTip::Mm(tip)) => Some(tip),
+            Some(RightTip::Mirror) => Some(input.mirrored_right_tip_mm()),
+            None => None,
+        };
+        input
+    }
 }
 
 /// How the two Euler angles are timed together.
@@ -247,7 +281,7 @@ impl SimulateArgs {
     /// What these arguments ask for, each flag given or not: the syntax
     /// translated, no rule applied ([`Input::resolve`] applies them).
     pub fn input(&self) -> Input {
-        Input {
+        self.place.fill(Input {
             procedure: self.procedure.clone().map(ProcedureSource::File),
             psi_deg: self.psi,
             theta_deg: self.theta,
@@ -260,15 +294,15 @@ impl SimulateArgs {
                 TimingArg::Optimal => TimingKind::Optimal,
             }),
             rate_hz: self.rate,
-            pose_mm_deg: self.place.pose,
-            tip_left_mm: self.place.tip_left,
-            tip_right_mm: self.place.tip_right,
+            pose_mm_deg: None,
+            tip_left_mm: None,
+            tip_right_mm: None,
             robot: self.robot.source(),
             retarget: (!self.retarget.is_empty()).then(|| self.retarget.clone()),
             stop_at_s: self.stop_at,
             tip_load_left_n: self.tip_load_left,
             tip_load_right_n: self.tip_load_right,
-        }
+        })
     }
 
     /// The scenario these arguments describe: [`Self::input`] resolved.
@@ -490,13 +524,10 @@ pub struct ReachArgs {
 impl ReachArgs {
     /// The scenario: the paper's, with the pose, tips and robot given.
     pub fn scenario(&self) -> Result<Scenario> {
-        resolve(Input {
-            pose_mm_deg: self.place.pose,
-            tip_left_mm: self.place.tip_left,
-            tip_right_mm: self.place.tip_right,
+        resolve(self.place.fill(Input {
             robot: self.robot.source(),
             ..Input::default()
-        })
+        }))
     }
 
     /// The map's options.

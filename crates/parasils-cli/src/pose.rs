@@ -11,12 +11,12 @@ use std::io::Write;
 use anyhow::{Context, Result};
 use nalgebra::Vector3;
 use parasils::kin::{
-    Actuators, AssemblyMode, Controller, Instrument, Joints, Pose, TipTargets,
+    Actuators, AssemblyMode, Controller, Instrument, Joints, Pose, TipTargets, default_right_tip,
     mirror_across_platform,
 };
 use serde_json::{Value, json};
 
-use crate::args::{FkArgs, IkArgs, RobotArg};
+use crate::args::{FkArgs, IkArgs, RightTip, RobotArg};
 use crate::stdout;
 
 fn controller(robot: &RobotArg) -> Result<(Controller<f64>, bool)> {
@@ -80,10 +80,11 @@ pub fn ik(args: &IkArgs) -> Result<()> {
         .map_or_else(|| TipTargets::<f64>::paper().left, Vector3::from);
     let tips = TipTargets {
         left: left_tip,
-        right: args
-            .place
-            .tip_right
-            .map_or_else(|| mirror_across_platform(&pose, &left_tip), Vector3::from),
+        right: match args.place.tip_right {
+            Some(RightTip::Mm(tip)) => Vector3::from(tip),
+            Some(RightTip::Mirror) => mirror_across_platform(&pose, &left_tip),
+            None => default_right_tip(&pose, &left_tip),
+        },
     };
     let q = c.module1.ik(&pose)?;
     let margins = c.module1.margins(&pose)?;

@@ -24,8 +24,15 @@ fn ik_at_p0_gives_the_check_values() {
     }
     assert_eq!(v["module1"]["assumed_geometry"], serde_json::json!(true));
     // The paper's joints at P0 (docs/model.md, *Check values*): both modules,
-    // mode A, and the left's mode B.
-    for side in ["left", "right"] {
+    // mode A, and the left's mode B; the right one with the mirrored tip
+    // (mirror symmetry), and with the default tip, its own values.
+    let mirrored = json(&["ik", "--json", "--tip-right", "mirror"]);
+    assert_eq!(mirrored["left"], v["left"]);
+    let a = &v["right"]["mode_a"];
+    assert!((num(&a["qs1_deg"]) - 37.6768).abs() < 5e-5);
+    assert!((num(&a["qs2_deg"]) + 18.1170).abs() < 5e-5);
+    assert!((num(&a["qs3_mm"]) - 185.6585).abs() < 5e-5);
+    for (side, v) in [("left", &v), ("right", &mirrored)] {
         let a = &v[side]["mode_a"];
         assert!((num(&a["qs1_deg"]) - 3.0889).abs() < 5e-5);
         assert!((num(&a["qs2_deg"]) + 38.8695).abs() < 5e-5);

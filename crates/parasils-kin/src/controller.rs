@@ -72,16 +72,33 @@ pub struct TipTargets<T: Real> {
 
 impl<T: Real> TipTargets<T> {
     /// The paper's tips: left `(50, -50, -620)` mm
-    /// ([`presets::LEFT_TIP_MM`]), and the right one its mirror image across
-    /// the platform's `Y'Z'` plane at `P0`, about
-    /// `(-9.6103, 53.9889, -636.9821)` mm (see `docs/model.md`, *Check values*).
+    /// ([`presets::LEFT_TIP_MM`]), and the default right one
+    /// ([`default_right_tip`] at `P0`), about `(92.9107, 68.3284, -659.5392)`
+    /// mm (see `docs/model.md`, *Check values*).
     pub fn paper() -> Self {
-        let [x, y, z] = presets::LEFT_TIP_MM;
-        let left = Vector3::new(T::lit(x), T::lit(y), T::lit(z));
+        let left = Self::paper_left();
+        Self {
+            left,
+            right: default_right_tip(&Pose::paper_start(), &left),
+        }
+    }
+
+    /// The paper's left tip with the right one its exact mirror image across
+    /// the platform's `Y'Z'` plane at `P0`, about
+    /// `(-9.6103, 53.9889, -636.9821)` mm: the default before
+    /// [`default_right_tip`], kept because mirror symmetry is a property the
+    /// tests check, but physically impossible (the two shafts intersect).
+    pub fn mirrored() -> Self {
+        let left = Self::paper_left();
         Self {
             left,
             right: mirror_across_platform(&Pose::paper_start(), &left),
         }
+    }
+
+    fn paper_left() -> Vector3<T> {
+        let [x, y, z] = presets::LEFT_TIP_MM;
+        Vector3::new(T::lit(x), T::lit(y), T::lit(z))
     }
 }
 
@@ -100,6 +117,26 @@ impl<T: Real> ModuleCommand<T> {
     pub fn still(position: Vector3<T>) -> Self {
         Self::Tip(TipMotion::still(position))
     }
+}
+
+/// The default right tip for the left tip `left` (mm, fixed frame) at
+/// `pose`: its mirror image ([`mirror_across_platform`]) moved by
+/// [`presets::RIGHT_TIP_SHIFT_MM`] in the platform frame,
+/// `P + R (S R^T (left - P) + shift)` with `S = diag(-1, 1, 1)`.
+///
+/// ```
+/// use parasils_kin::{Pose, TipTargets, default_right_tip, mirror_across_platform};
+/// let p0 = Pose::<f64>::paper_start();
+/// let t = TipTargets::<f64>::paper();
+/// assert_eq!(default_right_tip(&p0, &t.left), t.right);
+/// // 35 mm along X' and 100 mm along Y' from the mirror image.
+/// let d = p0.rotation().transpose() * (t.right - mirror_across_platform(&p0, &t.left));
+/// assert!((d - nalgebra::Vector3::new(35.0, 100.0, 0.0)).norm() < 1e-12);
+/// ```
+pub fn default_right_tip<T: Real>(pose: &Pose<T>, left: &Vector3<T>) -> Vector3<T> {
+    let [x, y, z] = presets::RIGHT_TIP_SHIFT_MM;
+    let shift = Vector3::new(T::lit(x), T::lit(y), T::lit(z));
+    mirror_across_platform(pose, left) + pose.rotation() * shift
 }
 
 /// The mirror image of a fixed-frame point (mm) across the platform's `Y'Z'`

@@ -59,7 +59,8 @@
 //! - [`endoscope`]: the endoscope's insertion depth and its tip;
 //! - [`clearance`]: the shafts and the endoscope as capsules (sizes
 //!   **assumed**), the closest points and distance of two segments in closed
-//!   form, and the surface gaps between the three bodies at a cycle;
+//!   form, the surface gaps between the three bodies at a cycle, and their
+//!   smallest value certified over an interval of time;
 //! - [`controller`]: the one call per control cycle, and the whole robot's
 //!   geometry;
 //! - [`limits`]: the actuators' velocity, acceleration and force limits (assumed
@@ -117,12 +118,13 @@ pub mod statics;
 
 pub use camera::{Camera, CameraError, ImagePoint};
 pub use clearance::{
-    Bodies, BodyGeometry, Capsule, CapsuleGap, Clearance, ClearancePair, ClosestPoints, Segment,
+    AxisAccelerations, AxisState, Bodies, BodyGeometry, Capsule, CapsuleGap, Certificate,
+    Clearance, ClearancePair, ClosestPoints, Probe, Segment, certify, gap_lower_bound, rate_over,
     segment_distance,
 };
 pub use controller::{
-    ControlStep, Controller, ModuleCommand, RobotGeometry, TipTargets, mirror_across_platform,
-    step_positions, step_rates,
+    ControlStep, Controller, ModuleCommand, RobotGeometry, TipTargets, default_right_tip,
+    mirror_across_platform, step_positions, step_rates,
 };
 pub use endoscope::EndoscopeGeometry;
 #[allow(deprecated)]

@@ -24,9 +24,19 @@
 /// the position, degrees for the Euler angles.
 pub const START_POSE_MM_DEG: [f64; 6] = [15.0, 20.0, -500.0, -15.0, 10.0, -60.0];
 
-/// The left instrument's tip in the paper, mm, fixed frame. The right tip is
-/// its mirror image across the platform's `Y'Z'` plane at the start pose.
+/// The left instrument's tip in the paper, mm, fixed frame. The paper gives
+/// no right tip: see [`RIGHT_TIP_SHIFT_MM`].
 pub const LEFT_TIP_MM: [f64; 3] = [50.0, -50.0, -620.0];
+
+/// The default right tip (**assumed**: the paper gives none) is the left
+/// tip's mirror image across the platform's `Y'Z'` plane at the start pose,
+/// moved by this vector in the platform frame, mm: 35 mm along `X'` (back
+/// towards its own port) and 100 mm along `Y'`. The mirror itself makes the
+/// two shafts intersect; moved so, with the assumed bodies
+/// ([`BODIES_MM`]), the right shaft clears the left one and the endoscope
+/// by more than 2 mm over the paper's whole turn (`docs/model.md`,
+/// *The paper's scenario*).
+pub const RIGHT_TIP_SHIFT_MM: [f64; 3] = [35.0, 100.0, 0.0];
 
 /// `alpha`, the tilt of an instrument module's first joint axis, deg.
 pub const INSTRUMENT_ALPHA_DEG: f64 = 10.0;

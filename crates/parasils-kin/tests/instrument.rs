@@ -69,8 +69,8 @@ mod check_values {
     }
 
     #[test]
-    fn default_right_tip_is_the_mirror_and_has_the_same_joints() {
-        let tips = TipTargets::<f64>::paper();
+    fn the_mirrored_right_tip_has_the_same_joints() {
+        let tips = TipTargets::<f64>::mirrored();
         let expected = Vector3::new(-9.6103, 53.9889, -636.9821);
         assert!((tips.right - expected).norm() < 1e-4, "{:?}", tips.right);
         let right = Instrument::<f64>::paper(Side::Right);
@@ -80,10 +80,32 @@ mod check_values {
         assert_joints_deg(&q, [3.0889, -38.8695, 147.7687], "right mode A at P0");
     }
 
+    /// The default right tip: the mirror moved 35 mm along `X'` and 100 mm
+    /// along `Y'` at `P0` (the value from an independent computation of
+    /// `P + R (S R^T (left - P) + shift)`), reachable in mode A, and the
+    /// joints found give the tip back by forward kinematics.
+    #[test]
+    fn the_default_right_tip_is_reachable() {
+        let tips = TipTargets::<f64>::paper();
+        let expected = Vector3::new(92.9107, 68.3284, -659.5392);
+        assert!((tips.right - expected).norm() < 1e-4, "{:?}", tips.right);
+        let right = Instrument::<f64>::paper(Side::Right);
+        for pose in [
+            Pose::paper_start(),
+            Pose::from_mm_deg(15.0, 20.0, -500.0, 0.0, 35.0, -60.0),
+        ] {
+            let q = right
+                .ik(&pose, &tips.right, AssemblyMode::A)
+                .expect("reachable");
+            let tip = right.fk(&pose, &q).expect("finite");
+            assert!((tip - tips.right).norm() < 1e-9);
+        }
+    }
+
     #[test]
     fn both_modules_at_the_end_of_the_increments_reading() {
         let end = Pose::<f64>::from_mm_deg(15.0, 20.0, -500.0, 0.0, 35.0, -60.0);
-        let tips = TipTargets::<f64>::paper();
+        let tips = TipTargets::<f64>::mirrored();
         let left = Instrument::paper(Side::Left)
             .ik(&end, &tips.left, AssemblyMode::A)
             .expect("left reachable");

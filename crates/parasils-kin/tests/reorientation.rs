@@ -51,7 +51,7 @@ fn end_of_the_motion_matches_the_check_values() {
     let out = controller
         .step(
             &reorientation(4.5),
-            &TipTargets::paper(),
+            &TipTargets::mirrored(),
             &mut MarginTracker::new(),
         )
         .expect("regular");

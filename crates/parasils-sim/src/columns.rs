@@ -33,7 +33,7 @@ pub enum Channel {
     /// `/right`: the right instrument module's.
     Right,
     /// `/tips`: the tips recomputed by forward kinematics and their distances
-    /// to the targets.
+    /// to the targets, and the ports (fixed frame).
     Tips,
     /// `/margins`: module 1's serial and parallel margins, `cos qs2` of each
     /// instrument module.
@@ -83,7 +83,7 @@ impl Channel {
             Channel::Left => "Left instrument module joints (paper's figure 7)",
             Channel::Right => "Right instrument module joints",
             Channel::Tips => {
-                "Instrument tips recomputed by forward kinematics (fixed frame) and their distance to the targets"
+                "Instrument tips recomputed by forward kinematics (fixed frame) and their distance to the targets; the ports where the shafts and the endoscope cross the skin (fixed frame)"
             }
             Channel::Margins => {
                 "Singularity margins: module 1 serial and parallel, cos qs2 of each instrument module; clearance: the surface gaps between the shafts and the endoscope (mm)"
@@ -340,10 +340,26 @@ pub const LEFT: InstrumentColumns = instrument_columns!(left, "left", Channel::L
 /// The right instrument module's columns.
 pub const RIGHT: InstrumentColumns = instrument_columns!(right, "right", Channel::Right);
 
+/// The ports, where each shaft crosses the skin, mm, fixed frame (MCAP
+/// `/tips` only, like the tips by forward kinematics): `left_port_x_mm`,
+/// `_y_`, `_z_`, then `right_port_`, then `endoscope_port_` (the modules'
+/// RCMs `P + R rcm` and the endoscope's insertion point `P`).
+pub const PORTS: [Column; 9] = [
+    mcap_only("left_port_x_mm", MM, Channel::Tips, |r| r.ports[0].x),
+    mcap_only("left_port_y_mm", MM, Channel::Tips, |r| r.ports[0].y),
+    mcap_only("left_port_z_mm", MM, Channel::Tips, |r| r.ports[0].z),
+    mcap_only("right_port_x_mm", MM, Channel::Tips, |r| r.ports[1].x),
+    mcap_only("right_port_y_mm", MM, Channel::Tips, |r| r.ports[1].y),
+    mcap_only("right_port_z_mm", MM, Channel::Tips, |r| r.ports[1].z),
+    mcap_only("endoscope_port_x_mm", MM, Channel::Tips, |r| r.ports[2].x),
+    mcap_only("endoscope_port_y_mm", MM, Channel::Tips, |r| r.ports[2].y),
+    mcap_only("endoscope_port_z_mm", MM, Channel::Tips, |r| r.ports[2].z),
+];
+
 /// Every column, in order: the CSV's columns are those with `csv` set, in
 /// this order; each MCAP channel's fields are `t_s` then its columns, in this
 /// order.
-pub const ALL: [Column; 63] = [
+pub const ALL: [Column; 72] = [
     T_S,
     X_MM,
     Y_MM,
@@ -407,6 +423,15 @@ pub const ALL: [Column; 63] = [
     RIGHT.tip[0],
     RIGHT.tip[1],
     RIGHT.tip[2],
+    PORTS[0],
+    PORTS[1],
+    PORTS[2],
+    PORTS[3],
+    PORTS[4],
+    PORTS[5],
+    PORTS[6],
+    PORTS[7],
+    PORTS[8],
 ];
 
 /// The index of the active command (see
@@ -638,159 +663,4 @@ pub fn csv_index(column: &Column) -> Option<usize> {
 /// The values of the [`CSV`] columns for `record`, in order.
 pub fn csv_row(record: &Record) -> [f64; CSV_COUNT] {
     CSV.map(|c| c.value(record))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn names_are_unique_and_end_with_their_unit() {
-        let mut names: Vec<&str> = ALL.iter().map(|c| c.name).collect();
-        names.sort_unstable();
-        names.dedup();
-        assert_eq!(names.len(), ALL.len());
-        let suffix = |unit: &str| match unit {
-            "s" => "_s",
-            "mm" => "_mm",
-            "mm/s" => "_mm_s",
-            "mm/s^2" => "_mm_s2",
-            "deg" => "_deg",
-            "deg/s" => "_deg_s",
-            "deg/s^2" => "_deg_s2",
-            _ => "",
-        };
-        for c in ALL {
-            if c.unit == ONE {
-                assert!(
-                    c.name.contains("margin") || c.name.ends_with("cos_qs2"),
-                    "{}",
-                    c.name
-                );
-            } else {
-                assert!(c.name.ends_with(suffix(c.unit)), "{} in {}", c.name, c.unit);
-            }
-            let rate = c.unit.ends_with("/s");
-            let acc = c.unit.ends_with("/s^2");
-            assert_eq!(c.name.contains("_rate_"), rate, "{}", c.name);
-            assert_eq!(c.name.contains("_acc_"), acc, "{}", c.name);
-        }
-    }
-
-    #[test]
-    fn the_csv_is_the_first_57_columns() {
-        assert_eq!(CSV_COUNT, 57);
-        assert!(ALL[..57].iter().all(|c| c.csv));
-        assert!(ALL[57..].iter().all(|c| !c.csv));
-        assert_eq!(CSV_NAMES[0], "t_s");
-        assert_eq!(CSV_NAMES[31], "left_qs1_deg");
-        assert_eq!(CSV_NAMES[52], "right_tip_err_mm");
-        assert_eq!(
-            CSV_NAMES[53..],
-            [
-                "clearance_left_right_mm",
-                "clearance_left_endoscope_mm",
-                "clearance_right_endoscope_mm",
-                "clearance_min_mm"
-            ]
-        );
-        assert_eq!(csv_index(&LEFT.q[0]), Some(31));
-        assert_eq!(csv_index(&LEFT.tip[0]), None);
-    }
-
-    #[test]
-    fn the_command_column_comes_last_and_only_with_commands() {
-        assert_eq!(csv_columns(false).len(), 57);
-        assert_eq!(csv_columns(true).len(), 58);
-        assert_eq!(CSV_WITH_COMMAND_NAMES[..57], CSV_NAMES);
-        assert_eq!(CSV_WITH_COMMAND_NAMES[57], "command");
-        assert!(csv_columns(true)[57].integer);
-        assert!(csv_columns(true)[..57].iter().all(|c| !c.integer));
-        assert!(ALL.iter().all(|c| c.name != COMMAND.name));
-        assert_eq!(csv_index(&COMMAND), None);
-        let r = Record {
-            command: 3,
-            ..Record::default()
-        };
-        assert_eq!(COMMAND.value(&r), 3.0);
-    }
-
-    #[test]
-    fn channels_hold_the_documented_fields() {
-        let count = |ch: Channel| ALL.iter().filter(|c| c.channel == Some(ch)).count();
-        assert_eq!(Channel::ALL.map(count), [10, 18, 9, 9, 8, 8]);
-        assert_eq!(T_S.channel, None);
-        assert_eq!(LEFT.q_acc[2].channel, Some(Channel::Left));
-        assert_eq!(LEFT.tip_err.channel, Some(Channel::Tips));
-        assert_eq!(RIGHT.cos_qs2.channel, Some(Channel::Margins));
-        assert_eq!(MODULE1_PARALLEL_MARGIN.channel, Some(Channel::Margins));
-        assert_eq!(Q_ACC_MM_S2[5].channel, Some(Channel::Module1));
-        assert_eq!(PSI_DEG.channel, Some(Channel::Platform));
-    }
-
-    #[test]
-    fn the_force_columns_come_last_and_only_with_loads() {
-        use crate::scenario::{Online, Run, Scenario, Turn};
-        let loaded = Scenario {
-            tip_load_right_n: Some([0.0, 0.0, 1.0]),
-            ..Scenario::paper()
-        };
-        let n = CSV_COUNT;
-        assert_eq!(csv_columns_of(&Scenario::paper()).len(), n);
-        let cols = csv_columns_of(&loaded);
-        assert_eq!(cols.len(), n + 14);
-        assert_eq!(cols[n].name, "q1_force_n");
-        assert_eq!(cols[n + 11].name, "right_qs3_force_n");
-        assert_eq!(cols[n + 13].name, "right_tip_deflection_mm");
-        let with_command = Scenario {
-            run: Run::Online(Online {
-                turn: Turn::paper(),
-                retargets: Vec::new(),
-                stop_at_s: Some(1.0),
-            }),
-            ..loaded.clone()
-        };
-        let cols = csv_columns_of(&with_command);
-        assert_eq!((cols[n].name, cols[n + 1].name), ("command", "q1_force_n"));
-        let mut r = Record::default();
-        r.forces.module1[4] = -3.5;
-        r.forces.left[2] = 2.0;
-        r.forces.right[0] = 40.0;
-        assert_eq!(FORCES[4].value(&r), -3.5);
-        assert_eq!(FORCES[8].value(&r), 2.0);
-        assert_eq!(FORCES[9].value(&r), 40.0);
-        let mut names: Vec<&str> = CSV_WITH_PROCEDURE_AND_FORCES
-            .iter()
-            .map(|c| c.name)
-            .collect();
-        names.sort_unstable();
-        names.dedup();
-        assert_eq!(names.len(), CSV_COUNT + 26);
-    }
-
-    #[test]
-    fn values_are_in_the_columns_units() {
-        let mut r = Record {
-            angles_deg: [90.0, 0.0, 0.0],
-            ..Record::default()
-        };
-        r.left.q = [core::f64::consts::PI, 0.0, 120.0];
-        r.right.tip.z = -600.0;
-        r.module1.q_ddot[5] = 7.0;
-        assert_eq!(PSI_DEG.value(&r), 90.0);
-        assert_eq!(LEFT.q[0].value(&r), 180.0);
-        assert_eq!(LEFT.q[2].value(&r), 120.0);
-        assert_eq!(RIGHT.tip[2].value(&r), -600.0);
-        assert_eq!(Q_ACC_MM_S2[5].value(&r), 7.0);
-        r.clearance.left_right = 3.0;
-        r.clearance.left_endoscope = -1.5;
-        r.clearance.right_endoscope = 2.0;
-        assert_eq!(CLEARANCE_LEFT_ENDOSCOPE_MM.value(&r), -1.5);
-        assert_eq!(CLEARANCE_MIN_MM.value(&r), -1.5);
-        let row = csv_row(&r);
-        assert_eq!(
-            (row[4], row[31], row[33], row[28]),
-            (90.0, 180.0, 120.0, 7.0)
-        );
-    }
 }

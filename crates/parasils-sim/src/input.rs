@@ -261,8 +261,10 @@ pub struct Input {
     pub pose_mm_deg: Option<[f64; 6]>,
     /// The left tip, held still, mm, fixed frame. Default: the paper's.
     pub tip_left_mm: Option<[f64; 3]>,
-    /// The right tip, mm. Default: the left one's mirror image across the
-    /// platform's `Y'Z'` plane at the start.
+    /// The right tip, mm. Default: [`parasils::kin::default_right_tip`], the
+    /// left one's mirror image across the platform's `Y'Z'` plane at the
+    /// start, moved 35 mm along `X'` and 100 mm along `Y'` (see
+    /// [`Input::mirrored_right_tip_mm`] for the mirror itself).
     pub tip_right_mm: Option<[f64; 3]>,
     /// The robot. Default: the paper's (module 1 assumed).
     pub robot: Option<RobotSource>,
@@ -295,6 +297,23 @@ impl Input {
             (InputField::Retarget, self.retarget.is_some()),
             (InputField::StopAtS, self.stop_at_s.is_some()),
         ]
+    }
+
+    /// The left tip's exact mirror image across the platform's `Y'Z'` plane
+    /// at the start pose, mm, fixed frame, for this input's pose and left tip
+    /// (each the paper's when not given): the right tip before the default
+    /// moved it, which makes the two shafts intersect; what
+    /// `--tip-right mirror` gives.
+    pub fn mirrored_right_tip_mm(&self) -> [f64; 3] {
+        let [x, y, z, psi, theta, phi] = self
+            .pose_mm_deg
+            .unwrap_or(parasils::kin::presets::START_POSE_MM_DEG);
+        let pose = parasils::kin::Pose::from_mm_deg(x, y, z, psi, theta, phi);
+        let left = nalgebra::Vector3::from(
+            self.tip_left_mm
+                .unwrap_or(parasils::kin::presets::LEFT_TIP_MM),
+        );
+        parasils::kin::mirror_across_platform(&pose, &left).into()
     }
 
     /// The scenario this input asks for: the paper's wherever a field is not

@@ -94,6 +94,8 @@
 //!   turns it on, the Python bindings leave it off.
 
 pub mod columns;
+#[cfg(test)]
+mod columns_tests;
 pub mod csv;
 mod engine;
 pub mod input;
@@ -118,7 +120,8 @@ pub use engine::procedure::{
     CameraCheck, MotionCheck, PlannedMotion, ProcedureCheck, ProcedurePlan, Warning,
 };
 pub use engine::{
-    CommandError, CommandName, Records, RunError, Scheduled, Simulation, SimulationError,
+    CERTIFY_MAX_DEPTH, CERTIFY_TOLERANCE_MM, CommandError, CommandName, MotionClearance, Records,
+    RunError, Scheduled, Simulation, SimulationError,
 };
 pub use input::{Input, InputError, InputField, ProcedureSource, RobotSource, TimingKind};
 pub use mcap::{McapError, McapOptions, McapSink, SceneGeometry};

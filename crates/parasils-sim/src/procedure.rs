@@ -16,7 +16,8 @@
 //! robot = "../robots/default.toml"    # optional, relative to this file
 //! pose = [15, 20, -460, -15, 10, -60] # start pose, mm and deg (default: the paper's P0)
 //! tip_left_mm = [50, -50, -580]       # start tips (joints from the IK, mode A)
-//! # tip_right_mm: default the left tip's mirror across the platform at the start
+//! # tip_right_mm: default the left tip's mirror across the platform at the start,
+//! #   moved 35 mm along X' and 100 mm along Y' (parasils_kin::default_right_tip)
 //! endoscope_depth_mm = 0              # default 0
 //!
 //! [[motion]]

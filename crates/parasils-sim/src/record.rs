@@ -59,6 +59,35 @@ pub struct ClearanceRecord {
 }
 
 impl ClearanceRecord {
+    /// All three gaps `gap_mm`.
+    pub fn splat(gap_mm: f64) -> Self {
+        Self {
+            left_right: gap_mm,
+            left_endoscope: gap_mm,
+            right_endoscope: gap_mm,
+        }
+    }
+
+    /// The gap of `pair`, mm.
+    pub fn get(&self, pair: parasils::kin::ClearancePair) -> f64 {
+        use parasils::kin::ClearancePair::{LeftEndoscope, LeftRight, RightEndoscope};
+        match pair {
+            LeftRight => self.left_right,
+            LeftEndoscope => self.left_endoscope,
+            RightEndoscope => self.right_endoscope,
+        }
+    }
+
+    /// Sets the gap of `pair` to `gap_mm`.
+    pub fn set(&mut self, pair: parasils::kin::ClearancePair, gap_mm: f64) {
+        use parasils::kin::ClearancePair::{LeftEndoscope, LeftRight, RightEndoscope};
+        match pair {
+            LeftRight => self.left_right = gap_mm,
+            LeftEndoscope => self.left_endoscope = gap_mm,
+            RightEndoscope => self.right_endoscope = gap_mm,
+        }
+    }
+
     /// The smallest of the three gaps, mm.
     pub fn min(&self) -> f64 {
         self.left_right
@@ -132,12 +161,23 @@ pub struct Record {
     pub endoscope_tip: Vector3<f64>,
     /// The surface gaps between the shafts and the endoscope, mm.
     pub clearance: ClearanceRecord,
+    /// The ports, where each shaft crosses the skin, mm, fixed frame: the
+    /// left and right modules' RCMs (`P + R rcm`) and the endoscope's
+    /// insertion point (`P`), in the order of [`Record::PORTS`].
+    pub ports: [Vector3<f64>; 3],
     /// Every actuator's force for the tip loads (written with tip loads
     /// only).
     pub forces: ForceRecord,
 }
 
 impl Record {
+    /// The ports of [`Record::ports`], in order.
+    pub const PORTS: [parasils::motions::Port; 3] = [
+        parasils::motions::Port::Left,
+        parasils::motions::Port::Right,
+        parasils::motions::Port::Endoscope,
+    ];
+
     /// The twelve actuators' rates and accelerations in the order of
     /// [`parasils::kin::Actuator::ALL`]: `q1..q6` (mm/s), then each
     /// module's `qs1`, `qs2` (rad/s), `qs3` (mm/s).

@@ -12,7 +12,7 @@
 
 use nalgebra::Vector3;
 use parasils::kin::presets;
-use parasils::kin::{BodyGeometry, Pose, RobotGeometry, TipTargets, mirror_across_platform};
+use parasils::kin::{BodyGeometry, Pose, RobotGeometry, TipTargets, default_right_tip};
 use parasils::paper;
 use parasils::traj::{Limits, Synchronization};
 use serde::Serialize;
@@ -56,9 +56,10 @@ pub struct Scenario {
     pub rate_hz: f64,
     /// The left tip at the start, mm, fixed frame.
     pub tip_left_mm: [f64; 3],
-    /// The right tip at the start, mm, fixed frame; `None` for the mirror
-    /// image of the left tip across the platform's `Y'Z'` plane at the start
-    /// pose.
+    /// The right tip at the start, mm, fixed frame; `None` for the default
+    /// ([`default_right_tip`]: the left tip's mirror image across the
+    /// platform's `Y'Z'` plane at the start pose, moved 35 mm along `X'` and
+    /// 100 mm along `Y'` so that the shafts do not meet).
     pub tip_right_mm: Option<[f64; 3]>,
     /// The robot: module 1 and both instrument modules (library units).
     pub robot: RobotGeometry<f64>,
@@ -313,7 +314,8 @@ impl Default for Scenario {
 impl Scenario {
     /// The paper's scenario: `P0 = (15, 20, -500 mm, -15, 10, -60 deg)`,
     /// [`Turn::paper`] timed by the trapezoids, the left tip at
-    /// `(50, -50, -620)` mm and the right one its mirror, sampled at 1 kHz,
+    /// `(50, -50, -620)` mm and the right one the default (the mirror moved
+    /// clear of the left shaft, [`default_right_tip`]), sampled at 1 kHz,
     /// on the paper's robot (module 1 assumed). See `docs/model.md`,
     /// *Check values*.
     pub fn paper() -> Self {
@@ -483,10 +485,9 @@ impl Scenario {
         let left = Vector3::from(self.tip_left_mm);
         TipTargets {
             left,
-            right: self.tip_right_mm.map_or_else(
-                || mirror_across_platform(&self.start(), &left),
-                Vector3::from,
-            ),
+            right: self
+                .tip_right_mm
+                .map_or_else(|| default_right_tip(&self.start(), &left), Vector3::from),
         }
     }
 

@@ -13,7 +13,7 @@ use crate::columns::{self, CSV_COUNT, Column};
 use parasils::kin::{ACTUATOR_COUNT, Actuator, ActuatorLimits};
 
 use crate::engine::procedure::ProcedureCheck;
-use crate::engine::{Scheduled, Simulation};
+use crate::engine::{MotionClearance, Scheduled, Simulation, SimulationError};
 use crate::motion::MotionName;
 use crate::record::Record;
 use crate::scenario::CommandKind;
@@ -294,7 +294,7 @@ impl fmt::Display for Summary {
             self.write_commands(f)?;
         }
         if let Some(check) = &self.procedure {
-            write!(f, "\n{}", MotionTable(check))?;
+            write!(f, "\n{}", MotionTable(check, None))?;
         }
         Ok(())
     }
@@ -349,9 +349,10 @@ impl fmt::Display for ForceUsage<'_> {
 /// time line, the law's planned and stretched durations, peak
 /// rates, smallest margins, largest tip error, what is inside the patient
 /// when it starts), the smallest sampled clearance of each pair of bodies
-/// per motion, what the camera saw in the motions that follow the tips,
-/// then every supervisor warning with its motion and times.
-struct MotionTable<'a>(&'a ProcedureCheck);
+/// per motion (with its certified lower bound, when given), each port's
+/// largest displacement per motion, what the camera saw in the motions that
+/// follow the tips, then every supervisor warning with its motion and times.
+struct MotionTable<'a>(&'a ProcedureCheck, Option<&'a [MotionClearance]>);
 
 impl fmt::Display for MotionTable<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -392,19 +393,39 @@ impl fmt::Display for MotionTable<'_> {
                 m.inside
             )?;
         }
+        match self.1 {
+            None => {
+                writeln!(
+                    f,
+                    "clearance per motion, smallest sampled gap, mm: left_right left_endoscope right_endoscope"
+                )?;
+                for m in &self.0.motions {
+                    let c = &m.clearance_mm;
+                    writeln!(
+                        f,
+                        "{:>6} {:>10} {:>14} {:>15}",
+                        m.name.index,
+                        Fixed(c.left_right, 3),
+                        Fixed(c.left_endoscope, 3),
+                        Fixed(c.right_endoscope, 3)
+                    )?;
+                }
+            }
+            Some(certified) => write!(f, "{}", CertifiedTable(self.0, certified))?,
+        }
         writeln!(
             f,
-            "clearance per motion, smallest sampled gap, mm: left_right left_endoscope right_endoscope"
+            "ports per motion, largest displacement from the motion's start, mm: left right endoscope"
         )?;
         for m in &self.0.motions {
-            let c = &m.clearance_mm;
+            let [l, r, e] = m.port_motion_mm;
             writeln!(
                 f,
-                "{:>6} {:>10} {:>14} {:>15}",
+                "{:>6} {:>10} {:>10} {:>10}",
                 m.name.index,
-                Fixed(c.left_right, 3),
-                Fixed(c.left_endoscope, 3),
-                Fixed(c.right_endoscope, 3)
+                Fixed(l, 3),
+                Fixed(r, 3),
+                Fixed(e, 3)
             )?;
         }
         if self.0.motions.iter().any(|m| m.camera.is_some()) {
@@ -449,20 +470,64 @@ impl fmt::Display for MotionTable<'_> {
     }
 }
 
+/// Per motion and pair, the smallest sampled gap and its certified lower
+/// bound over the whole motion.
+struct CertifiedTable<'a>(&'a ProcedureCheck, &'a [MotionClearance]);
+
+impl fmt::Display for CertifiedTable<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "clearance per motion, mm, smallest sampled gap / certified minimum between samples: left_right left_endoscope right_endoscope"
+        )?;
+        for (m, c) in self.0.motions.iter().zip(self.1) {
+            let (s, l) = (&m.clearance_mm, &c.certified_mm);
+            let pair = |a: f64, b: f64| format!("{} / {}", Fixed(a, 3), Fixed(b, 3));
+            writeln!(
+                f,
+                "{:>6} {:>20} {:>20} {:>20}{}",
+                m.name.index,
+                pair(s.left_right, l.left_right),
+                pair(s.left_endoscope, l.left_endoscope),
+                pair(s.right_endoscope, l.right_endoscope),
+                if c.converged {
+                    ""
+                } else {
+                    "  (refinement capped: the bound is loose)"
+                }
+            )?;
+        }
+        Ok(())
+    }
+}
+
 /// What `parasils simulate --procedure FILE --check` prints of a procedure
-/// that passed its check: the verdict, then the motions' table and the
-/// warnings. (A procedure that fails does not get this far: its error names
-/// the motion, the time inside it and what failed.)
+/// that passed its check: the verdict, then the motions' table with each
+/// motion's certified clearance, and the warnings. (A procedure that fails
+/// does not get this far: its error names the motion, the time inside it
+/// and what failed.)
 #[derive(Debug)]
 pub struct CheckReport<'a> {
     sim: &'a Simulation,
     check: &'a ProcedureCheck,
+    certified: Result<Vec<MotionClearance>, SimulationError>,
 }
 
 impl<'a> CheckReport<'a> {
-    /// The report of `sim`'s `check`.
+    /// The report of `sim`'s `check`, with its clearance certified between
+    /// samples ([`Simulation::certify_clearance`]).
     pub fn new(sim: &'a Simulation, check: &'a ProcedureCheck) -> Self {
-        Self { sim, check }
+        Self {
+            sim,
+            check,
+            certified: sim.certify_clearance(),
+        }
+    }
+
+    /// The certified clearance per motion, or why it could not be computed
+    /// (a probe between samples that the kinematics refuse).
+    pub fn certified(&self) -> Result<&[MotionClearance], &SimulationError> {
+        self.certified.as_deref()
     }
 }
 
@@ -483,7 +548,13 @@ impl fmt::Display for CheckReport<'_> {
                 "(module 1 uses the ASSUMED default geometry: the real robot's dimensions are not published)"
             )?;
         }
-        writeln!(f, "{}", MotionTable(self.check))?;
+        match &self.certified {
+            Ok(c) => writeln!(f, "{}", MotionTable(self.check, Some(c)))?,
+            Err(e) => {
+                writeln!(f, "{}", MotionTable(self.check, None))?;
+                writeln!(f, "clearance not certified between samples: {e}")?;
+            }
+        }
         write!(f, "{}", Usage(&self.check.usage))?;
         if has_loads(self.sim) {
             write!(f, "\n{}", ForceUsage(&self.check.force_usage))?;

@@ -99,6 +99,12 @@ pub struct SupervisorTable {
     /// The surface gaps between the bodies, stop, mm.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub clearance_stop_mm: Option<f64>,
+    /// How far a port (a module's RCM, or the endoscope's insertion point)
+    /// may move from where it was at the start of each motion, mm, fixed
+    /// frame: a planned run or a procedure that moves one farther fails
+    /// before any output. Not supervised unless given (no assumed default).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub port_motion_stop_mm: Option<f64>,
 }
 
 /// The clearance thresholds' assumed defaults, mm: warning, stop.
@@ -190,6 +196,7 @@ impl SupervisorTable {
         let clearance = [
             ("clearance_warn_mm", self.clearance_warn_mm),
             ("clearance_stop_mm", self.clearance_stop_mm),
+            ("port_motion_stop_mm", self.port_motion_stop_mm),
         ];
         self.entries()
             .into_iter()
@@ -320,6 +327,7 @@ mod tests {
             "stroke_stop_mm",
             "clearance_warn_mm",
             "clearance_stop_mm",
+            "port_motion_stop_mm",
         ];
         for (k, name) in names.iter().enumerate() {
             text.push_str(&format!("{name} = {}.5\n", k + 1));

@@ -8,10 +8,18 @@
 //! - [`bodies`]: the bodies' sizes ([`BodyGeometry`], **assumed** defaults),
 //!   the three capsules at a cycle from the platform frame, the instrument
 //!   joints and the endoscope's depth ([`Bodies`]), and the three gaps
-//!   between them ([`Clearance`]). See `docs/model.md`, *Clearance*.
+//!   between them ([`Clearance`]). See `docs/model.md`, *Clearance*;
+//! - [`certify`]: the smallest gap over a whole interval of time, not only
+//!   at samples: how fast an axis' ends can move ([`AxisState`]), the
+//!   lower bound between two instants ([`gap_lower_bound`]) and its
+//!   refinement by bisection ([`certify()`]).
 
 pub mod bodies;
+pub mod certify;
 pub mod segment;
 
 pub use bodies::{Bodies, BodyGeometry, Clearance, ClearancePair};
+pub use certify::{
+    AxisAccelerations, AxisState, Certificate, Probe, certify, gap_lower_bound, rate_over,
+};
 pub use segment::{Capsule, CapsuleGap, ClosestPoints, Segment, segment_distance};

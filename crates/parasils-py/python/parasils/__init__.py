@@ -121,7 +121,9 @@ def simulate(
     - tip_left_mm: the left tip held still, (x, y, z) mm, fixed frame;
       default (50, -50, -620).
     - tip_right_mm: the right tip, (x, y, z) mm; default the mirror image of
-      the left tip across the platform's Y'Z' plane at the start pose.
+      the left tip across the platform's Y'Z' plane at the start pose, moved
+      35 mm along X' and 100 mm along Y' so that the shafts do not meet
+      (docs/model.md, *The paper's scenario*).
     - robot: a robot file's path (TOML, as --robot) or a parasils.Robot;
       default the paper's robot (module 1 assumed).
     - out: also write every sample to this file exactly as

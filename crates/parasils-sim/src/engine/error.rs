@@ -1,6 +1,7 @@
 //! What can stop a simulation or a run, each error naming its subject.
 
 use parasils::kin::{ClearancePair, LimitError};
+use parasils::motions::Port;
 
 use crate::timing::TimingError;
 
@@ -114,6 +115,28 @@ pub enum SimulationError {
         /// ports.
         depth_mm: f64,
     },
+    /// A port (where a shaft or the endoscope crosses the skin) moved
+    /// farther from where it was at its motion's start than the robot
+    /// file's `[supervisor]` `port_motion_stop_mm`, at a sample of a planned
+    /// run or a procedure: found while the run is planned, before any
+    /// output.
+    #[error(
+        "{}the {} port moved {} mm from where it was at the motion's start, more than the limit {} mm",
+        AtTime(*t), port.name(), Fixed(*displacement_mm, 3), Shortest(*stop_mm)
+    )]
+    PortMotion {
+        /// The sample's time, s.
+        t: f64,
+        /// The sample's index.
+        sample: Option<usize>,
+        /// Which port: the left or right module's RCM, or the endoscope's.
+        port: Port,
+        /// How far it is from its position at the motion's start, mm
+        /// (fixed frame).
+        displacement_mm: f64,
+        /// The limit, mm.
+        stop_mm: f64,
+    },
     /// The online controller refused a call for another reason than the
     /// kinematics or the trajectory (for instance, a supervisor threshold).
     #[error("{}{error}", AtTime(*t))]
@@ -147,6 +170,17 @@ impl SimulationError {
                 Shortest(*stop_mm),
                 Fixed(*depth_mm, 1)
             ),
+            SimulationError::PortMotion {
+                port,
+                displacement_mm,
+                stop_mm,
+                ..
+            } => format!(
+                "the {} port moved {} mm from where it was at the motion's start, more than the limit {} mm",
+                port.name(),
+                Fixed(*displacement_mm, 3),
+                Shortest(*stop_mm)
+            ),
             e => e.to_string(),
         }
     }
@@ -157,7 +191,8 @@ impl SimulationError {
             SimulationError::Kinematics { t, .. }
             | SimulationError::Controller { t, .. }
             | SimulationError::ActuatorLimit { t, .. }
-            | SimulationError::Clearance { t, .. } => Some(*t),
+            | SimulationError::Clearance { t, .. }
+            | SimulationError::PortMotion { t, .. } => Some(*t),
             SimulationError::Motion { error, .. } => error.time_s(),
             _ => None,
         }

@@ -27,18 +27,23 @@
 //!   [`CommandKind::SupervisorStop`](crate::CommandKind::SupervisorStop)),
 //!   where a planned run would fail there with an error.
 //!
+//! A planned run's clearance is also certified between its samples, motion
+//! by motion, on demand ([`Simulation::certify_clearance`], `certify`).
+//!
 //! Nothing is integrated: every record is computed from the trajectory's
 //! analytic state at its time, so the tips' drift is the kinematics' rounding
 //! only. Records stream to a [`Sink`] in [`Simulation::run`], the one loop
 //! that the command line and the Python bindings both run; memory stays flat
 //! however long the run.
 
+mod certify;
 mod error;
 pub mod procedure;
 mod records;
 mod schedule;
 mod simulation;
 
+pub use certify::{CERTIFY_MAX_DEPTH, CERTIFY_TOLERANCE_MM, MotionClearance};
 pub use error::{CommandError, CommandName, RunError, SimulationError};
 pub use records::Records;
 pub use schedule::Scheduled;

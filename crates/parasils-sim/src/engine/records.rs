@@ -193,6 +193,9 @@ pub(super) struct ProcedureRun {
     pub(super) controller: Controller<f64>,
     pub(super) tracker: MarginTracker<f64>,
     pub(super) done: bool,
+    /// The motion under way and its ports at its first record, for the
+    /// supervisor's `port_motion_stop_mm`.
+    pub(super) port_start: Option<(usize, [Vector3<f64>; 3])>,
 }
 
 impl ProcedureRun {
@@ -202,6 +205,7 @@ impl ProcedureRun {
             controller,
             tracker: MarginTracker::new(),
             done: false,
+            port_start: None,
         }
     }
 
@@ -274,6 +278,7 @@ impl ProcedureRun {
                 record,
             )
             .map_err(in_motion)?;
+            check_ports(sim, &mut self.port_start, m, &record).map_err(in_motion)?;
             Ok((record, margins))
         })();
         if result.is_err() {
@@ -281,6 +286,40 @@ impl ProcedureRun {
         }
         Some(result)
     }
+}
+
+/// `record` against the robot file's `port_motion_stop_mm` (when it gives
+/// one): each port's distance from where it was at the first record of
+/// motion `m` (`start` keeps that, and moves on with `m`).
+fn check_ports(
+    sim: &Simulation,
+    start: &mut Option<(usize, [Vector3<f64>; 3])>,
+    m: usize,
+    record: &Record,
+) -> Result<(), SimulationError> {
+    let Some(stop_mm) = sim.scenario.supervisor.port_motion_stop_mm else {
+        return Ok(());
+    };
+    let from = match start {
+        Some((k, from)) if *k == m => *from,
+        _ => {
+            *start = Some((m, record.ports));
+            record.ports
+        }
+    };
+    for ((port, now), from) in Record::PORTS.iter().zip(&record.ports).zip(&from) {
+        let displacement_mm = (now - from).norm();
+        if !(displacement_mm <= stop_mm) {
+            return Err(SimulationError::PortMotion {
+                t: record.t,
+                sample: Some(record.index),
+                port: *port,
+                displacement_mm,
+                stop_mm,
+            });
+        }
+    }
+    Ok(())
 }
 
 /// An online run under way.

@@ -463,6 +463,11 @@ impl Simulation {
             endoscope_tip: context.endoscope_tip,
             // Filled in by the caller (`records::with_clearance`), which can fail.
             clearance: ClearanceRecord::default(),
+            ports: [
+                out.frame.to_fixed(&self.controller.left.geometry().rcm),
+                out.frame.to_fixed(&self.controller.right.geometry().rcm),
+                out.frame.position,
+            ],
             forces: ForceRecord::default(),
         }
     }

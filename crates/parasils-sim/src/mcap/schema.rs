@@ -127,7 +127,7 @@ mod tests {
     fn every_column_is_on_exactly_one_data_channel_after_t_s() {
         let all: Vec<Vec<Field>> = Channel::ALL.iter().map(|c| fields(*c)).collect();
         let counts: Vec<usize> = all.iter().map(Vec::len).collect();
-        assert_eq!(counts, [11, 19, 10, 10, 9, 9]);
+        assert_eq!(counts, [11, 19, 10, 10, 18, 9]);
         assert_eq!(counts.iter().sum::<usize>(), columns::ALL.len() + 5);
         for f in &all {
             assert_eq!(f[0].key, b"{\"t_s\":");

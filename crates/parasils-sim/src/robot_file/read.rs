@@ -67,6 +67,20 @@ fn parse_from(text: &str, origin: &str) -> Result<Robot, RobotFileError> {
             },
         });
     }
+    if let Some(limit) = supervisor.port_motion_stop_mm
+        && !(limit > 0.0 && limit.is_finite())
+    {
+        return Err(RobotFileError::Invalid {
+            origin: origin.into(),
+            line: None,
+            key: Some("port_motion_stop_mm".into()),
+            text: None,
+            error: parasils::kin::Error::InvalidParameter {
+                what: "supervisor.port_motion_stop_mm (not a positive finite number of mm)",
+                value: limit,
+            },
+        });
+    }
     let bodies = file.bodies.unwrap_or_default().to_bodies();
     if let Err(error) = bodies.validate() {
         return Err(RobotFileError::Invalid {

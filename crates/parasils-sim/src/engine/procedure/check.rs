@@ -2,6 +2,7 @@
 //! per motion its durations, peak rates, smallest margins and tip error, and
 //! the supervisor's warnings.
 
+use nalgebra::Vector3;
 use parasils::Supervisor;
 use parasils::kin::{
     ActuatorLimits, Camera, Controller, ImagePoint, Instrument, ModuleCommand, PlatformFrame,
@@ -44,11 +45,16 @@ pub struct MotionCheck {
     /// What is inside the patient when it starts.
     pub inside: Inside,
     /// The smallest surface gap of each pair of bodies over the motion's
-    /// samples, mm (sampled, not certified between samples).
+    /// samples, mm (sampled; [`Simulation::certify_clearance`](crate::Simulation::certify_clearance)
+    /// bounds it between samples).
     pub clearance_mm: ClearanceRecord,
     /// What the camera saw, for a motion whose camera follows the tips
     /// (`None` otherwise).
     pub camera: Option<CameraCheck>,
+    /// Each port's largest distance from where it was at the motion's first
+    /// sample, mm, fixed frame, in the order of [`Record::PORTS`] (left,
+    /// right, endoscope).
+    pub port_motion_mm: [f64; 3],
 }
 
 /// What the camera saw during a motion that follows the tips, from each
@@ -158,6 +164,8 @@ pub struct ProcedureCheck {
     open: [Option<(usize, usize)>; Margin::COUNT],
     /// The endoscope's camera, for the motions that follow the tips.
     camera: Option<Camera<f64>>,
+    /// The motion under way and its ports at its first sample.
+    port_start: Option<(usize, [Vector3<f64>; 3])>,
 }
 
 impl ProcedureCheck {
@@ -185,6 +193,7 @@ impl ProcedureCheck {
                         right_endoscope: f64::INFINITY,
                     },
                     camera: m.follow.is_some().then(CameraCheck::default),
+                    port_motion_mm: [0.0; 3],
                 })
                 .collect(),
             warnings: Vec::new(),
@@ -192,6 +201,7 @@ impl ProcedureCheck {
             force_usage: [0.0; 12],
             open: [None; Margin::COUNT],
             camera: Some(*camera),
+            port_start: None,
         }
     }
 
@@ -226,6 +236,16 @@ impl ProcedureCheck {
         c.left_right = c.left_right.min(r.left_right);
         c.left_endoscope = c.left_endoscope.min(r.left_endoscope);
         c.right_endoscope = c.right_endoscope.min(r.right_endoscope);
+        let from = match self.port_start {
+            Some((j, from)) if j == k => from,
+            _ => {
+                self.port_start = Some((k, record.ports));
+                record.ports
+            }
+        };
+        for ((largest, now), from) in m.port_motion_mm.iter_mut().zip(&record.ports).zip(&from) {
+            *largest = largest.max((now - from).norm());
+        }
         for (slot, margin) in self.open.iter_mut().zip(Margin::ALL) {
             if !record.warnings.contains(margin) {
                 *slot = None;
