@@ -119,7 +119,7 @@ pub use engine::{
     CommandError, CommandName, Records, RunError, Scheduled, Simulation, SimulationError,
 };
 pub use input::{Input, InputError, InputField, ProcedureSource, RobotSource, TimingKind};
-pub use mcap::{McapError, McapOptions, McapSink, SceneGeometry};
+pub use mcap::{CameraImage, McapError, McapOptions, McapSink, SceneGeometry};
 pub use motion::{
     Inside, InsideRule, LookAt, LookAtTips, MotionGoal, MotionLimits, MotionName, MotionSpec,
 };
@@ -127,7 +127,9 @@ pub use output::{Flushed, Format, OutputError, OutputFile};
 #[cfg(feature = "plot")]
 pub use plot::PlotSink;
 pub use procedure::ProcedureError;
-pub use record::{ClearanceRecord, ForceRecord, InstrumentRecord, Module1Record, Record};
+pub use record::{
+    CameraRecord, ClearanceRecord, ForceRecord, InstrumentRecord, Module1Record, Record,
+};
 pub use robot::Robot;
 pub use robot_file::{
     BodiesFile, CameraFile, EndoscopeFile, GuideFile, InstrumentFile, LegFile, Module1File,

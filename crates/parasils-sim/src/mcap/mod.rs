@@ -83,6 +83,7 @@
 //! `writer` (the writer thread), and `sink` ([`McapSink`], which ties them
 //! together).
 
+mod camera;
 mod error;
 mod json;
 mod scene;
@@ -90,9 +91,13 @@ mod schema;
 mod sink;
 mod writer;
 
+pub use camera::{ANNOTATIONS_TOPIC, CALIBRATION_TOPIC, CAMERA_FRAME, CameraImage, IMAGE_WIDTH_PX};
 pub use error::McapError;
 pub use scene::{SCENE_TOPIC, SceneGeometry, TF_TOPIC};
-pub use schema::{FRAME_TRANSFORMS_SCHEMA, SCENE_UPDATE_SCHEMA};
+pub use schema::{
+    CAMERA_CALIBRATION_SCHEMA, FRAME_TRANSFORMS_SCHEMA, IMAGE_ANNOTATIONS_SCHEMA,
+    SCENE_UPDATE_SCHEMA,
+};
 pub use sink::{
     GENERATOR, MOTION_TOPIC, McapOptions, McapSink, RUN_METADATA, SAMPLE_TOPICS, SCENARIO_METADATA,
 };
