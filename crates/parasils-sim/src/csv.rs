@@ -152,7 +152,7 @@ mod tests {
         assert!(
             lines
                 .next()
-                .is_some_and(|h| h.ends_with(",clearance_min_mm,command"))
+                .is_some_and(|h| h.ends_with(",camera_aim_error_deg,camera_roll_deg,command"))
         );
         assert!(lines.next().is_some_and(|row| row.ends_with(",0.0,2")));
         let paper = CsvSink::for_scenario(Vec::new(), &Scenario::paper()).expect("header");

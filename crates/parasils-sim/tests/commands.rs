@@ -76,7 +76,7 @@ fn two_retargets_and_a_stop_stay_continuous_within_limits_with_the_tips_still() 
     let (records, text) = run(&sim);
     assert_eq!(records.len(), sim.sample_count());
     let (header, rows) = parse(&text);
-    assert_eq!(header.len(), 58);
+    assert_eq!(header.len(), 66);
     assert_eq!(header[65], "command");
     let col = |name: &str| {
         let i = header
@@ -302,7 +302,7 @@ fn the_mcap_file_has_every_command_on_motion() {
         .expect("readable")
         .expect("summary");
     assert!(summary.channels.values().all(|c| c.topic != MOTION_TOPIC));
-    assert_eq!(summary.channels.len(), 8);
+    assert_eq!(summary.channels.len(), 11);
     let scenario_meta = summary
         .metadata_indexes
         .iter()

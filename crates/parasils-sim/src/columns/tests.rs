@@ -51,7 +51,7 @@ fn the_csv_is_the_first_65_columns() {
     assert_eq!(CSV_NAMES[31], "left_qs1_deg");
     assert_eq!(CSV_NAMES[52], "right_tip_err_mm");
     assert_eq!(
-        CSV_NAMES[53..],
+        CSV_NAMES[53..57],
         [
             "clearance_left_right_mm",
             "clearance_left_endoscope_mm",
