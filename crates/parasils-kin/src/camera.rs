@@ -309,7 +309,8 @@ impl<T: Real> Camera<T> {
         let c = a.dot(&b);
         let w = a.cross(&b);
         let carried = u0 * c + w.cross(&u0) + w * (w.dot(&u0) / (T::one() + c).max(T::EPSILON));
-        b.dot(&carried.cross(&u1)).atan2(carried.dot(&u1))
+        // `+ 0`: no roll is written `0`, not `-0`.
+        b.dot(&carried.cross(&u1)).atan2(carried.dot(&u1)) + T::zero()
     }
 
     /// The `[psi, theta]` (rad) that put `target` (mm, fixed frame) on the

@@ -507,100 +507,30 @@ mod tests {
             procedure,
             ..Input::default()
         };
-        let cases: [(Input, InputField); 13] = [
+        let cases: [(fn(&mut Input), InputField); 13] = [
             (
-                Input {
-                    look_at: Some(LookAt::Tips(LookAtTips::Tips)),
-                    ..base.clone()
-                },
+                |i| i.look_at = Some(LookAt::Tips(LookAtTips::Tips)),
                 InputField::LookAt,
             ),
+            (|i| i.psi_deg = Some(15.0), InputField::PsiDeg),
+            (|i| i.theta_deg = Some(25.0), InputField::ThetaDeg),
+            (|i| i.absolute = Some(false), InputField::Absolute),
+            (|i| i.omega_max_deg_s = Some(10.0), InputField::OmegaMaxDegS),
+            (|i| i.eps_max_deg_s2 = Some(5.0), InputField::EpsMaxDegS2),
+            (|i| i.sync = Some(Synchronization::Phase), InputField::Sync),
+            (|i| i.pose_mm_deg = Some([0.0; 6]), InputField::PoseMmDeg),
+            (|i| i.tip_left_mm = Some([0.0; 3]), InputField::TipLeftMm),
+            (|i| i.tip_right_mm = Some([0.0; 3]), InputField::TipRightMm),
             (
-                Input {
-                    psi_deg: Some(15.0),
-                    ..base.clone()
-                },
-                InputField::PsiDeg,
-            ),
-            (
-                Input {
-                    theta_deg: Some(25.0),
-                    ..base.clone()
-                },
-                InputField::ThetaDeg,
-            ),
-            (
-                Input {
-                    absolute: Some(false),
-                    ..base.clone()
-                },
-                InputField::Absolute,
-            ),
-            (
-                Input {
-                    omega_max_deg_s: Some(10.0),
-                    ..base.clone()
-                },
-                InputField::OmegaMaxDegS,
-            ),
-            (
-                Input {
-                    eps_max_deg_s2: Some(5.0),
-                    ..base.clone()
-                },
-                InputField::EpsMaxDegS2,
-            ),
-            (
-                Input {
-                    sync: Some(Synchronization::Phase),
-                    ..base.clone()
-                },
-                InputField::Sync,
-            ),
-            (
-                Input {
-                    pose_mm_deg: Some([0.0; 6]),
-                    ..base.clone()
-                },
-                InputField::PoseMmDeg,
-            ),
-            (
-                Input {
-                    tip_left_mm: Some([0.0; 3]),
-                    ..base.clone()
-                },
-                InputField::TipLeftMm,
-            ),
-            (
-                Input {
-                    tip_right_mm: Some([0.0; 3]),
-                    ..base.clone()
-                },
-                InputField::TipRightMm,
-            ),
-            (
-                Input {
-                    robot: Some(RobotSource::Loaded(Box::default())),
-                    ..base.clone()
-                },
+                |i| i.robot = Some(RobotSource::Loaded(Box::default())),
                 InputField::Robot,
             ),
-            (
-                Input {
-                    retarget: Some(Vec::new()),
-                    ..base.clone()
-                },
-                InputField::Retarget,
-            ),
-            (
-                Input {
-                    stop_at_s: Some(1.0),
-                    ..base.clone()
-                },
-                InputField::StopAtS,
-            ),
+            (|i| i.retarget = Some(Vec::new()), InputField::Retarget),
+            (|i| i.stop_at_s = Some(1.0), InputField::StopAtS),
         ];
-        for (input, field) in cases {
+        for (set, field) in cases {
+            let mut input = base.clone();
+            set(&mut input);
             match input.resolve() {
                 Err(InputError::WithProcedure(f)) => assert_eq!(f, field),
                 other => panic!("{field}: {other:?}"),
