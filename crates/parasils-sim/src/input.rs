@@ -507,7 +507,9 @@ mod tests {
             procedure,
             ..Input::default()
         };
-        let cases: [(fn(&mut Input), InputField); 13] = [
+        // Each case gives one field.
+        type Give = fn(&mut Input);
+        let cases: [(Give, InputField); 13] = [
             (
                 |i| i.look_at = Some(LookAt::Tips(LookAtTips::Tips)),
                 InputField::LookAt,
