@@ -90,7 +90,7 @@ fn look_at_the_tips_centres_their_midpoint_in_the_image() {
     // The midpoint of the two image points is not the image of the
     // midpoint (perspective), but close to the centre.
     assert!(mid_u.abs() < 0.2 && mid_v.abs() < 0.2, "{mid_u} {mid_v}");
-    assert_eq!(t.text("left_tip_in_view")[last], "1");
+    assert_eq!(t.text("left_tip_in_view")[last], "1.0");
 }
 
 #[test]

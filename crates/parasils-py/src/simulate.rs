@@ -422,8 +422,7 @@ fn finish<'py>(
     let dict = PyDict::new(py);
     for (column, values) in csv.iter().zip(table) {
         if column.integer {
-            // A whole number (the command index, a tip in view): exactly an
-            // f64.
+            // The command index: a u32 widened to f64, exactly.
             #[allow(clippy::cast_possible_truncation, reason = "whole numbers")]
             let ints: Vec<i64> = values.iter().map(|v| *v as i64).collect();
             dict.set_item(column.name, ints.into_pyarray(py))?;

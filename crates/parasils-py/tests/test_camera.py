@@ -126,7 +126,7 @@ def test_the_image_columns_are_a_numpy_pinhole_of_the_tips():
             assert table[f"{side}_tip_v"][k] == pytest.approx(v, abs=1e-12)
             seen = int(ahead and abs(u) <= 1 and abs(v) <= 1)
             assert table[f"{side}_tip_in_view"][k] == seen
-    assert table["left_tip_in_view"].dtype == np.int64
+    assert table["left_tip_in_view"].dtype == np.float64
 
 
 def test_the_roll_is_the_twist_of_the_rotation_between_frames():

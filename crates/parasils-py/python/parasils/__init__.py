@@ -203,7 +203,7 @@ def simulate(
     stop), as in the CLI's CSV. Every run has what the camera sees:
     ``left_tip_u``, ``left_tip_v``, ``right_tip_u``, ``right_tip_v`` (each
     commanded tip's normalised image coordinates, -1 to 1 across the image),
-    ``left_tip_in_view``, ``right_tip_in_view`` (int64, 1 or 0),
+    ``left_tip_in_view``, ``right_tip_in_view`` (1.0 or 0.0),
     ``camera_aim_error_deg`` (the view axis to the look-at target, or to the
     tips' midpoint) and ``camera_roll_deg`` (the image's roll about the view
     axis since the start; docs/model.md, "What the camera sees").

@@ -186,12 +186,11 @@ const fn camera(name: &'static str, unit: &'static str, get: fn(&Record) -> f64)
     col(name, unit, Channel::Camera, get)
 }
 
-/// A yes/no column of what the camera sees, written `1` or `0`.
+/// A yes/no column of what the camera sees: `1.0` or `0.0`, a number like
+/// the others (so that every column of every run but the indices is a
+/// float).
 const fn camera_flag(name: &'static str, get: fn(&Record) -> f64) -> Column {
-    Column {
-        integer: true,
-        ..camera(name, FLAG, get)
-    }
+    camera(name, FLAG, get)
 }
 
 /// Where the commanded left tip falls across the image, normalised: `-1`

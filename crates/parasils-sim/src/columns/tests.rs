@@ -1,6 +1,6 @@
 //! The column table's names, units, channels and values.
 
-use super::column::ONE;
+use super::column::{FLAG, ONE};
 use super::*;
 use crate::record::Record;
 
@@ -83,11 +83,7 @@ fn the_command_column_comes_last_and_only_with_commands() {
     assert_eq!(CSV_WITH_COMMAND_NAMES[..65], CSV_NAMES);
     assert_eq!(CSV_WITH_COMMAND_NAMES[65], "command");
     assert!(csv_columns(true)[65].integer);
-    assert!(
-        csv_columns(true)[..65]
-            .iter()
-            .all(|c| c.integer == c.name.ends_with("_in_view"))
-    );
+    assert!(csv_columns(true)[..65].iter().all(|c| !c.integer));
     assert!(ALL.iter().all(|c| c.name != COMMAND.name));
     assert_eq!(csv_index(&COMMAND), None);
     let r = Record {
