@@ -30,7 +30,7 @@ fn names_are_unique_and_end_with_their_unit() {
                 "{}",
                 c.name
             );
-        } else if c.integer {
+        } else if c.unit == FLAG {
             assert!(c.name.ends_with("_in_view"), "{}", c.name);
         } else {
             assert!(c.name.ends_with(suffix(c.unit)), "{} in {}", c.name, c.unit);
