@@ -35,6 +35,13 @@ reviewed one by a single byte fails the tests, naming the file and both
 hashes, and so does a file added to the folder without a pin; a writer that
 embeds anything but the file unchanged fails the equality below.
 
+Two more files there, ``CameraCalibration.json`` and ``ImageAnnotations.json``,
+are not Foxglove's: they were written for this project from the fields
+Foxglove documents for those messages (the crate's schemas README says so).
+They are pinned the same way, so that a change to them is a reviewed change,
+and every ``/camera/calibration`` and ``/camera/annotations`` message is
+validated against them.
+
 To move to a newer release of the schemas: copy the two files and the
 licence, unchanged, from ``schemas/jsonschema/`` of a newer commit of
 Foxglove's public ``foxglove/foxglove-sdk`` repository into
@@ -63,11 +70,22 @@ OFFICIAL_SCHEMAS = (
     Path(__file__).resolve().parents[2] / "crates" / "parasils-sim" / "schemas"
 )
 
-DATA_TOPICS = ["/platform", "/module1", "/left", "/right", "/tips", "/margins"]
+DATA_TOPICS = ["/platform", "/module1", "/left", "/right", "/tips", "/margins", "/camera"]
 FOXGLOVE = {"/tf": "foxglove.FrameTransforms", "/scene": "foxglove.SceneUpdate"}
+#: The two Foxglove message types whose schemas were written for this
+#: project from Foxglove's documented fields (no official file is kept):
+#: pinned like the official ones, so that a change is a reviewed change.
+WRITTEN = {
+    "/camera/calibration": "foxglove.CameraCalibration",
+    "/camera/annotations": "foxglove.ImageAnnotations",
+}
 OFFICIAL_FILES = {
     "foxglove.FrameTransforms": "FrameTransforms.json",
     "foxglove.SceneUpdate": "SceneUpdate.json",
+}
+WRITTEN_FILES = {
+    "foxglove.CameraCalibration": "CameraCalibration.json",
+    "foxglove.ImageAnnotations": "ImageAnnotations.json",
 }
 #: The SHA-256 of each file of ``OFFICIAL_SCHEMAS`` (its README excepted): the
 #: files are used only if they are byte for byte the ones that were reviewed
@@ -76,6 +94,8 @@ PINNED_SHA256 = {
     "FrameTransforms.json": "95a598789fd7e5a588448cd527fce6a90830a64613ed0daa514a954f7c597099",
     "SceneUpdate.json": "d06db9b671fee79f44bade5853a76e4ac3dce1902b6f619a241c802b7d06d138",
     "LICENSE": "da11235665c17d4c1634072dae92b8ba1b38d6fdde2ccf19a6bbede33253f58d",
+    "CameraCalibration.json": "155154c314f20153444a0d0b6014946d3d2d92880e015f172e75b1e63abbebcd",
+    "ImageAnnotations.json": "2e1920b67803d562eef4931f71e5249154f82f9a4b36cdacce23e9e60a0bf0e8",
 }
 
 MCAP_PATH = os.environ.get("PARASILS_MCAP")
@@ -153,8 +173,8 @@ def test_the_official_schemas_are_the_pinned_copies():
     }, f"every file of {OFFICIAL_SCHEMAS} (but its README) is pinned, and only those"
     for name in PINNED_SHA256:
         pinned(name)
-    for name, file in OFFICIAL_FILES.items():
-        schema = official_schema(name)
+    for name, file in {**OFFICIAL_FILES, **WRITTEN_FILES}.items():
+        schema = json.loads(pinned(file))
         assert schema["title"] == name, file
         validator(schema)
 
@@ -171,7 +191,7 @@ def test_summary_has_statistics_and_indexes(recording):
         assert ci.compression == "zstd"
         assert ci.message_index_offsets, "a chunk without message indexes"
     topics = {c.topic for c in summary.channels.values()}
-    assert topics == set(DATA_TOPICS) | set(FOXGLOVE)
+    assert topics == set(DATA_TOPICS) | set(FOXGLOVE) | set(WRITTEN)
     for c in summary.channels.values():
         assert c.message_encoding == "json"
         assert summary.schemas[c.schema_id].encoding == "jsonschema"
@@ -223,6 +243,10 @@ def test_every_message_validates_against_its_schema(recording):
                 f"{topic}: the embedded schema is not the official one"
             )
             validators.append(validator(official))
+        elif topic in WRITTEN:
+            assert schema.name == WRITTEN[topic]
+            written = json.loads(pinned(WRITTEN_FILES[schema.name]))
+            assert embedded == written, f"{topic}: not the repository's schema"
         else:
             assert embedded["type"] == "object"
             assert embedded["additionalProperties"] is False
@@ -253,7 +277,7 @@ def test_one_message_per_sample_with_sim_time_log_times(recording, sample_count)
         if first is None:
             first, last = msgs[0].log_time, msgs[-1].log_time
         assert (msgs[0].log_time, msgs[-1].log_time) == (first, last), topic
-    for topic in FOXGLOVE:
+    for topic in [*FOXGLOVE, *WRITTEN]:
         msgs = messages[topic]
         assert msgs, topic
         times = [m.log_time for m in msgs]

@@ -11,7 +11,7 @@ use parasils_reach::ReachOptions;
 use parasils_sim::input::{ProcedureSource, RobotSource, TimingKind};
 use parasils_sim::robot_file;
 use parasils_sim::scenario::Retarget;
-use parasils_sim::{Format, Input, InputError, Scenario};
+use parasils_sim::{Format, Input, InputError, LookAt, Scenario};
 
 /// Kinematics and motion of PARA-SILSROB, the parallel robot for
 /// single-incision laparoscopic surgery.
@@ -25,6 +25,10 @@ pub struct Cli {
 
 /// The commands.
 #[derive(Debug, Subcommand)]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "parsed once per process, never in a collection"
+)]
 pub enum Command {
     /// Simulate an endoscope reorientation (motion type 4): the platform turns
     /// about the endoscope's RCM and both instruments keep their tips still.
@@ -190,6 +194,13 @@ pub struct SimulateArgs {
     /// Take --psi and --theta as final angles instead of increments.
     #[arg(long)]
     pub absolute: bool,
+    /// Turn the endoscope to look at a point X,Y,Z (mm, fixed frame), or at
+    /// the tips: `tips` (their midpoint), `left` or `right`, instead of
+    /// --psi and --theta: the turn (phi held, both tips held) that puts it
+    /// on the camera's view axis, the one nearest the start pose. Every
+    /// timing applies; no --retarget or --stop-at with it.
+    #[arg(long, value_name = "X,Y,Z|tips|left|right", value_parser = parse_look_at, allow_hyphen_values = true)]
+    pub look_at: Option<LookAt>,
     /// Velocity limit of each Euler angle, deg/s [default: 10, the paper's].
     /// With --timing optimal it binds only when given.
     #[arg(long, value_name = "DEG_PER_S", allow_hyphen_values = true)]
@@ -302,6 +313,7 @@ impl SimulateArgs {
             stop_at_s: self.stop_at,
             tip_load_left_n: self.tip_load_left,
             tip_load_right_n: self.tip_load_right,
+            look_at: self.look_at.clone(),
         })
     }
 
@@ -370,6 +382,9 @@ fn resolve(input: Input) -> Result<Scenario> {
             "{} cannot be given with --timing optimal: it plans one motion from rest to rest, while commands are taken online",
             field.flag()
         ),
+        InputError::Conflict { field, with, why } => {
+            anyhow!("{} cannot be given with {}: {why}", field.flag(), with.flag())
+        }
         e => e.into(),
     })
 }
@@ -393,6 +408,12 @@ pub fn parse_floats<const N: usize>(s: &str) -> Result<[f64; N], String> {
         }
     }
     Ok(out)
+}
+
+/// Parses `--look-at`: `tips`, `left`, `right` or `X,Y,Z` (mm).
+pub fn parse_look_at(s: &str) -> Result<LookAt, String> {
+    parasils_sim::input::look_at_named(s)
+        .map_err(|_| format!("expected tips, left, right or a point X,Y,Z in mm, got {s:?}"))
 }
 
 /// Parses one finite float.

@@ -327,7 +327,7 @@ fn fill(path: &Path) {
 
 #[test]
 fn a_full_disk_ends_with_a_clear_error() {
-    // 64 MB: the run's estimate (46 MB for 45001 rows) fits, so the size
+    // 64 MB: the run's estimate (58 MB for 45001 rows) fits, so the size
     // guard lets it start; once its temporary file exists the test fills
     // what is left, and the run's next write finds the disk full.
     let disk = match SmallDisk::mount(64 << 20) {

@@ -285,6 +285,34 @@ impl<T: Real> Camera<T> {
         view.cross(&to).norm().atan2(view.dot(&to))
     }
 
+    /// The image's roll about the view axis from the platform's orientation
+    /// `start` to `now` (rotations from the platform frame to the fixed
+    /// frame), rad: the angle, right-handed about the current view
+    /// direction `b`, from the start image's `u` axis carried to the
+    /// current view to the current `u` axis. "Carried" is the smallest
+    /// rotation taking the start's view `a` to `b` (about `a x b`), so a
+    /// turn about an axis across the view rolls nothing. With `c = a . b`,
+    /// `w = a x b` and the start's `u` axis `u0`, the carried axis is
+    ///
+    /// ```text
+    /// u0' = c u0 + w x u0 + w (w . u0) / (1 + c)
+    /// roll = atan2(b . (u0' x u1), u0' . u1)
+    /// ```
+    ///
+    /// (see `docs/model.md`, *What the camera sees*). The roll is not
+    /// defined once the view has turned half a turn (`c = -1`); there
+    /// `1 + c` is held at `EPSILON` and the value is one of the many.
+    pub fn roll(&self, start: &Matrix3<T>, now: &Matrix3<T>) -> T {
+        let axes = self.axes();
+        let (u0, a) = (start * axes.column(0), start * axes.column(2));
+        let (u1, b) = (now * axes.column(0), now * axes.column(2));
+        let c = a.dot(&b);
+        let w = a.cross(&b);
+        let carried = u0 * c + w.cross(&u0) + w * (w.dot(&u0) / (T::one() + c).max(T::EPSILON));
+        // `+ 0`: no roll is written `0`, not `-0`.
+        b.dot(&carried.cross(&u1)).atan2(carried.dot(&u1)) + T::zero()
+    }
+
     /// The `[psi, theta]` (rad) that put `target` (mm, fixed frame) on the
     /// view axis of the camera at `depth` (mm), `P` and `phi` of `pose`
     /// held: of the two solutions, the one nearest `pose`'s angles (each

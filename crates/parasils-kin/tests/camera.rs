@@ -284,3 +284,62 @@ fn targets_that_cannot_be_looked_at_are_typed_errors() -> Result {
     );
     Ok(())
 }
+
+/// The twist about `axis` (a unit vector) of the rotation `r`, rad, in
+/// `(-pi, pi]`: `r` written as a swing (about an axis across `axis`) after
+/// a twist about `axis`, from its quaternion `(w, v)`, `2 atan2(v . axis,
+/// w)`. A second way to the roll, through quaternions.
+fn twist(r: &Matrix3<f64>, axis: &Vector3<f64>) -> f64 {
+    use parasils_kin::nalgebra::{Rotation3, UnitQuaternion};
+    let q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(*r));
+    let g = 2.0 * q.imag().dot(axis).atan2(q.w);
+    let pi = core::f64::consts::PI;
+    if g > pi {
+        g - 2.0 * pi
+    } else if g <= -pi {
+        g + 2.0 * pi
+    } else {
+        g
+    }
+}
+
+#[test]
+fn the_roll_is_the_twist_of_the_rotation_between_frames_about_the_start_view() {
+    let mut rng = Rng(11);
+    for oblique in [0.0, 30f64.to_radians()] {
+        let camera = Camera {
+            oblique,
+            oblique_direction: 0.7,
+            ..Camera::<f64>::assumed()
+        };
+        for _ in 0..2000 {
+            let (a, b) = (rng.pose(0.8), rng.pose(0.8));
+            let r0 = rotation(a.psi, a.theta, a.phi);
+            let r1 = rotation(b.psi, b.theta, b.phi);
+            let view = r0 * view_local(oblique, 0.7);
+            let expected = twist(&(r1 * r0.transpose()), &view);
+            let roll = camera.roll(&r0, &r1);
+            let d = (roll - expected).abs();
+            let d = d.min((2.0 * core::f64::consts::PI - d).abs());
+            assert!(d < 1e-9, "roll {roll} vs twist {expected}");
+        }
+    }
+}
+
+#[test]
+fn a_turn_about_phi_rolls_the_image_back_and_a_turn_across_the_view_not_at_all() {
+    let camera = Camera::<f64>::assumed();
+    let mut rng = Rng(5);
+    for _ in 0..200 {
+        let p = rng.pose(0.8);
+        let r0 = rotation(p.psi, p.theta, p.phi);
+        let d = rng.next(-1.0, 1.0);
+        // phi turns the platform about Z' = -view: the image rolls by -d
+        // about the view.
+        let r1 = rotation(p.psi, p.theta, p.phi + d);
+        assert!((camera.roll(&r0, &r1) + d).abs() < 1e-12);
+        // theta alone turns about R_X(psi) Y, across the view: no roll.
+        let r2 = rotation(p.psi, p.theta + d, p.phi);
+        assert!(camera.roll(&r0, &r2).abs() < 1e-12);
+    }
+}

@@ -18,8 +18,8 @@ use parasils_sim::input::{self, ProcedureSource, RobotSource};
 use parasils_sim::procedure;
 use parasils_sim::scenario::Retarget;
 use parasils_sim::{
-    Format, Input, InputError, OutputError, OutputFile, Record, RunError, Scenario, Simulation,
-    SimulationError, Tee, columns,
+    Format, Input, InputError, LookAt, OutputError, OutputFile, Record, RunError, Scenario,
+    Simulation, SimulationError, Tee, columns,
 };
 use pyo3::exceptions::{PyMemoryError, PyOSError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -241,6 +241,7 @@ pub(crate) fn paper_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     timing = None,
     tip_load_left_n = None,
     tip_load_right_n = None,
+    look_at = None,
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn simulate<'py>(
@@ -265,6 +266,7 @@ pub(crate) fn simulate<'py>(
     timing: Option<&str>,
     tip_load_left_n: Option<ArrayArg<'py>>,
     tip_load_right_n: Option<ArrayArg<'py>>,
+    look_at: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let format = match format {
         None => None,
@@ -300,9 +302,32 @@ pub(crate) fn simulate<'py>(
         stop_at_s,
         tip_load_left_n: fixed::<3>(tip_load_left_n, "tip_load_left_n")?,
         tip_load_right_n: fixed::<3>(tip_load_right_n, "tip_load_right_n")?,
+        look_at: look_at.map(|l| look_at_arg(&l)).transpose()?,
     };
     let scenario = input.resolve().map_err(|e| input_error(py, e))?;
     finish(py, scenario, out, format, force)
+}
+
+/// `look_at=`: `"tips"`, `"left"`, `"right"`, or a point `[x, y, z]` in
+/// mm (a sequence or an array of three numbers).
+fn look_at_arg(value: &Bound<'_, PyAny>) -> PyResult<LookAt> {
+    if let Ok(name) = value.extract::<String>() {
+        return match name.as_str() {
+            "tips" | "left" | "right" => input::look_at_named(&name).map_err(value_error),
+            _ => Err(PyValueError::new_err(format!(
+                "look_at must be 'tips', 'left', 'right' or a point [x, y, z] in mm, got {name:?}"
+            ))),
+        };
+    }
+    let point = value.extract::<[f64; 3]>().map_err(|_| {
+        PyTypeError::new_err("look_at must be 'tips', 'left', 'right' or a point [x, y, z] in mm")
+    })?;
+    if let Some(v) = point.iter().find(|v| !v.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "look_at must be a finite point [x, y, z] in mm, got {v} in it"
+        )));
+    }
+    Ok(LookAt::Point(point))
 }
 
 fn value_error(e: InputError) -> PyErr {
@@ -321,6 +346,9 @@ pub(crate) fn input_error(py: Python<'_>, error: InputError) -> PyErr {
         InputError::OptimalOnline(field) => PyValueError::new_err(format!(
             "{field} cannot be given with timing='optimal': it plans one motion from rest to rest, while commands are taken online"
         )),
+        InputError::Conflict { field, with, why } => {
+            PyTypeError::new_err(format!("{field} cannot be given with {with}: {why}"))
+        }
         InputError::Procedure(procedure::ProcedureError::Robot(e)) | InputError::Robot(e) => {
             errors::robot_file(py, &e)
         }

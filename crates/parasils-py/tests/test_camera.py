@@ -82,3 +82,81 @@ def test_bad_look_at_and_jerk_keys_are_value_errors(motion, needle):
     with pytest.raises(ValueError) as e:
         parasils.simulate(procedure={**START, "motion": [motion]})
     assert needle in str(e.value)
+
+
+def paper_image(table, k, point, hfov_deg=70.0, aspect=16 / 9):
+    """The paper's run (the endoscope at its port: the eye at P): a straight
+    scope's normalised image coordinates of `point` at row k, and whether it
+    is ahead."""
+    r = rotation(*np.radians(row(table, k, ["psi_deg", "theta_deg", "phi_deg"])))
+    d = np.asarray(point) - row(table, k, ["x_mm", "y_mm", "z_mm"])
+    ahead = -r[:, 2] @ d
+    tan = np.tan(np.radians(hfov_deg) / 2)
+    return (r[:, 0] @ d) / ahead / tan, (r[:, 1] @ d) / ahead / (tan / aspect), ahead > 0
+
+
+def twist_deg(r_rel, axis):
+    """The twist about `axis` of the rotation `r_rel` (its quaternion's
+    part along the axis), deg in (-180, 180]."""
+    w = np.sqrt(max(1.0 + np.trace(r_rel), 0.0)) / 2
+    v = np.array(
+        [
+            r_rel[2, 1] - r_rel[1, 2],
+            r_rel[0, 2] - r_rel[2, 0],
+            r_rel[1, 0] - r_rel[0, 1],
+        ]
+    ) / (4 * w)
+    g = np.degrees(2 * np.arctan2(v @ axis, w))
+    return (g + 180.0) % 360.0 - 180.0
+
+
+def test_the_image_columns_are_a_numpy_pinhole_of_the_tips():
+    table = parasils.simulate(rate_hz=100.0)
+    left = np.array([50.0, -50.0, -620.0])
+    tips = {"left": left, "right": None}
+    # The right tip: the left one's mirror across the platform's Y'Z' plane.
+    r0 = rotation(*np.radians([-15.0, 10.0, -60.0]))
+    p0 = np.array([15.0, 20.0, -500.0])
+    local = r0.T @ (left - p0)
+    tips["right"] = p0 + r0 @ (local * np.array([-1.0, 1.0, 1.0]))
+    for k in range(0, len(table["t_s"]), 7):
+        for side, tip in tips.items():
+            u, v, ahead = paper_image(table, k, tip)
+            assert table[f"{side}_tip_u"][k] == pytest.approx(u, abs=1e-12)
+            assert table[f"{side}_tip_v"][k] == pytest.approx(v, abs=1e-12)
+            seen = int(ahead and abs(u) <= 1 and abs(v) <= 1)
+            assert table[f"{side}_tip_in_view"][k] == seen
+    assert table["left_tip_in_view"].dtype == np.float64
+
+
+def test_the_roll_is_the_twist_of_the_rotation_between_frames():
+    table = parasils.simulate(rate_hz=100.0)
+    angles = np.radians(np.stack([table[c] for c in ("psi_deg", "theta_deg", "phi_deg")], axis=1))
+    r0 = rotation(*angles[0])
+    view0 = -r0[:, 2]
+    for k in range(len(table["t_s"])):
+        expected = twist_deg(rotation(*angles[k]) @ r0.T, view0)
+        assert table["camera_roll_deg"][k] == pytest.approx(expected, abs=1e-9)
+    # About the integral of -psi_dot sin theta (deg), the straight scope's
+    # spin about its view with phi held.
+    rate = -table["psi_rate_deg_s"] * np.sin(angles[:, 1])
+    spin = np.sum(0.5 * (rate[1:] + rate[:-1]) * np.diff(table["t_s"]))
+    assert table["camera_roll_deg"][-1] == pytest.approx(spin, rel=0.05)
+
+
+@pytest.mark.parametrize("timing", ["trapezoid", "optimal"])
+@pytest.mark.parametrize("look_at", ["tips", "left", [40.0, 50.0, -650.0]])
+def test_look_at_ends_with_the_target_at_the_image_centre(look_at, timing):
+    table = parasils.simulate(look_at=look_at, timing=timing, rate_hz=200.0)
+    assert table["camera_aim_error_deg"][0] > 0.1
+    assert table["camera_aim_error_deg"][-1] < 1e-9
+    if look_at == "left":
+        assert abs(table["left_tip_u"][-1]) < 1e-9 and abs(table["left_tip_v"][-1]) < 1e-9
+    assert np.all(table["phi_deg"] == table["phi_deg"][0])
+
+
+def test_look_at_with_angles_is_refused():
+    with pytest.raises(TypeError, match="look_at cannot be given with psi_deg"):
+        parasils.simulate(look_at="tips", psi_deg=10.0)
+    with pytest.raises(ValueError, match="look_at must be"):
+        parasils.simulate(look_at="middle")

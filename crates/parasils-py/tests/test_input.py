@@ -36,6 +36,8 @@ PAIRS = [
     ("robot-file", dict(robot=str(ROBOT_FILE)), ["--robot", ROBOT_FILE]),
     ("retarget", dict(retarget=[(1.0, 5.0, 10.0)]), ["--retarget", "1:5,10"]),
     ("stop-at", dict(stop_at_s=2.0), ["--stop-at", "2"]),
+    ("look-at-tips", dict(look_at="tips"), ["--look-at", "tips"]),
+    ("look-at-point-optimal", dict(look_at=[40.0, 50.0, -650.0], timing="optimal"), ["--look-at", "40,50,-650", "--timing", "optimal"]),
     ("procedure", dict(procedure=str(DEMO)), ["--procedure", DEMO]),
     ("procedure-optimal", dict(procedure=str(DEMO), timing="optimal"), ["--procedure", DEMO, "--timing", "optimal"]),
 ]
@@ -104,6 +106,7 @@ EXCLUDED = [
     ("robot", str(ROBOT_FILE), ["--robot", str(ROBOT_FILE)]),
     ("retarget", [(1.0, 5.0, 5.0)], ["--retarget", "1:5,5"]),
     ("stop_at_s", 1.0, ["--stop-at", "1"]),
+    ("look_at", "tips", ["--look-at", "tips"]),
 ]
 
 

@@ -64,7 +64,7 @@ def test_table_equals_the_cli_csv_to_the_last_bit(run_cli, tmp_path, kwargs, arg
 
 def test_paper_table(run_cli):
     table = parasils.simulate()
-    assert len(table) == 57 and all(len(v) == 4501 for v in table.values())
+    assert len(table) == 65 and all(len(v) == 4501 for v in table.values())
     assert table["t_s"][0] == 0.0 and table["t_s"][-1] == 4.5
     assert tuple(table) == parasils.COLUMNS
 

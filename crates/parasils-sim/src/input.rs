@@ -12,6 +12,10 @@
 //! - **the exclusions**: a procedure brings its own start, robot and motions,
 //!   so only the rate, the timing and the tip loads may be given with it
 //!   ([`InputError::WithProcedure`] names the first field that may not);
+//! - **what a turn is given by**: its angles (`psi_deg`, `theta_deg`,
+//!   `absolute`) or what the camera is to look at (`look_at`), never both
+//!   ([`InputError::Conflict`]); a look-at takes no command either, since a
+//!   retarget's angles are read like the turn's;
 //! - **the timing rule**: under [`TimingKind::Optimal`], the angular limits
 //!   bind only when one of them is given, and no command (retarget, stop)
 //!   may be given ([`InputError::OptimalOnline`]);
@@ -51,6 +55,7 @@ use std::path::{Path, PathBuf};
 
 use parasils::traj::Synchronization;
 
+use crate::motion::{LookAt, LookAtTips};
 use crate::procedure::{self, ProcedureError};
 use crate::robot::Robot;
 use crate::robot_file::{self, RobotFileError};
@@ -129,6 +134,8 @@ pub enum InputField {
     TipLoadLeftN,
     /// `tip_load_right_n`, `--tip-load-right`.
     TipLoadRightN,
+    /// `look_at`, `--look-at`.
+    LookAt,
 }
 
 impl InputField {
@@ -161,6 +168,7 @@ impl InputField {
             Self::StopAtS => ("stop_at_s", "--stop-at"),
             Self::TipLoadLeftN => ("tip_load_left_n", "--tip-load-left"),
             Self::TipLoadRightN => ("tip_load_right_n", "--tip-load-right"),
+            Self::LookAt => ("look_at", "--look-at"),
         }
     }
 }
@@ -179,6 +187,7 @@ impl core::fmt::Display for InputField {
 /// - [`InputError::OptimalOnline`]: drop the command, or the optimal
 ///   timing.
 /// - [`InputError::Unknown`]: use one of the names the message lists.
+/// - [`InputError::Conflict`]: give one of the two fields.
 /// - [`InputError::Procedure`], [`InputError::Robot`]: fix the file where
 ///   the message says.
 #[derive(Debug, thiserror::Error)]
@@ -213,6 +222,17 @@ pub enum InputError {
         "{0} cannot be given with the optimal timing: it plans one motion from rest to rest, while commands are taken online"
     )]
     OptimalOnline(InputField),
+    /// Two fields that say the same thing two ways were both given: a turn
+    /// is given by its angles or by what the camera looks at.
+    #[error("{field} cannot be given with {with}: {why}")]
+    Conflict {
+        /// The field given.
+        field: InputField,
+        /// The field it excludes, also given.
+        with: InputField,
+        /// Why, as a phrase.
+        why: &'static str,
+    },
 }
 
 impl InputError {
@@ -221,7 +241,8 @@ impl InputError {
         match self {
             Self::WithProcedure(field)
             | Self::OptimalOnline(field)
-            | Self::Unknown { field, .. } => *field,
+            | Self::Unknown { field, .. }
+            | Self::Conflict { field, .. } => *field,
             Self::Procedure(_) => InputField::Procedure,
             Self::Robot(_) => InputField::Robot,
         }
@@ -278,12 +299,17 @@ pub struct Input {
     pub tip_load_left_n: Option<[f64; 3]>,
     /// The force the right tip exerts, N, fixed frame. Default: none.
     pub tip_load_right_n: Option<[f64; 3]>,
+    /// What the camera is to look at: a point (mm, fixed frame) or the
+    /// tips (their midpoint, or one of them), instead of `psi_deg`,
+    /// `theta_deg` and `absolute`. Default: none (the turn's angles).
+    pub look_at: Option<LookAt>,
 }
 
 impl Input {
     /// The fields a procedure brings itself, each with whether it is given.
-    fn given_besides_procedure(&self) -> [(InputField, bool); 12] {
+    fn given_besides_procedure(&self) -> [(InputField, bool); 13] {
         [
+            (InputField::LookAt, self.look_at.is_some()),
             (InputField::PsiDeg, self.psi_deg.is_some()),
             (InputField::ThetaDeg, self.theta_deg.is_some()),
             (InputField::Absolute, self.absolute.is_some()),
@@ -325,7 +351,8 @@ impl Input {
     /// # Errors
     /// [`InputError::WithProcedure`] for a field given with a procedure,
     /// [`InputError::OptimalOnline`] for a retarget or a stop given with the
-    /// optimal timing,
+    /// optimal timing, [`InputError::Conflict`] for `look_at` given with an
+    /// angle, `absolute`, a retarget or a stop,
     /// [`InputError::Procedure`] and [`InputError::Robot`] for files that do
     /// not read.
     pub fn resolve(self) -> Result<Scenario, InputError> {
@@ -362,19 +389,43 @@ impl Input {
         if let (Some(field), Some(TimingKind::Optimal)) = (commanded, self.timing) {
             return Err(InputError::OptimalOnline(field));
         }
+        if self.look_at.is_some() {
+            let angles = [
+                (InputField::PsiDeg, self.psi_deg.is_some()),
+                (InputField::ThetaDeg, self.theta_deg.is_some()),
+                (InputField::Absolute, self.absolute.is_some()),
+            ];
+            if let Some((with, _)) = angles.iter().find(|(_, g)| *g) {
+                return Err(InputError::Conflict {
+                    field: InputField::LookAt,
+                    with: *with,
+                    why: "the turn is given either by its angles or by what the camera looks at",
+                });
+            }
+            if let Some(with) = commanded {
+                return Err(InputError::Conflict {
+                    field: InputField::LookAt,
+                    with,
+                    why: "commands are read like the turn's angles, which a look-at does not give",
+                });
+            }
+        }
         let robot = match self.robot {
             None => Robot::paper(),
             Some(RobotSource::File(path)) => robot_file::load_robot(path)?,
             Some(RobotSource::Loaded(robot)) => *robot,
         };
         let p = Turn::paper();
+        // A look-at gives no angles: none, rather than the paper's.
+        let unused = self.look_at.map(|_| 0.0);
         let turn = Turn {
-            psi_deg: self.psi_deg.unwrap_or(p.psi_deg),
-            theta_deg: self.theta_deg.unwrap_or(p.theta_deg),
+            psi_deg: self.psi_deg.or(unused).unwrap_or(p.psi_deg),
+            theta_deg: self.theta_deg.or(unused).unwrap_or(p.theta_deg),
             absolute: self.absolute.unwrap_or(p.absolute),
             omega_max_deg_s: self.omega_max_deg_s.unwrap_or(p.omega_max_deg_s),
             eps_max_deg_s2: self.eps_max_deg_s2.unwrap_or(p.eps_max_deg_s2),
             sync: self.sync.unwrap_or(p.sync),
+            look_at: self.look_at,
         };
         let run = match commanded {
             Some(_) => Run::Online(Online {
@@ -420,6 +471,34 @@ pub fn sync_named(name: &str) -> Result<Synchronization, InputError> {
     }
 }
 
+/// `text` as a [`LookAt`]: `"tips"`, `"left"` or `"right"`, or a point
+/// `"X,Y,Z"` (mm, fixed frame), as `--look-at` takes it.
+///
+/// # Errors
+/// [`InputError::Unknown`] naming `look_at` for anything else.
+pub fn look_at_named(text: &str) -> Result<LookAt, InputError> {
+    let unknown = || InputError::Unknown {
+        field: InputField::LookAt,
+        value: text.into(),
+        expected: "'tips', 'left', 'right' or a point X,Y,Z in mm",
+    };
+    match text.trim() {
+        "tips" => return Ok(LookAt::Tips(LookAtTips::Tips)),
+        "left" => return Ok(LookAt::Tips(LookAtTips::Left)),
+        "right" => return Ok(LookAt::Tips(LookAtTips::Right)),
+        _ => {}
+    }
+    let parts: Vec<f64> = text
+        .split(',')
+        .map(|p| p.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| unknown())?;
+    match parts[..] {
+        [x, y, z] if parts.iter().all(|v| v.is_finite()) => Ok(LookAt::Point([x, y, z])),
+        _ => Err(unknown()),
+    }
+}
+
 /// `name` as a [`TimingKind`]: `"trapezoid"` or `"optimal"`.
 ///
 /// # Errors
@@ -447,93 +526,32 @@ mod tests {
             procedure,
             ..Input::default()
         };
-        let cases: [(Input, InputField); 12] = [
+        // Each case gives one field.
+        type Give = fn(&mut Input);
+        let cases: [(Give, InputField); 13] = [
             (
-                Input {
-                    psi_deg: Some(15.0),
-                    ..base.clone()
-                },
-                InputField::PsiDeg,
+                |i| i.look_at = Some(LookAt::Tips(LookAtTips::Tips)),
+                InputField::LookAt,
             ),
+            (|i| i.psi_deg = Some(15.0), InputField::PsiDeg),
+            (|i| i.theta_deg = Some(25.0), InputField::ThetaDeg),
+            (|i| i.absolute = Some(false), InputField::Absolute),
+            (|i| i.omega_max_deg_s = Some(10.0), InputField::OmegaMaxDegS),
+            (|i| i.eps_max_deg_s2 = Some(5.0), InputField::EpsMaxDegS2),
+            (|i| i.sync = Some(Synchronization::Phase), InputField::Sync),
+            (|i| i.pose_mm_deg = Some([0.0; 6]), InputField::PoseMmDeg),
+            (|i| i.tip_left_mm = Some([0.0; 3]), InputField::TipLeftMm),
+            (|i| i.tip_right_mm = Some([0.0; 3]), InputField::TipRightMm),
             (
-                Input {
-                    theta_deg: Some(25.0),
-                    ..base.clone()
-                },
-                InputField::ThetaDeg,
-            ),
-            (
-                Input {
-                    absolute: Some(false),
-                    ..base.clone()
-                },
-                InputField::Absolute,
-            ),
-            (
-                Input {
-                    omega_max_deg_s: Some(10.0),
-                    ..base.clone()
-                },
-                InputField::OmegaMaxDegS,
-            ),
-            (
-                Input {
-                    eps_max_deg_s2: Some(5.0),
-                    ..base.clone()
-                },
-                InputField::EpsMaxDegS2,
-            ),
-            (
-                Input {
-                    sync: Some(Synchronization::Phase),
-                    ..base.clone()
-                },
-                InputField::Sync,
-            ),
-            (
-                Input {
-                    pose_mm_deg: Some([0.0; 6]),
-                    ..base.clone()
-                },
-                InputField::PoseMmDeg,
-            ),
-            (
-                Input {
-                    tip_left_mm: Some([0.0; 3]),
-                    ..base.clone()
-                },
-                InputField::TipLeftMm,
-            ),
-            (
-                Input {
-                    tip_right_mm: Some([0.0; 3]),
-                    ..base.clone()
-                },
-                InputField::TipRightMm,
-            ),
-            (
-                Input {
-                    robot: Some(RobotSource::Loaded(Box::default())),
-                    ..base.clone()
-                },
+                |i| i.robot = Some(RobotSource::Loaded(Box::default())),
                 InputField::Robot,
             ),
-            (
-                Input {
-                    retarget: Some(Vec::new()),
-                    ..base.clone()
-                },
-                InputField::Retarget,
-            ),
-            (
-                Input {
-                    stop_at_s: Some(1.0),
-                    ..base.clone()
-                },
-                InputField::StopAtS,
-            ),
+            (|i| i.retarget = Some(Vec::new()), InputField::Retarget),
+            (|i| i.stop_at_s = Some(1.0), InputField::StopAtS),
         ];
-        for (input, field) in cases {
+        for (set, field) in cases {
+            let mut input = base.clone();
+            set(&mut input);
             match input.resolve() {
                 Err(InputError::WithProcedure(f)) => assert_eq!(f, field),
                 other => panic!("{field}: {other:?}"),
@@ -644,6 +662,87 @@ mod tests {
                 ..input
             };
             assert!(trapezoid.resolve().is_ok_and(|s| s.has_commands()));
+        }
+    }
+
+    #[test]
+    fn a_look_at_excludes_the_angles_and_the_commands() {
+        let tips = Some(LookAt::Tips(LookAtTips::Tips));
+        let s = Input {
+            look_at: tips,
+            timing: Some(TimingKind::Optimal),
+            ..Input::default()
+        }
+        .resolve()
+        .unwrap_or_else(|e| panic!("{e}"));
+        let turn = s.turn().copied().unwrap_or_default();
+        assert_eq!(
+            (turn.look_at, turn.psi_deg, turn.theta_deg),
+            (tips, 0.0, 0.0)
+        );
+        assert_eq!(s.timing(), Timing::Optimal { angular: false });
+        for (input, with) in [
+            (
+                Input {
+                    psi_deg: Some(15.0),
+                    ..Input::default()
+                },
+                InputField::PsiDeg,
+            ),
+            (
+                Input {
+                    absolute: Some(true),
+                    ..Input::default()
+                },
+                InputField::Absolute,
+            ),
+            (
+                Input {
+                    stop_at_s: Some(1.0),
+                    ..Input::default()
+                },
+                InputField::StopAtS,
+            ),
+        ] {
+            let e = Input {
+                look_at: tips,
+                ..input
+            }
+            .resolve()
+            .map(|_| ())
+            .map_err(|e| (e.field(), e.to_string()));
+            let Err((field, text)) = e else {
+                panic!("{with}: resolved");
+            };
+            assert_eq!(field, InputField::LookAt);
+            assert!(
+                text.starts_with(&format!("look_at cannot be given with {with}")),
+                "{text}"
+            );
+        }
+    }
+
+    #[test]
+    fn look_at_reads_the_tips_or_a_point() {
+        assert_eq!(
+            look_at_named("left").ok(),
+            Some(LookAt::Tips(LookAtTips::Left))
+        );
+        assert_eq!(
+            look_at_named("40, 50,-650").ok(),
+            Some(LookAt::Point([40.0, 50.0, -650.0]))
+        );
+        for bad in ["middle", "1,2", "1,2,3,4", "1,nan,3", "1,,3"] {
+            assert!(
+                matches!(
+                    look_at_named(bad),
+                    Err(InputError::Unknown {
+                        field: InputField::LookAt,
+                        ..
+                    })
+                ),
+                "{bad}"
+            );
         }
     }
 

@@ -94,8 +94,6 @@
 //!   turns it on, the Python bindings leave it off.
 
 pub mod columns;
-#[cfg(test)]
-mod columns_tests;
 pub mod csv;
 mod engine;
 pub mod input;
@@ -124,7 +122,7 @@ pub use engine::{
     RunError, Scheduled, Simulation, SimulationError,
 };
 pub use input::{Input, InputError, InputField, ProcedureSource, RobotSource, TimingKind};
-pub use mcap::{McapError, McapOptions, McapSink, SceneGeometry};
+pub use mcap::{CameraImage, McapError, McapOptions, McapSink, SceneGeometry};
 pub use motion::{
     CameraMode, Inside, InsideRule, LookAt, LookAtTips, MotionGoal, MotionLimits, MotionName,
     MotionSpec,
@@ -133,7 +131,9 @@ pub use output::{Flushed, Format, OutputError, OutputFile};
 #[cfg(feature = "plot")]
 pub use plot::PlotSink;
 pub use procedure::ProcedureError;
-pub use record::{ClearanceRecord, ForceRecord, InstrumentRecord, Module1Record, Record};
+pub use record::{
+    CameraRecord, ClearanceRecord, ForceRecord, InstrumentRecord, Module1Record, Record,
+};
 pub use robot::Robot;
 pub use robot_file::{
     BodiesFile, CameraFile, EndoscopeFile, GuideFile, InstrumentFile, LegFile, Module1File,

@@ -119,18 +119,20 @@ impl OutputError {
     }
 }
 
-/// Bytes per CSV row in [`estimate_bytes`]. The paper's run writes 966 bytes
-/// per row on average and 1025 at most (57 columns of shortest round-trip
-/// numbers, the four clearance columns included); before those four it
-/// was 889 and 945, and 969 at most at 20 kHz with the `command` column,
-/// so about 1050 with them. 1152 bounds them all with room to spare.
-pub const CSV_BYTES_PER_ROW: u64 = 1152;
+/// Bytes per CSV row in [`estimate_bytes`]. The paper's run writes 1085 bytes
+/// per row on average and 1147 at most (65 columns of shortest round-trip
+/// numbers, the eight camera columns included); before those eight it was
+/// 966 and 1025, and before the four clearance columns 889 and 945 (969 at
+/// most at 20 kHz with the `command` column). 1280 bounds them all with
+/// room to spare.
+pub const CSV_BYTES_PER_ROW: u64 = 1280;
 
-/// Bytes per MCAP sample in [`estimate_bytes`]. The paper's run writes 660
-/// bytes per sample, compressed chunks and their index, the `/tf` and
-/// `/scene` messages included (627 before the four clearance columns; then
-/// 553 at 20 kHz and 648 with commands). 768 bounds them with room to spare.
-pub const MCAP_BYTES_PER_SAMPLE: u64 = 768;
+/// Bytes per MCAP sample in [`estimate_bytes`]. The paper's run writes 761
+/// bytes per sample, compressed chunks and their index, the `/tf`,
+/// `/scene` and camera messages included (660 before the `/camera` channel
+/// and the camera's image topics, 627 before the four clearance columns).
+/// 896 bounds them with room to spare.
+pub const MCAP_BYTES_PER_SAMPLE: u64 = 896;
 
 /// Bytes of a file's fixed part in [`estimate_bytes`]: the CSV header
 /// (728 bytes), the MCAP header, schemas, scenario, summary and footer
@@ -366,12 +368,12 @@ mod tests {
     #[test]
     fn size_estimates() {
         assert_eq!(estimate_bytes(Format::Csv, usize::MAX), u64::MAX);
-        // The paper's run: at or above the real sizes (4,346,583 and
-        // 2,970,908 bytes), within a third.
+        // The paper's run: at or above the real sizes (4,884,050 and
+        // 3,427,007 bytes), within a third.
         let csv = estimate_bytes(Format::Csv, 4501);
         let mcap = estimate_bytes(Format::Mcap, 4501);
-        assert!((4_346_583..5_795_000).contains(&csv), "{csv}");
-        assert!((2_970_908..3_950_000).contains(&mcap), "{mcap}");
+        assert!((4_884_050..6_512_066).contains(&csv), "{csv}");
+        assert!((3_427_007..4_569_342).contains(&mcap), "{mcap}");
     }
 
     #[test]

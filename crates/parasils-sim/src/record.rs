@@ -113,6 +113,27 @@ pub struct ForceRecord {
     pub deflection: [f64; 2],
 }
 
+/// What the endoscope's camera sees at one instant (see `docs/model.md`,
+/// *What the camera sees*).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct CameraRecord {
+    /// Where each commanded tip, `[left, right]`, falls in the image:
+    /// `[u, v]`, normalised (`-1` to `1` across the image when in view).
+    pub tips: [[f64; 2]; 2],
+    /// Whether each tip is ahead of the camera (its `u`, `v` mean nothing
+    /// otherwise).
+    pub ahead: [bool; 2],
+    /// Whether each tip is in view: ahead of the camera, `|u| <= 1` and
+    /// `|v| <= 1`.
+    pub in_view: [bool; 2],
+    /// The angle between the view axis and the direction from the camera
+    /// to the run's look-at target, rad.
+    pub aim_error: f64,
+    /// The image's roll about the view axis since the start, rad
+    /// ([`parasils::kin::Camera::roll`]).
+    pub roll: f64,
+}
+
 /// Everything computed at one instant of a simulation.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Record {
@@ -168,6 +189,8 @@ pub struct Record {
     /// Every actuator's force for the tip loads (written with tip loads
     /// only).
     pub forces: ForceRecord,
+    /// What the camera sees.
+    pub camera: CameraRecord,
 }
 
 impl Record {

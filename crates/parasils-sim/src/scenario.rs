@@ -17,7 +17,7 @@ use parasils::paper;
 use parasils::traj::{Limits, Synchronization};
 use serde::Serialize;
 
-use crate::motion::{MotionGoal, MotionLimits, MotionSpec, turn_goal_rad};
+use crate::motion::{LookAt, MotionGoal, MotionLimits, MotionSpec, turn_goal_rad};
 use crate::supervisor::SupervisorTable;
 
 /// A run, resolved: what every run shares (the robot, where it starts, the
@@ -148,8 +148,9 @@ pub struct Online {
     pub stop_at_s: Option<f64>,
 }
 
-/// One endoscope reorientation (motion type 4) in user units: its angles,
-/// its limits and how the two angles are timed together.
+/// One endoscope reorientation (motion type 4) in user units: its angles
+/// (or what the camera is to look at), its limits and how the two angles
+/// are timed together.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Turn {
     /// `psi`: the increment from the start (or, with `absolute`, the final
@@ -167,6 +168,12 @@ pub struct Turn {
     pub eps_max_deg_s2: f64,
     /// How the two angles are timed together.
     pub sync: Synchronization,
+    /// What the camera is to look at, instead of the angles: the turn's
+    /// goal is then the `(psi, theta)`, `phi` held, that puts the point on
+    /// the view axis ([`parasils::kin::Camera::look_at`], the solution
+    /// nearest the start), and `psi_deg`, `theta_deg` and `absolute` are
+    /// not used. `None`: the turn is given by its angles.
+    pub look_at: Option<LookAt>,
 }
 
 impl Default for Turn {
@@ -187,6 +194,7 @@ impl Turn {
             omega_max_deg_s: paper::OMEGA_MAX_DEG_S,
             eps_max_deg_s2: paper::EPS_MAX_DEG_S2,
             sync: Synchronization::Phase,
+            look_at: None,
         }
     }
 
@@ -210,10 +218,19 @@ impl Turn {
         self.angles_rad(start, [self.psi_deg, self.theta_deg])
     }
 
-    /// The turn as a procedure's motion of type 4, its angular limits
-    /// binding under the time-optimal timing when `angular` is true (see
-    /// [`Timing::Optimal`]); its `sync` is the timeline's to apply.
+    /// The turn as a procedure's motion of type 4 (a
+    /// [`MotionGoal::LookAt`] when it looks at something), its angular
+    /// limits binding under the time-optimal timing when `angular` is true
+    /// (see [`Timing::Optimal`]); its `sync` is the timeline's to apply.
     pub fn motion(&self, angular: bool) -> MotionSpec {
+        let goal = match self.look_at {
+            Some(target) => MotionGoal::LookAt { target },
+            None => MotionGoal::Reorient {
+                psi_deg: self.psi_deg,
+                theta_deg: self.theta_deg,
+                absolute: self.absolute,
+            },
+        };
         MotionSpec {
             limits: MotionLimits {
                 velocity_deg_s: self.omega_max_deg_s,
@@ -221,11 +238,7 @@ impl Turn {
                 ..MotionLimits::default()
             },
             stated: [false, angular],
-            ..MotionSpec::new(MotionGoal::Reorient {
-                psi_deg: self.psi_deg,
-                theta_deg: self.theta_deg,
-                absolute: self.absolute,
-            })
+            ..MotionSpec::new(goal)
         }
     }
 }
@@ -418,7 +431,17 @@ impl Scenario {
             index: 0,
             kind: CommandKind::Reorient,
             t_s: 0.0,
-            goal_deg: self.turn().map(|t| [t.psi_deg, t.theta_deg]),
+            goal_deg: self.turn().map(|t| match t.look_at {
+                // A look-at: the increments the camera's aim asks for.
+                Some(_) => {
+                    let (start, [psi, theta]) = (self.start(), self.goal_rad());
+                    [
+                        (psi - start.psi).to_degrees(),
+                        (theta - start.theta).to_degrees(),
+                    ]
+                }
+                None => [t.psi_deg, t.theta_deg],
+            }),
         });
         let Some(online) = online else {
             return out;
@@ -458,11 +481,43 @@ impl Scenario {
     }
 
     /// The final `[psi, theta]` of the run's turn, rad; the start's for a
-    /// procedure (which has no turn of its own).
+    /// procedure (which has no turn of its own). A turn that looks at a
+    /// point has the camera's aim ([`Scenario::look_at_rad`]), or the
+    /// start's angles when there is none (planning the run says why).
     pub fn goal_rad(&self) -> [f64; 2] {
         let start = self.start();
-        self.turn()
-            .map_or([start.psi, start.theta], |t| t.goal_rad(&start))
+        match self.turn() {
+            Some(Turn {
+                look_at: Some(_), ..
+            }) => self
+                .look_at_rad()
+                .and_then(Result::ok)
+                .unwrap_or([start.psi, start.theta]),
+            Some(t) => t.goal_rad(&start),
+            None => [start.psi, start.theta],
+        }
+    }
+
+    /// The point the run's turn looks at, mm, fixed frame (the tips where
+    /// the run starts, which the turn holds); `None` for a turn given by its
+    /// angles and for a procedure.
+    pub fn look_at_mm(&self) -> Option<[f64; 3]> {
+        let look = self.turn()?.look_at?;
+        let tips = self.tips();
+        Some(look.point([tips.left.into(), tips.right.into()]))
+    }
+
+    /// The `[psi, theta]` (rad) that aim the robot's camera at
+    /// [`Scenario::look_at_mm`] from the start, `phi` held; `None` for a
+    /// turn given by its angles.
+    pub fn look_at_rad(&self) -> Option<Result<[f64; 2], parasils::kin::CameraError>> {
+        let point = Vector3::from(self.look_at_mm()?);
+        Some(
+            self.robot
+                .endoscope
+                .camera
+                .look_at(&self.start(), self.endoscope_depth_mm, &point),
+        )
     }
 
     /// `[psi, theta]` given as the run's turn reads them (increments from
@@ -525,6 +580,7 @@ impl Scenario {
             motions: self.motions(),
             endoscope_depth_mm: self.is_procedure().then_some(self.endoscope_depth_mm),
             timing: self.timing(),
+            look_at: turn.look_at,
         }
     }
 }
@@ -604,6 +660,10 @@ pub struct LibraryUnits<'a> {
     /// The timing, when it is not the paper's trapezoid.
     #[serde(skip_serializing_if = "is_trapezoid")]
     pub timing: Timing,
+    /// What the turn looks at, when it is given so (`{"look_at_mm": [x, y,
+    /// z]}` or `{"look_at": "tips"}`); `psi` and `theta` are then unused.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub look_at: Option<LookAt>,
 }
 
 fn is_trapezoid(t: &Timing) -> bool {

@@ -76,8 +76,8 @@ fn two_retargets_and_a_stop_stay_continuous_within_limits_with_the_tips_still() 
     let (records, text) = run(&sim);
     assert_eq!(records.len(), sim.sample_count());
     let (header, rows) = parse(&text);
-    assert_eq!(header.len(), 58);
-    assert_eq!(header[57], "command");
+    assert_eq!(header.len(), 66);
+    assert_eq!(header[65], "command");
     let col = |name: &str| {
         let i = header
             .iter()
@@ -302,7 +302,7 @@ fn the_mcap_file_has_every_command_on_motion() {
         .expect("readable")
         .expect("summary");
     assert!(summary.channels.values().all(|c| c.topic != MOTION_TOPIC));
-    assert_eq!(summary.channels.len(), 8);
+    assert_eq!(summary.channels.len(), 11);
     let scenario_meta = summary
         .metadata_indexes
         .iter()
@@ -314,11 +314,11 @@ fn the_mcap_file_has_every_command_on_motion() {
 }
 
 #[test]
-fn the_paper_csv_has_its_57_columns_and_no_command() {
+fn the_paper_csv_has_its_65_columns_and_no_command() {
     let sim = Simulation::new(Scenario::paper()).expect("valid");
     let (records, text) = run(&sim);
     let header = text.lines().next().expect("header");
-    assert_eq!(header.split(',').count(), 57);
+    assert_eq!(header.split(',').count(), 65);
     assert!(!header.contains("command"));
     assert_eq!(records.len(), 4501);
     assert!(

@@ -93,6 +93,7 @@ def simulate(
     timing=None,
     tip_load_left_n=None,
     tip_load_right_n=None,
+    look_at=None,
 ):
     """Simulates an endoscope reorientation (motion type 4) with the
     simulation library, as ``parasils simulate`` does: the platform turns
@@ -110,6 +111,12 @@ def simulate(
     - psi_deg, theta_deg: the increments of psi and theta from the start
       pose, deg (the final angles with absolute=True); default 15, 25.
     - absolute: take psi_deg and theta_deg as final angles (--absolute).
+    - look_at: what the camera should look at instead of psi_deg and
+      theta_deg (--look-at): a point [x, y, z] in mm (fixed frame), or
+      "tips" (their midpoint), "left" or "right". The turn is the one, phi
+      and both tips held, that puts it on the view axis, nearest the start;
+      either timing applies. TypeError with psi_deg, theta_deg, absolute,
+      retarget or stop_at_s.
     - omega_max_deg_s: each Euler angle's velocity limit, deg/s; default 10.
     - eps_max_deg_s2: each Euler angle's acceleration limit, deg/s^2;
       default 5.
@@ -195,8 +202,14 @@ def simulate(
     on the start pose's own degrees. A run with commands has one more
     column, last: ``command``, an int64 array, the index of the active
     command (0 for the reorientation, one more at each retarget and at each
-    stop), as in the CLI's CSV. ``pandas.DataFrame(parasils.simulate())``
-    makes it a table.
+    stop), as in the CLI's CSV. Every run has what the camera sees:
+    ``left_tip_u``, ``left_tip_v``, ``right_tip_u``, ``right_tip_v`` (each
+    commanded tip's normalised image coordinates, -1 to 1 across the image),
+    ``left_tip_in_view``, ``right_tip_in_view`` (1.0 or 0.0),
+    ``camera_aim_error_deg`` (the view axis to the look-at target, or to the
+    tips' midpoint) and ``camera_roll_deg`` (the image's roll about the view
+    axis since the start; docs/model.md, "What the camera sees").
+    ``pandas.DataFrame(parasils.simulate())`` makes it a table.
 
     Raises a KinematicsError subclass when a sample fails (with .row, the
     sample's index, and .t, its time in s), TrajectoryError for limits or a
@@ -239,6 +252,7 @@ def simulate(
         timing=timing,
         tip_load_left_n=tip_load_left_n,
         tip_load_right_n=tip_load_right_n,
+        look_at=look_at,
     )
 
 

@@ -381,7 +381,11 @@ impl OnlineRun {
             &cycle.state,
             &cycle.step,
             &sim.tips,
-            Context::command(cycle.command, self.kind, cycle.warnings),
+            Context {
+                // The camera sits at the scenario's depth.
+                endoscope_depth: sim.scenario.endoscope_depth_mm,
+                ..Context::command(cycle.command, self.kind, cycle.warnings)
+            },
         );
         // Recorded, not enforced: the online controller's supervisor does
         // not hold the platform on clearance yet, and a run of commands is

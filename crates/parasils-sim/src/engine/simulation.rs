@@ -3,16 +3,19 @@
 //! run's commands on the sample grid.
 
 use super::procedure::{ProcedureCheck, ProcedurePlan};
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 use parasils::kin::{
-    AssemblyMode, ControlStep, Controller, Instrument, InstrumentSolution, PlatformState,
-    TipTargets,
+    AssemblyMode, Camera, ControlStep, Controller, ImagePoint, Instrument, InstrumentSolution,
+    PlatformFrame, PlatformState, TipTargets,
 };
 use parasils::supervisor::{MarginSet, Margins};
 use parasils::traj::{Sampler, Synchronization};
 use parasils::{OnlineController, Reorientation, Supervisor};
 
-use crate::record::{ClearanceRecord, ForceRecord, InstrumentRecord, Module1Record, Record};
+use crate::motion::{MotionGoal, MotionSpec};
+use crate::record::{
+    CameraRecord, ClearanceRecord, ForceRecord, InstrumentRecord, Module1Record, Record,
+};
 use crate::scenario::{CommandKind, Online, Run, Scenario};
 use crate::sink::Sink;
 use crate::timing::OptimalMotion;
@@ -78,6 +81,9 @@ pub struct Simulation {
     /// The start's Euler angles, deg (the user's) and rad.
     pub(super) start_deg: [f64; 3],
     pub(super) start_rad: [f64; 3],
+    /// The platform's rotation at the start: the camera's roll is measured
+    /// from it.
+    pub(super) start_rotation: Matrix3<f64>,
     /// The margin supervisor whose warnings a planned run's records carry.
     pub(super) supervisor: Supervisor<f64>,
 }
@@ -188,6 +194,7 @@ impl Simulation {
         let mut sim = Self {
             start_deg: [psi, theta, phi],
             start_rad: [start.psi, start.theta, start.phi],
+            start_rotation: start.rotation(),
             supervisor: scenario_supervisor(&scenario, &controller)?,
             scenario,
             controller,
@@ -469,6 +476,58 @@ impl Simulation {
                 out.frame.position,
             ],
             forces: ForceRecord::default(),
+            camera: self.camera(&out.frame, context, targets),
+        }
+    }
+
+    /// The point the camera is to look at in `context`, the tips
+    /// commanded at `targets`, mm, fixed frame: the look-at motion's under
+    /// way (a procedure's) or the run's turn's, else the tips' midpoint.
+    fn aim_target(&self, context: Context, targets: &TipTargets<f64>) -> Vector3<f64> {
+        let motion = usize::try_from(context.motion).unwrap_or(usize::MAX);
+        let look = match self.scenario.motions().get(motion) {
+            Some(MotionSpec {
+                goal: MotionGoal::LookAt { target },
+                ..
+            }) => Some(*target),
+            _ => self.scenario.turn().and_then(|t| t.look_at),
+        };
+        look.map_or_else(
+            || (targets.left + targets.right) * 0.5,
+            |l| Vector3::from(l.point([targets.left.into(), targets.right.into()])),
+        )
+    }
+
+    /// What the camera on `frame` sees in `context`, the tips commanded at
+    /// `targets` (see `docs/model.md`, *What the camera sees*).
+    fn camera(
+        &self,
+        frame: &PlatformFrame<f64>,
+        context: Context,
+        targets: &TipTargets<f64>,
+    ) -> CameraRecord {
+        let camera: &Camera<f64> = &self.controller.endoscope.camera;
+        let depth = context.endoscope_depth;
+        // A tip in the camera's own plane (`z = 0` exactly) has no image
+        // coordinates: 0, and not ahead, rather than an infinity.
+        let [left, right] = [targets.left, targets.right].map(|p| {
+            let seen = camera.project(frame, depth, &p);
+            if seen.u.is_finite() && seen.v.is_finite() {
+                seen
+            } else {
+                ImagePoint {
+                    u: 0.0,
+                    v: 0.0,
+                    in_front: false,
+                }
+            }
+        });
+        CameraRecord {
+            tips: [[left.u, left.v], [right.u, right.v]],
+            ahead: [left.in_front, right.in_front],
+            in_view: [left.in_view(), right.in_view()],
+            aim_error: camera.aim_error(frame, depth, &self.aim_target(context, targets)),
+            roll: camera.roll(&self.start_rotation, &frame.rotation),
         }
     }
 }

@@ -7,7 +7,7 @@
 //! `jsonschema`). Log time and publish time are the simulation time, ns.
 //!
 //! # Channels
-//! One message per record on each of the six data channels ([`Channel`](crate::Channel)),
+//! One message per record on each of the seven data channels ([`Channel`](crate::Channel)),
 //! every field a number named with its unit, `t_s` first in each, then the
 //! channel's columns in the order of the [column table](crate::columns::ALL),
 //! so that Foxglove's plot panel draws the paper's figures 5-7 directly:
@@ -19,7 +19,8 @@
 //! | `/left` | `left_qs1_deg left_qs2_deg left_qs3_mm`, their `_rate_` and `_acc_` |
 //! | `/right` | the same for `right_` |
 //! | `/tips` | `left_tip_err_mm right_tip_err_mm left_tip_x_mm left_tip_y_mm left_tip_z_mm right_tip_x_mm right_tip_y_mm right_tip_z_mm` |
-//! | `/margins` | `module1_serial_margin module1_parallel_margin left_cos_qs2 right_cos_qs2` |
+//! | `/margins` | `module1_serial_margin module1_parallel_margin left_cos_qs2 right_cos_qs2`, the clearance columns |
+//! | `/camera` | `left_tip_u left_tip_v right_tip_u right_tip_v left_tip_in_view right_tip_in_view camera_aim_error_deg camera_roll_deg` |
 //!
 //! Every CSV column is on exactly one of them; the tips are the positions
 //! recomputed from the joints by forward kinematics (fixed frame, MCAP only)
@@ -37,14 +38,27 @@
 //!   `platform -> left_rcm`, `platform -> right_rcm` (the ports), and
 //!   `left_rcm -> left_tool`, `right_rcm -> right_tool` (the last frame of
 //!   each spherical module: the tool points along its `-z`, the tip at
-//!   `z = -qs3`);
+//!   `z = -qs3`), and `platform -> camera` (at the endoscope's tip, `x`
+//!   along the image's `u`, `y` down the image, `z` along the view);
 //! - `/scene`, `foxglove.SceneUpdate`, in the `world` frame: module 1's six
 //!   guides (over their strokes), sliders and legs (slider `B_j` to node
 //!   `A_i`), the platform triangle and its spokes to `P`, the endoscope along
 //!   `-z'` from `P` (a nominal length: its insertion is not simulated), both
-//!   instrument shafts (RCM to tip) and the target tips.
+//!   instrument shafts (RCM to tip), the target tips and the camera's view
+//!   frustum (`camera_frustum`: lines from the eye to the image's corners).
 //!
-//! `/tf` and `/scene` are published at a lower rate than the data channels:
+//! For Foxglove's image panel, a schematic endoscope view (no picture: the
+//! annotations on an empty image of the calibration's size):
+//! - `/camera/calibration`, `foxglove.CameraCalibration`: the pinhole of
+//!   the camera's field of view and aspect for a 1280 pixels wide image
+//!   ([`CameraImage`]), in the `camera` frame;
+//! - `/camera/annotations`, `foxglove.ImageAnnotations`: the image's centre
+//!   and each tip ahead of the camera, in pixels.
+//!
+//! Their channels come after `/scene` and before `/motion`; their schemas
+//! are written from Foxglove's documented fields (`schemas/README.md`).
+//!
+//! `/tf`, `/scene` and the two camera topics are published at a lower rate than the data channels:
 //! at the first record, then at the first record of each
 //! [`McapOptions::scene_period_s`] of simulation time (20 ms by default, the
 //! 50 Hz of a screen), and at the last record. At 1 kHz, drawing every record
@@ -77,12 +91,15 @@
 //! reported by the next [`Sink::push`](crate::Sink::push) or by [`McapSink::finish`].
 //!
 //! # Modules
-//! `error` ([`McapError`]), `json` (the JSON text builder), `schema` (the
-//! data channels' fields and schemas from the column table, and Foxglove's
-//! official schemas), `scene` (the `/tf` frames and the `/scene` drawing),
+//! `camera` (the schematic image: its calibration, annotations and the
+//! frustum's lines), `error` ([`McapError`]), `json` (the JSON text
+//! builder), `schema` (the data channels' fields and schemas from the
+//! column table, and the Foxglove schemas), `scene` (the `/tf` frames and
+//! the `/scene` drawing),
 //! `writer` (the writer thread), and `sink` ([`McapSink`], which ties them
 //! together).
 
+mod camera;
 mod error;
 mod json;
 mod scene;
@@ -90,9 +107,13 @@ mod schema;
 mod sink;
 mod writer;
 
+pub use camera::{ANNOTATIONS_TOPIC, CALIBRATION_TOPIC, CAMERA_FRAME, CameraImage, IMAGE_WIDTH_PX};
 pub use error::McapError;
 pub use scene::{SCENE_TOPIC, SceneGeometry, TF_TOPIC};
-pub use schema::{FRAME_TRANSFORMS_SCHEMA, SCENE_UPDATE_SCHEMA};
+pub use schema::{
+    CAMERA_CALIBRATION_SCHEMA, FRAME_TRANSFORMS_SCHEMA, IMAGE_ANNOTATIONS_SCHEMA,
+    SCENE_UPDATE_SCHEMA,
+};
 pub use sink::{
     GENERATOR, MOTION_TOPIC, McapOptions, McapSink, RUN_METADATA, SAMPLE_TOPICS, SCENARIO_METADATA,
 };

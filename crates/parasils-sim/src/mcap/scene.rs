@@ -9,10 +9,12 @@
 
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 use parasils::kin::{
-    Instrument, InstrumentGeometry, Joints, PlatformFrame, PlatformState, Pose, RobotGeometry, Side,
+    Camera, Instrument, InstrumentGeometry, Joints, PlatformFrame, PlatformState, Pose,
+    RobotGeometry, Side,
 };
 use serde::Serialize;
 
+use super::camera::{CAMERA_FRAME, frame_axes, frustum};
 use super::error::McapError;
 use super::json::Json;
 use crate::record::Record;
@@ -27,6 +29,9 @@ pub const SCENE_TOPIC: &str = "/scene";
 const ENDOSCOPE_BELOW_MM: f64 = 120.0;
 /// The display length of the endoscope along `+z'` above `P`, mm.
 const ENDOSCOPE_ABOVE_MM: f64 = 80.0;
+
+/// How far along the view the 3D scene draws the camera's frustum, mm.
+const FRUSTUM_MM: f64 = 80.0;
 
 /// Millimetres to metres.
 const M: f64 = 1e-3;
@@ -61,6 +66,9 @@ pub struct SceneGeometry {
     /// Both instrument modules' solvers, left then right, for their frames.
     #[serde(skip)]
     instruments: [Instrument<f64>; 2],
+    /// The endoscope's camera, for its frame, its frustum and its image.
+    #[serde(skip)]
+    pub(crate) camera: Camera<f64>,
 }
 
 impl SceneGeometry {
@@ -86,6 +94,7 @@ impl SceneGeometry {
             alphas_rad: modules.map(|m| m.alpha),
             betas_rad: modules.map(|m| m.beta),
             instruments: [Instrument::new(robot.left)?, Instrument::new(robot.right)?],
+            camera: robot.endoscope.camera,
         })
     }
 
@@ -117,7 +126,9 @@ fn quat(m: &Matrix3<f64>) -> UnitQuaternion<f64> {
 
 /// Writes the `/tf` message of `record` (logged at `ns`) into `out`: `world
 /// -> platform`, `platform -> left_rcm`, `platform -> right_rcm`,
-/// `left_rcm -> left_tool`, `right_rcm -> right_tool`.
+/// `left_rcm -> left_tool`, `right_rcm -> right_tool`, `platform ->
+/// camera` (at the endoscope's tip, `x` along the image's `u`, `y` down
+/// the image, `z` along the view: see `camera`).
 pub(crate) fn write_tf(
     g: &SceneGeometry,
     record: &Record,
@@ -133,7 +144,8 @@ pub(crate) fn write_tf(
     ];
     let identity = UnitQuaternion::identity();
     let zero = Vector3::zeros();
-    let frames: [(&str, &str, Vector3<f64>, UnitQuaternion<f64>); 5] = [
+    let eye = Vector3::new(0.0, 0.0, -record.endoscope_depth) * M;
+    let frames: [(&str, &str, Vector3<f64>, UnitQuaternion<f64>); 6] = [
         (
             "world",
             "platform",
@@ -144,6 +156,7 @@ pub(crate) fn write_tf(
         ("platform", "right_rcm", g.rcm(1) * M, identity),
         ("left_rcm", "left_tool", zero, quat(&tools[0])),
         ("right_rcm", "right_tool", zero, quat(&tools[1])),
+        ("platform", CAMERA_FRAME, eye, quat(&frame_axes(&g.camera))),
     ];
     let mut j = Json::new(out, ryu);
     j.raw("{\"transforms\":[");
@@ -236,6 +249,7 @@ const LEFT: [f64; 4] = [0.85, 0.2, 0.2, 1.0];
 const RIGHT: [f64; 4] = [0.6, 0.2, 0.85, 1.0];
 const ENDOSCOPE: [f64; 4] = [0.1, 0.1, 0.1, 1.0];
 const TARGET: [f64; 4] = [1.0, 0.85, 0.0, 0.8];
+const CAMERA: [f64; 4] = [0.1, 0.75, 0.85, 0.9];
 
 impl Json<'_> {
     fn entity(&mut self, ns: u64, e: &Entity<'_>) -> &mut Self {
@@ -314,7 +328,9 @@ impl Json<'_> {
 /// in the `world` frame, metres: module 1's six guides (over their strokes),
 /// sliders and legs (slider `B_j` to node `A_i`), the platform triangle and
 /// its spokes to `P`, the endoscope along `-z'` from `P` (a nominal length),
-/// both instrument shafts (RCM to tip) and the target tips.
+/// both instrument shafts (RCM to tip), the target tips, and the camera's
+/// view frustum (lines from the eye at the endoscope's tip to the image's
+/// corners, [`FRUSTUM_MM`] along the view).
 ///
 /// In a procedure, the endoscope is drawn at its true depth (from above `P`
 /// down to its tip), the targets are left out (each motion has its own), and
@@ -371,6 +387,7 @@ pub(crate) fn write_scene(
     let tips = [world(record.left.tip), world(record.right.tip)];
     let shafts = [[rcms_world[0], tips[0]], [rcms_world[1], tips[1]]];
     let targets = targets.map(world);
+    let view = frustum(&g.camera, &frame, record.endoscope_depth, FRUSTUM_MM).map(world);
     let module1_note: &'static [(&str, &str)] = if g.module1_assumed {
         &[("geometry", "assumed, not the real robot's")]
     } else {
@@ -439,6 +456,15 @@ pub(crate) fn write_scene(
             ..Entity::default()
         },
     ];
+    entities.push(Entity {
+        id: "camera_frustum",
+        lines: vec![line(LINE_LIST, 0.002, CAMERA, &view[..])],
+        metadata: &[(
+            "view",
+            "the camera's field of view from the endoscope's tip",
+        )],
+        ..Entity::default()
+    });
     match &pieces {
         None => entities.push(Entity {
             id: "tip_targets",

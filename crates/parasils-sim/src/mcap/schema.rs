@@ -11,6 +11,13 @@ pub const FRAME_TRANSFORMS_SCHEMA: &str = include_str!("../../schemas/FrameTrans
 /// `schemas/LICENSE`).
 pub const SCENE_UPDATE_SCHEMA: &str = include_str!("../../schemas/SceneUpdate.json");
 
+/// The schema of `foxglove.CameraCalibration`, written here from the
+/// fields Foxglove documents (see `schemas/README.md`).
+pub const CAMERA_CALIBRATION_SCHEMA: &str = include_str!("../../schemas/CameraCalibration.json");
+/// The schema of `foxglove.ImageAnnotations`, written here from the fields
+/// Foxglove documents (see `schemas/README.md`).
+pub const IMAGE_ANNOTATIONS_SCHEMA: &str = include_str!("../../schemas/ImageAnnotations.json");
+
 /// One field of a data channel's messages: its column, and the JSON text
 /// before its value (`{"t_s":` for the first, `,"x_mm":` for the others).
 #[derive(Debug, Clone)]
@@ -127,8 +134,8 @@ mod tests {
     fn every_column_is_on_exactly_one_data_channel_after_t_s() {
         let all: Vec<Vec<Field>> = Channel::ALL.iter().map(|c| fields(*c)).collect();
         let counts: Vec<usize> = all.iter().map(Vec::len).collect();
-        assert_eq!(counts, [11, 19, 10, 10, 18, 9]);
-        assert_eq!(counts.iter().sum::<usize>(), columns::ALL.len() + 5);
+        assert_eq!(counts, [11, 19, 10, 10, 18, 9, 9]);
+        assert_eq!(counts.iter().sum::<usize>(), columns::ALL.len() + 6);
         for f in &all {
             assert_eq!(f[0].key, b"{\"t_s\":");
         }
@@ -148,5 +155,22 @@ mod tests {
         assert_eq!(tf["title"], "foxglove.FrameTransforms");
         let scene: serde_json::Value = serde_json::from_str(SCENE_UPDATE_SCHEMA).expect("json");
         assert_eq!(scene["title"], "foxglove.SceneUpdate");
+        let cal: serde_json::Value = serde_json::from_str(CAMERA_CALIBRATION_SCHEMA).expect("json");
+        assert_eq!(cal["title"], "foxglove.CameraCalibration");
+        let required = [
+            "timestamp",
+            "frame_id",
+            "width",
+            "height",
+            "distortion_model",
+        ];
+        for key in required.iter().chain(&["D", "K", "R", "P"]) {
+            assert!(cal["properties"][key].is_object(), "{key}");
+        }
+        let ann: serde_json::Value = serde_json::from_str(IMAGE_ANNOTATIONS_SCHEMA).expect("json");
+        assert_eq!(ann["title"], "foxglove.ImageAnnotations");
+        for key in ["circles", "points", "texts"] {
+            assert_eq!(ann["properties"][key]["type"], "array", "{key}");
+        }
     }
 }

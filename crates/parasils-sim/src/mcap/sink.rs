@@ -12,25 +12,30 @@ use nalgebra::Vector3;
 /// The topic of the active command, in runs with commands.
 pub const MOTION_TOPIC: &str = "/motion";
 
+use super::camera::{self, ANNOTATIONS_TOPIC, CALIBRATION_TOPIC, CameraImage};
 use super::error::McapError;
 use super::json::{log_time, push_num};
 use super::scene::{self, SCENE_TOPIC, SceneGeometry, TF_TOPIC};
-use super::schema::{self, FRAME_TRANSFORMS_SCHEMA, Field, SCENE_UPDATE_SCHEMA};
+use super::schema::{
+    self, CAMERA_CALIBRATION_SCHEMA, FRAME_TRANSFORMS_SCHEMA, Field, IMAGE_ANNOTATIONS_SCHEMA,
+    SCENE_UPDATE_SCHEMA,
+};
 use super::writer::{BATCH_BYTES, Batch, WriterThread};
 use crate::columns::Channel;
 use crate::record::Record;
 use crate::scenario::{CommandKind, Scenario};
 use crate::sink::Sink;
 
-/// The six data channels' topics, one message per record on each, in the
+/// The seven data channels' topics, one message per record on each, in the
 /// order of their channel ids.
-pub const SAMPLE_TOPICS: [&str; 6] = [
+pub const SAMPLE_TOPICS: [&str; 7] = [
     Channel::Platform.topic(),
     Channel::Module1.topic(),
     Channel::Left.topic(),
     Channel::Right.topic(),
     Channel::Tips.topic(),
     Channel::Margins.topic(),
+    Channel::Camera.topic(),
 ];
 /// The name of the metadata record with the scenario and the geometry.
 pub const SCENARIO_METADATA: &str = "parasils.scenario";
@@ -82,6 +87,12 @@ pub struct McapSink<W: Write + Seek> {
     data: Vec<DataChannel>,
     tf: (u16, u32),
     scene: (u16, u32),
+    /// `/camera/calibration`'s and `/camera/annotations`' channel ids and
+    /// next sequence numbers.
+    calibration: (u16, u32),
+    annotations: (u16, u32),
+    /// The schematic image they describe.
+    image: CameraImage,
     /// `/motion`'s channel id and next sequence number, in a run with
     /// commands.
     motion: Option<(u16, u32)>,
@@ -237,6 +248,20 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
             SCENE_UPDATE_SCHEMA.as_bytes(),
         )?;
         let scene = writer.add_channel(scene_schema, SCENE_TOPIC, "json", &no_meta)?;
+        let calibration_schema = writer.add_schema(
+            "foxglove.CameraCalibration",
+            "jsonschema",
+            CAMERA_CALIBRATION_SCHEMA.as_bytes(),
+        )?;
+        let calibration =
+            writer.add_channel(calibration_schema, CALIBRATION_TOPIC, "json", &no_meta)?;
+        let annotations_schema = writer.add_schema(
+            "foxglove.ImageAnnotations",
+            "jsonschema",
+            IMAGE_ANNOTATIONS_SCHEMA.as_bytes(),
+        )?;
+        let annotations =
+            writer.add_channel(annotations_schema, ANNOTATIONS_TOPIC, "json", &no_meta)?;
         let procedure = scenario.is_procedure();
         let motion = if procedure {
             let schema = serde_json::to_vec_pretty(&schema::procedure_motion_schema())?;
@@ -265,6 +290,9 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
             data,
             tf: (tf, 0),
             scene: (scene, 0),
+            calibration: (calibration, 0),
+            annotations: (annotations, 0),
+            image: CameraImage::of(&geometry.camera),
             motion,
             commands: Vec::new(),
             motion_names: procedure.then(|| {
@@ -387,6 +415,18 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
         let (id, seq) = self.scene;
         self.write(id, seq, ns);
         self.scene.1 = seq.wrapping_add(1);
+
+        self.buf.clear();
+        camera::write_calibration(&self.image, ns, record.t, &mut self.buf, &mut self.ryu)?;
+        let (id, seq) = self.calibration;
+        self.write(id, seq, ns);
+        self.calibration.1 = seq.wrapping_add(1);
+
+        self.buf.clear();
+        camera::write_annotations(&self.image, record, ns, &mut self.buf, &mut self.ryu)?;
+        let (id, seq) = self.annotations;
+        self.write(id, seq, ns);
+        self.annotations.1 = seq.wrapping_add(1);
         Ok(())
     }
 }

@@ -182,7 +182,7 @@ fn scene_and_tf_follow_the_official_shapes() {
                     Some("foxglove.FrameTransforms")
                 );
                 let tr = v["transforms"].as_array().expect("transforms");
-                assert_eq!(tr.len(), 5);
+                assert_eq!(tr.len(), 6);
                 let q = &tr[0]["rotation"];
                 let norm: f64 = ["x", "y", "z", "w"]
                     .iter()
@@ -202,7 +202,13 @@ fn scene_and_tf_follow_the_official_shapes() {
                     Some("foxglove.SceneUpdate")
                 );
                 let entities = v["entities"].as_array().expect("entities");
-                assert_eq!(entities.len(), 7);
+                assert_eq!(entities.len(), 8);
+                let frustum = &entities[6];
+                assert_eq!(frustum["id"], "camera_frustum");
+                assert_eq!(
+                    frustum["lines"][0]["points"].as_array().map(Vec::len),
+                    Some(16)
+                );
                 let legs = &entities[1]["lines"][0]["points"];
                 assert_eq!(legs.as_array().map(Vec::len), Some(12));
                 // Metres: the platform is about half a metre below the base.
@@ -278,5 +284,100 @@ fn an_empty_run_is_still_a_valid_file() {
     let bytes = sink.finish().expect("finish").into_inner();
     let summary = mcap::Summary::read(&bytes).expect("ok").expect("summary");
     assert_eq!(summary.stats.map(|s| s.message_count), Some(0));
-    assert_eq!(summary.channels.len(), 8);
+    assert_eq!(summary.channels.len(), 11);
+}
+
+/// `{"x": .., "y": .., "z": ..}` (and `"w"`) as numbers.
+fn xyz(v: &serde_json::Value, keys: &[&str]) -> Vec<f64> {
+    keys.iter()
+        .map(|k| v[*k].as_f64().expect("number"))
+        .collect()
+}
+
+#[test]
+fn the_calibration_and_the_camera_frame_put_each_tip_at_its_annotated_pixel() {
+    use nalgebra::{Quaternion, UnitQuaternion};
+    let sc = scenario(20.0);
+    let (bytes, _) = write(&sc, McapOptions::default());
+    let tips = sc.tips();
+    let mut last: HashMap<String, serde_json::Value> = HashMap::new();
+    let (mut checked, mut seen) = (0, 0);
+    for m in mcap::MessageStream::new(&bytes).expect("stream") {
+        let m = m.expect("message");
+        let v: serde_json::Value = serde_json::from_slice(&m.data).expect("JSON");
+        let topic = m.channel.topic.clone();
+        if topic == "/camera/calibration" {
+            assert_eq!(
+                m.channel.schema.as_ref().map(|s| s.name.as_str()),
+                Some("foxglove.CameraCalibration")
+            );
+        }
+        last.insert(topic.clone(), v);
+        if topic != "/camera/annotations" {
+            continue;
+        }
+        // /tf, /scene, the calibration and the annotations come together.
+        let (tf, cal, ann) = (
+            &last["/tf"],
+            &last["/camera/calibration"],
+            &last["/camera/annotations"],
+        );
+        let frame = |child: &str| {
+            let t = tf["transforms"]
+                .as_array()
+                .expect("transforms")
+                .iter()
+                .find(|t| t["child_frame_id"] == child)
+                .expect("frame")
+                .clone();
+            let p = xyz(&t["translation"], &["x", "y", "z"]);
+            let q = xyz(&t["rotation"], &["x", "y", "z", "w"]);
+            let q = UnitQuaternion::from_quaternion(Quaternion::new(q[3], q[0], q[1], q[2]));
+            (Vector3::new(p[0], p[1], p[2]), q)
+        };
+        let (p_world, q_world) = frame("platform");
+        let (p_cam, q_cam) = frame(CAMERA_FRAME);
+        assert_eq!(tf["transforms"][5]["parent_frame_id"], "platform");
+        let k: Vec<f64> = cal["K"]
+            .as_array()
+            .expect("K")
+            .iter()
+            .map(|x| x.as_f64().expect("n"))
+            .collect();
+        assert_eq!(
+            (cal["width"].as_u64(), cal["height"].as_u64()),
+            (Some(1280), Some(720))
+        );
+        assert_eq!(cal["frame_id"], CAMERA_FRAME);
+        let points = ann["points"].as_array().expect("points");
+        // The cross and the centre, then each tip ahead of the camera.
+        assert_eq!(points[1]["points"][0]["x"].as_f64(), Some(640.0));
+        assert_eq!(points[1]["points"][0]["y"].as_f64(), Some(360.0));
+        let mut expected = Vec::new();
+        for tip in [tips.left, tips.right] {
+            // The tip (m) in the camera frame: world -> platform -> camera.
+            let in_platform = q_world.inverse() * (tip * 1e-3 - p_world);
+            let c = q_cam.inverse() * (in_platform - p_cam);
+            if c.z > 0.0 {
+                expected.push([k[0] * c.x / c.z + k[2], k[4] * c.y / c.z + k[5]]);
+            }
+        }
+        assert_eq!(points.len(), 2 + expected.len());
+        for (j, px) in expected.iter().enumerate() {
+            let drawn = &points[2 + j]["points"][0];
+            assert!(
+                (drawn["x"].as_f64().expect("x") - px[0]).abs() < 1e-6,
+                "{j}"
+            );
+            assert!(
+                (drawn["y"].as_f64().expect("y") - px[1]).abs() < 1e-6,
+                "{j}"
+            );
+        }
+        seen = seen.max(expected.len());
+        checked += 1;
+    }
+    // At 20 Hz every record is at least one scene period after the last.
+    assert_eq!(checked, 91);
+    assert_eq!(seen, 2, "both tips drawn at some record");
 }

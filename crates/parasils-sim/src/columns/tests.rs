@@ -1,7 +1,7 @@
-//! The column table's unit tests (a module of their own: `columns.rs` is
-//! near the size limit).
+//! The column table's names, units, channels and values.
 
-use crate::columns::*;
+use super::column::{FLAG, ONE};
+use super::*;
 use crate::record::Record;
 
 #[test]
@@ -21,12 +21,17 @@ fn names_are_unique_and_end_with_their_unit() {
         _ => "",
     };
     for c in ALL {
-        if c.unit == "1 (dimensionless)" {
+        if c.unit == ONE {
             assert!(
-                c.name.contains("margin") || c.name.ends_with("cos_qs2"),
+                c.name.contains("margin")
+                    || c.name.ends_with("cos_qs2")
+                    || c.name.ends_with("_tip_u")
+                    || c.name.ends_with("_tip_v"),
                 "{}",
                 c.name
             );
+        } else if c.unit == FLAG {
+            assert!(c.name.ends_with("_in_view"), "{}", c.name);
         } else {
             assert!(c.name.ends_with(suffix(c.unit)), "{} in {}", c.name, c.unit);
         }
@@ -38,20 +43,33 @@ fn names_are_unique_and_end_with_their_unit() {
 }
 
 #[test]
-fn the_csv_is_the_first_57_columns() {
-    assert_eq!(CSV_COUNT, 57);
-    assert!(ALL[..57].iter().all(|c| c.csv));
-    assert!(ALL[57..].iter().all(|c| !c.csv));
+fn the_csv_is_the_first_65_columns() {
+    assert_eq!(CSV_COUNT, 65);
+    assert!(ALL[..65].iter().all(|c| c.csv));
+    assert!(ALL[65..].iter().all(|c| !c.csv));
     assert_eq!(CSV_NAMES[0], "t_s");
     assert_eq!(CSV_NAMES[31], "left_qs1_deg");
     assert_eq!(CSV_NAMES[52], "right_tip_err_mm");
     assert_eq!(
-        CSV_NAMES[53..],
+        CSV_NAMES[53..57],
         [
             "clearance_left_right_mm",
             "clearance_left_endoscope_mm",
             "clearance_right_endoscope_mm",
             "clearance_min_mm"
+        ]
+    );
+    assert_eq!(
+        CSV_NAMES[57..],
+        [
+            "left_tip_u",
+            "left_tip_v",
+            "right_tip_u",
+            "right_tip_v",
+            "left_tip_in_view",
+            "right_tip_in_view",
+            "camera_aim_error_deg",
+            "camera_roll_deg"
         ]
     );
     assert_eq!(csv_index(&LEFT.q[0]), Some(31));
@@ -60,12 +78,12 @@ fn the_csv_is_the_first_57_columns() {
 
 #[test]
 fn the_command_column_comes_last_and_only_with_commands() {
-    assert_eq!(csv_columns(false).len(), 57);
-    assert_eq!(csv_columns(true).len(), 58);
-    assert_eq!(CSV_WITH_COMMAND_NAMES[..57], CSV_NAMES);
-    assert_eq!(CSV_WITH_COMMAND_NAMES[57], "command");
-    assert!(csv_columns(true)[57].integer);
-    assert!(csv_columns(true)[..57].iter().all(|c| !c.integer));
+    assert_eq!(csv_columns(false).len(), 65);
+    assert_eq!(csv_columns(true).len(), 66);
+    assert_eq!(CSV_WITH_COMMAND_NAMES[..65], CSV_NAMES);
+    assert_eq!(CSV_WITH_COMMAND_NAMES[65], "command");
+    assert!(csv_columns(true)[65].integer);
+    assert!(csv_columns(true)[..65].iter().all(|c| !c.integer));
     assert!(ALL.iter().all(|c| c.name != COMMAND.name));
     assert_eq!(csv_index(&COMMAND), None);
     let r = Record {
@@ -78,9 +96,10 @@ fn the_command_column_comes_last_and_only_with_commands() {
 #[test]
 fn channels_hold_the_documented_fields() {
     let count = |ch: Channel| ALL.iter().filter(|c| c.channel == Some(ch)).count();
-    assert_eq!(Channel::ALL.map(count), [10, 18, 9, 9, 17, 8]);
+    assert_eq!(Channel::ALL.map(count), [10, 18, 9, 9, 17, 8, 8]);
     assert_eq!(PORTS[4].channel, Some(Channel::Tips));
     assert!(PORTS.iter().all(|c| !c.csv));
+    assert_eq!(CAMERA_ROLL_DEG.channel, Some(Channel::Camera));
     assert_eq!(T_S.channel, None);
     assert_eq!(LEFT.q_acc[2].channel, Some(Channel::Left));
     assert_eq!(LEFT.tip_err.channel, Some(Channel::Tips));
@@ -149,6 +168,18 @@ fn values_are_in_the_columns_units() {
     r.clearance.right_endoscope = 2.0;
     assert_eq!(CLEARANCE_LEFT_ENDOSCOPE_MM.value(&r), -1.5);
     assert_eq!(CLEARANCE_MIN_MM.value(&r), -1.5);
+    r.camera.tips = [[0.25, -0.5], [1.5, 0.0]];
+    r.camera.in_view = [true, false];
+    r.camera.aim_error = core::f64::consts::FRAC_PI_4;
+    r.camera.roll = -core::f64::consts::FRAC_PI_2;
+    assert_eq!((LEFT_TIP_U.value(&r), LEFT_TIP_V.value(&r)), (0.25, -0.5));
+    assert_eq!(RIGHT_TIP_U.value(&r), 1.5);
+    assert_eq!(
+        (LEFT_TIP_IN_VIEW.value(&r), RIGHT_TIP_IN_VIEW.value(&r)),
+        (1.0, 0.0)
+    );
+    assert_eq!(CAMERA_AIM_ERROR_DEG.value(&r), 45.0);
+    assert_eq!(CAMERA_ROLL_DEG.value(&r), -90.0);
     let row = csv_row(&r);
     assert_eq!(
         (row[4], row[31], row[33], row[28]),
