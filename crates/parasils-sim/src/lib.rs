@@ -99,6 +99,7 @@ mod engine;
 pub mod input;
 pub mod mcap;
 mod motion;
+pub mod no_go;
 pub mod output;
 #[cfg(feature = "plot")]
 pub mod plot;
@@ -124,6 +125,7 @@ pub use motion::{
     Inside, InsideRule, LookAt, LookAtTips, MotionGoal, MotionLimits, MotionName, MotionSpec,
 };
 pub use output::{Flushed, Format, OutputError, OutputFile};
+pub use parasils_anatomy::{Anatomy, AnatomyError};
 #[cfg(feature = "plot")]
 pub use plot::PlotSink;
 pub use procedure::ProcedureError;

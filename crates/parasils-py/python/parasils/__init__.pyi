@@ -249,6 +249,7 @@ def simulate(
     timing: Optional[Literal["trapezoid", "optimal"]] = None,
     tip_load_left_n: Optional[Sequence[float]] = None,
     tip_load_right_n: Optional[Sequence[float]] = None,
+    anatomy: Optional[_Path] = None,
 ) -> Dict[str, npt.NDArray[Any]]:
     """``parasils simulate`` from the simulation library: the CSV table as
     NumPy columns keyed by COLUMNS (float64). ``pose_mm_deg`` is (x, y, z mm,
@@ -263,7 +264,9 @@ def simulate(
     actuator's force (``q1_force_n`` .. ``q6_force_n``, N;
     ``left_qs1_torque_nmm``, ``left_qs2_torque_nmm``, N mm;
     ``left_qs3_force_n``, N; the same for the right) and each tip's
-    deflection (``left_tip_deflection_mm``, ``right_tip_deflection_mm``). ``out`` is checked before writing: OSError (ENOSPC) above the
+    deflection (``left_tip_deflection_mm``, ``right_tip_deflection_mm``).
+    ``anatomy``: a path to an anatomy file of forbidden regions
+    (``--anatomy``); the table then ends with ``no_go_clearance_mm``. ``out`` is checked before writing: OSError (ENOSPC) above the
     free space, ValueError above the 10 GB cap unless ``force=True``. The
     defaults are the paper's scenario.
 

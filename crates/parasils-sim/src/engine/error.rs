@@ -1,6 +1,7 @@
 //! What can stop a simulation or a run, each error naming its subject.
 
 use parasils::kin::{ClearancePair, LimitError};
+use parasils_anatomy::{AnatomyError, Body};
 
 use crate::timing::TimingError;
 
@@ -114,6 +115,38 @@ pub enum SimulationError {
         /// ports.
         depth_mm: f64,
     },
+    /// A shaft or the endoscope closer to a forbidden region than the
+    /// clearance stop threshold (`[supervisor]`'s `clearance_stop_mm`, 0.5
+    /// mm by default) at a sample of a planned run or a procedure: found
+    /// while the run is planned, before any output.
+    #[error(
+        "{}{body} is {} mm from the forbidden region {region:?}, below the stop threshold {} mm",
+        AtTime(*t), Fixed(*gap_mm, 3), Shortest(*stop_mm)
+    )]
+    NoGo {
+        /// The sample's time, s.
+        t: f64,
+        /// The sample's index.
+        sample: Option<usize>,
+        /// The region's name.
+        region: String,
+        /// Which body.
+        body: Body,
+        /// The gap, mm (negative inside the region).
+        gap_mm: f64,
+        /// The stop threshold, mm.
+        stop_mm: f64,
+    },
+    /// A query of the anatomy failed at a sample (a body not finite).
+    #[error("{}{error}", AtTime(*t))]
+    Anatomy {
+        /// The sample's time, s.
+        t: f64,
+        /// The sample's index.
+        sample: Option<usize>,
+        /// What failed.
+        error: AnatomyError,
+    },
     /// The online controller refused a call for another reason than the
     /// kinematics or the trajectory (for instance, a supervisor threshold).
     #[error("{}{error}", AtTime(*t))]
@@ -147,6 +180,18 @@ impl SimulationError {
                 Shortest(*stop_mm),
                 Fixed(*depth_mm, 1)
             ),
+            SimulationError::NoGo {
+                region,
+                body,
+                gap_mm,
+                stop_mm,
+                ..
+            } => format!(
+                "{body} is {} mm from the forbidden region {region:?}, below the stop threshold {} mm",
+                Fixed(*gap_mm, 3),
+                Shortest(*stop_mm)
+            ),
+            SimulationError::Anatomy { error, .. } => error.to_string(),
             e => e.to_string(),
         }
     }
@@ -157,7 +202,9 @@ impl SimulationError {
             SimulationError::Kinematics { t, .. }
             | SimulationError::Controller { t, .. }
             | SimulationError::ActuatorLimit { t, .. }
-            | SimulationError::Clearance { t, .. } => Some(*t),
+            | SimulationError::Clearance { t, .. }
+            | SimulationError::NoGo { t, .. }
+            | SimulationError::Anatomy { t, .. } => Some(*t),
             SimulationError::Motion { error, .. } => error.time_s(),
             _ => None,
         }

@@ -42,7 +42,10 @@
 //!   guides (over their strokes), sliders and legs (slider `B_j` to node
 //!   `A_i`), the platform triangle and its spokes to `P`, the endoscope along
 //!   `-z'` from `P` (a nominal length: its insertion is not simulated), both
-//!   instrument shafts (RCM to tip) and the target tips.
+//!   instrument shafts (RCM to tip) and the target tips. With an anatomy,
+//!   one more `/scene` message at the first record draws every forbidden
+//!   region (entities `no_go_0`, `no_go_1`, ..., semi-transparent red, kept
+//!   for the whole run).
 //!
 //! `/tf` and `/scene` are published at a lower rate than the data channels:
 //! at the first record, then at the first record of each
@@ -80,11 +83,13 @@
 //! `error` ([`McapError`]), `json` (the JSON text builder), `schema` (the
 //! data channels' fields and schemas from the column table, and Foxglove's
 //! official schemas), `scene` (the `/tf` frames and the `/scene` drawing),
+//! `regions` (the forbidden regions in the scene),
 //! `writer` (the writer thread), and `sink` ([`McapSink`], which ties them
 //! together).
 
 mod error;
 mod json;
+mod regions;
 mod scene;
 mod schema;
 mod sink;

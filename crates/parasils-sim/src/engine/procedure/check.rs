@@ -12,6 +12,7 @@ use parasils::supervisor::{Margin, Margins};
 use super::plan::ProcedurePlan;
 use crate::motion::{Inside, MotionName};
 use crate::record::{ClearanceRecord, Record};
+use parasils_anatomy::NoGoClearance;
 
 /// What the check of a procedure found in one motion: its duration, its
 /// peak rates and its smallest margins.
@@ -45,6 +46,10 @@ pub struct MotionCheck {
     /// The smallest surface gap of each pair of bodies over the motion's
     /// samples, mm (sampled, not certified between samples).
     pub clearance_mm: ClearanceRecord,
+    /// The smallest sampled gap of the in-body parts to each forbidden
+    /// region, in the order of [`ProcedureCheck::no_go_regions`], mm
+    /// (`+inf` while nothing is inside; empty without an anatomy).
+    pub no_go_mm: Vec<f64>,
 }
 
 /// A margin below its warning threshold during a motion: from when, until
@@ -80,6 +85,9 @@ pub struct ProcedureCheck {
     /// Each actuator's largest fraction of its force limit over the
     /// procedure (0 without tip loads), in the same order.
     pub force_usage: [f64; 12],
+    /// The forbidden regions' names, in the anatomy file's order (empty
+    /// without an anatomy).
+    pub no_go_regions: Vec<String>,
     /// Per margin, the warning under way: its place in `warnings` and the
     /// last sample's index.
     open: [Option<(usize, usize)>; Margin::COUNT],
@@ -109,12 +117,28 @@ impl ProcedureCheck {
                         left_endoscope: f64::INFINITY,
                         right_endoscope: f64::INFINITY,
                     },
+                    no_go_mm: Vec::new(),
                 })
                 .collect(),
             warnings: Vec::new(),
             usage: [[0.0; 12]; 2],
             force_usage: [0.0; 12],
+            no_go_regions: Vec::new(),
             open: [None; Margin::COUNT],
+        }
+    }
+
+    /// Takes one record's gaps to each forbidden region into account
+    /// (nothing without an anatomy).
+    pub(crate) fn push_no_go(&mut self, record: &Record, no_go: Option<&NoGoClearance>) {
+        let (Some(gaps), Some(m)) = (no_go, self.motions.get_mut(record.motion as usize)) else {
+            return;
+        };
+        if m.no_go_mm.len() < gaps.regions.len() {
+            m.no_go_mm.resize(gaps.regions.len(), f64::INFINITY);
+        }
+        for (smallest, gap) in m.no_go_mm.iter_mut().zip(&gaps.regions) {
+            *smallest = smallest.min(gap.gap_mm);
         }
     }
 
