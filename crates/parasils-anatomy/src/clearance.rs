@@ -84,9 +84,10 @@ impl Anatomy {
             what,
         };
         let finite = |v: &nalgebra::Vector3<f64>| v.iter().all(|c| c.is_finite());
-        if !finite(&body.tip)
-            || !finite(&body.port)
-            || !(body.radius.is_finite() && body.radius >= 0.0)
+        if !(finite(&body.tip)
+            && finite(&body.port)
+            && body.radius.is_finite()
+            && body.radius >= 0.0)
         {
             return Err(fail("the body's axis or radius is not finite"));
         }

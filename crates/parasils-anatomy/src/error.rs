@@ -12,7 +12,7 @@
 //! - [`AnatomyError::Query`]: a body's axis was not finite, or a query gave
 //!   no finite distance; this is a bug upstream of the anatomy.
 
-use std::fmt;
+use core::fmt;
 use std::path::PathBuf;
 
 /// What is wrong with a region's mesh file.

@@ -181,7 +181,7 @@ fn degenerate(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> bool {
     !(norm2(cross).sqrt() > DEGENERATE_SINE * longest)
 }
 
-fn unreadable(e: impl std::fmt::Display) -> MeshProblem {
+fn unreadable(e: impl core::fmt::Display) -> MeshProblem {
     MeshProblem::Unreadable(e.to_string())
 }
 

@@ -25,6 +25,10 @@ pub struct Cli {
 
 /// The commands.
 #[derive(Debug, Subcommand)]
+#[allow(
+    clippy::large_enum_variant,
+    reason = "parsed once per process, never in a collection"
+)]
 pub enum Command {
     /// Simulate an endoscope reorientation (motion type 4): the platform turns
     /// about the endoscope's RCM and both instruments keep their tips still.

@@ -144,8 +144,8 @@ pub enum SimulationError {
         t: f64,
         /// The sample's index.
         sample: Option<usize>,
-        /// What failed.
-        error: AnatomyError,
+        /// What failed (boxed: the variant stays small).
+        error: Box<AnatomyError>,
     },
     /// The online controller refused a call for another reason than the
     /// kinematics or the trajectory (for instance, a supervisor threshold).

@@ -134,7 +134,7 @@ pub(super) fn no_go_of(
         .map_err(|error| SimulationError::Anatomy {
             t,
             sample: Some(k),
-            error,
+            error: Box::new(error),
         })
 }
 
