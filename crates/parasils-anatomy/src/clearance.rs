@@ -20,8 +20,11 @@
 //! is not checked; a region no body reaches has no gap (`+inf`).
 
 use parry3d_f64::math::{Pose3, Vector};
+use parry3d_f64::partitioning::BvhNode;
 use parry3d_f64::query::{self, PointQuery};
-use parry3d_f64::shape::{self, Shape as ParryShape};
+use parry3d_f64::shape::{self, Shape as ParryShape, TriMesh};
+
+use parasils_kin::{Segment, segment_distance};
 
 use crate::body::{Body, InBody};
 use crate::error::AnatomyError;
@@ -67,6 +70,99 @@ fn shape_of(collider: &Collider) -> &dyn ParryShape {
     }
 }
 
+/// The point of the segment `a`-`b` closest to `p`.
+fn closest_on_segment(p: Vector, a: Vector, b: Vector) -> Vector {
+    let d = b - a;
+    let len2 = d.length_squared();
+    let s = if len2 > 0.0 {
+        ((p - a).dot(d) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    a + d * s
+}
+
+/// A lower bound of the distance between the segment `a`-`b` and the box
+/// `mins`-`maxs`: their separation along the direction `n` from the
+/// segment's point `q` closest to the box's centre `c` to `c`. Every point
+/// `x` of the segment has `(x - q).n <= 0` (`q` is the closest), so the
+/// segment lies below `q.n` along `n` and the box above `c.n - sum h_i
+/// |n_i|` (`h` its half-extents): the gap between is `|c - q| - sum h_i
+/// |n_i|`. For the thin boxes of a mesh's surface this is much tighter
+/// than the box's circumscribed sphere. With the gap between the two
+/// axis-aligned boxes, the larger of the two bounds.
+fn segment_box_bound(a: Vector, b: Vector, mins: Vector, maxs: Vector) -> f64 {
+    let (c, h) = ((mins + maxs) * 0.5, (maxs - mins) * 0.5);
+    let q = closest_on_segment(c, a, b);
+    let to_c = c - q;
+    let dist = to_c.length();
+    let along = if dist > 0.0 {
+        let n = to_c / dist;
+        dist - (h * n.abs()).element_sum()
+    } else {
+        0.0
+    };
+    let boxes = (mins - a.max(b)).max(a.min(b) - maxs).max(Vector::ZERO);
+    along.max(boxes.length())
+}
+
+/// The distance between `capsule` and the mesh's surface (0 on contact).
+///
+/// parry's own shape-to-mesh distance bounds each BVH node by the
+/// capsule's axis-aligned box, which for a long, slanted shaft covers much
+/// of an organ, so it visits thousands of triangles. Here the same BVH is
+/// searched best first with a bound of the shaft's own
+/// ([`segment_box_bound`] minus the radius); the search starts from the tip's own distance to the surface
+/// (a point query), an upper bound. Each triangle left is parry's
+/// capsule-triangle distance.
+fn mesh_distance(mesh: &TriMesh, capsule: &shape::Capsule) -> f64 {
+    let (a, b, r) = (capsule.segment.a, capsule.segment.b, capsule.radius);
+    // The tip's distance to the surface (parry's own point distance is
+    // signed inside an oriented mesh).
+    let on_surface = mesh.project_local_point(a, false).point;
+    let upper = ((a - on_surface).length() - r).max(0.0);
+    let best = mesh.bvh().find_best(
+        upper,
+        |node: &BvhNode, _| segment_box_bound(a, b, node.mins(), node.maxs()) - r,
+        |id, _| {
+            segment_triangle(a, b, &mesh.triangle(id)).map(|d| (d - r).max(0.0))
+        },
+    );
+    best.map_or(upper, |(_, d)| d.min(upper))
+}
+
+/// The distance between the segment `a`-`b` and `triangle`: 0 where the
+/// segment crosses it (parry's ray cast), else the smallest of the ends'
+/// distances to the triangle (parry's point projection) and of the
+/// segment's distances to the three edges (`parasils_kin`'s closed-form
+/// segment kernel): the closest points of a segment and a triangle that do
+/// not meet are an end against the triangle or the segment against an
+/// edge. `None` for a coordinate that is not finite.
+fn segment_triangle(a: Vector, b: Vector, triangle: &shape::Triangle) -> Option<f64> {
+    use parry3d_f64::query::{Ray, RayCast};
+    if triangle
+        .cast_local_ray(&Ray::new(a, b - a), 1.0, true)
+        .is_some()
+    {
+        return Some(0.0);
+    }
+    let to_nalgebra = |v: Vector| nalgebra::Vector3::new(v.x, v.y, v.z);
+    let axis = Segment::new(to_nalgebra(a), to_nalgebra(b));
+    let mut best = f64::INFINITY;
+    for p in [a, b] {
+        best = best.min((p - triangle.project_local_point(p, true).point).length());
+    }
+    for (p, q) in [
+        (triangle.a, triangle.b),
+        (triangle.b, triangle.c),
+        (triangle.c, triangle.a),
+    ] {
+        let edge = Segment::new(to_nalgebra(p), to_nalgebra(q));
+        best = best.min(segment_distance(&axis, &edge).ok()?.distance);
+    }
+    best.is_finite().then_some(best)
+}
+
 fn vector(v: &nalgebra::Vector3<f64>) -> Vector {
     Vector::new(v.x, v.y, v.z)
 }
@@ -93,9 +189,14 @@ impl Anatomy {
         }
         let capsule = shape::Capsule::new(vector(&body.tip), vector(&body.port), body.radius);
         let target = shape_of(&region.collider);
-        let d = query::distance(&Pose3::IDENTITY, &capsule, &region.pose, target)
-            .map_err(|_| fail("parry has no distance for this pair of shapes"))?
-            .distance;
+        let d = match &region.collider {
+            Collider::Mesh(mesh) => mesh_distance(mesh, &capsule),
+            _ => {
+                query::distance(&Pose3::IDENTITY, &capsule, &region.pose, target)
+                    .map_err(|_| fail("parry has no distance for this pair of shapes"))?
+                    .distance
+            }
+        };
         if !d.is_finite() {
             return Err(fail("the distance is not finite"));
         }
