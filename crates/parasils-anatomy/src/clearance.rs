@@ -106,29 +106,24 @@ fn segment_box_bound(a: Vector, b: Vector, mins: Vector, maxs: Vector) -> f64 {
     along.max(boxes.length())
 }
 
-/// The distance between `capsule` and the mesh's surface (0 on contact).
+/// The distance between `capsule` and the mesh's surface (0 on contact);
+/// `None` when no triangle gives a finite distance.
 ///
 /// parry's own shape-to-mesh distance bounds each BVH node by the
 /// capsule's axis-aligned box, which for a long, slanted shaft covers much
-/// of an organ, so it visits thousands of triangles. Here the same BVH is
-/// searched best first with a bound of the shaft's own
-/// ([`segment_box_bound`] minus the radius); the search starts from the tip's own distance to the surface
-/// (a point query), an upper bound. Each triangle left is parry's
-/// capsule-triangle distance.
-fn mesh_distance(mesh: &TriMesh, capsule: &shape::Capsule) -> f64 {
+/// of an organ, so it visits thousands of triangles. Here parry's BVH is
+/// searched (`Bvh::find_best`) with a bound of the shaft's own
+/// ([`segment_box_bound`] minus the radius), and each triangle left is
+/// measured in closed form ([`segment_triangle`]).
+fn mesh_distance(mesh: &TriMesh, capsule: &shape::Capsule) -> Option<f64> {
     let (a, b, r) = (capsule.segment.a, capsule.segment.b, capsule.radius);
-    // The tip's distance to the surface (parry's own point distance is
-    // signed inside an oriented mesh).
-    let on_surface = mesh.project_local_point(a, false).point;
-    let upper = ((a - on_surface).length() - r).max(0.0);
-    let best = mesh.bvh().find_best(
-        upper,
-        |node: &BvhNode, _| segment_box_bound(a, b, node.mins(), node.maxs()) - r,
-        |id, _| {
-            segment_triangle(a, b, &mesh.triangle(id)).map(|d| (d - r).max(0.0))
-        },
-    );
-    best.map_or(upper, |(_, d)| d.min(upper))
+    mesh.bvh()
+        .find_best(
+            f64::MAX,
+            |node: &BvhNode, _| segment_box_bound(a, b, node.mins(), node.maxs()) - r,
+            |id, _| segment_triangle(a, b, &mesh.triangle(id)).map(|d| (d - r).max(0.0)),
+        )
+        .map(|(_, d)| d)
 }
 
 /// The distance between the segment `a`-`b` and `triangle`: 0 where the
@@ -190,7 +185,9 @@ impl Anatomy {
         let capsule = shape::Capsule::new(vector(&body.tip), vector(&body.port), body.radius);
         let target = shape_of(&region.collider);
         let d = match &region.collider {
-            Collider::Mesh(mesh) => mesh_distance(mesh, &capsule),
+            Collider::Mesh(mesh) => {
+                mesh_distance(mesh, &capsule).ok_or_else(|| fail("the distance is not finite"))?
+            }
             _ => {
                 query::distance(&Pose3::IDENTITY, &capsule, &region.pose, target)
                     .map_err(|_| fail("parry has no distance for this pair of shapes"))?

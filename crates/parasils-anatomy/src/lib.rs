@@ -15,9 +15,13 @@
 //! maintained (the collision library of the Rapier physics engine), pure
 //! Rust (no C++ toolchain, builds wherever the workspace does), and its
 //! triangle meshes carry a bounding-volume hierarchy, so the distance from
-//! a capsule to a mesh of 10^5 triangles visits a few of them, not all.
-//! Mesh queries are not hand-written here; only the bookkeeping (which part
-//! of a body is inside, how a penetration is reported) is ours.
+//! a shaft to a mesh of 10^5 triangles visits a few of them, not all.
+//! The hierarchy, the triangles' point projections, ray casts, inside tests
+//! (pseudo-normals) and contacts are parry's. One piece is ours: parry's
+//! shape-to-mesh distance bounds each node by the shaft capsule's
+//! axis-aligned box, far too loose for a long slanted shaft, so the mesh
+//! distance walks parry's hierarchy with a bound of the shaft's own and
+//! measures each triangle left in closed form (see [`clearance`]).
 //!
 //! | module | concept |
 //! |---|---|

@@ -397,3 +397,40 @@ fn a_body_that_is_not_finite_is_an_error_not_a_nan() {
     let e = Anatomy::gap(&sphere, &body([f64::NAN, 0.0, 0.0], [0.0; 3], 1.0)).expect_err("NaN");
     assert!(e.to_string().contains("left shaft"), "{e}");
 }
+
+#[test]
+fn a_mesh_of_a_box_and_the_box_give_the_same_gap_to_random_shafts() {
+    // Long, slanted segments, as shafts are: the mesh's own search (its
+    // BVH bound and closed-form triangles) against parry's box distance.
+    let (c, h) = ([5.0, -3.0, -60.0], [20.0, 12.0, 9.0]);
+    let as_mesh = region(Shape::Mesh {
+        file: "box.stl".into(),
+        translation_mm: [0.0; 3],
+        mesh: box_mesh(c, h),
+        solid: true,
+    });
+    let as_box = region(Shape::Box {
+        centre_mm: c,
+        half_extents_mm: h,
+        rotation_deg: [0.0; 3],
+    });
+    let mut rng = Rng::new(5);
+    let mut apart = 0;
+    for _ in 0..3000 {
+        let tip = [0; 3].map(|_| rng.uniform(-60.0, 60.0));
+        let tip = [tip[0], tip[1], tip[2] - 60.0];
+        let port = [0; 3].map(|_| rng.uniform(-80.0, 80.0));
+        let b = body(tip, [port[0], port[1], port[2] - 40.0], 2.5);
+        let want = Anatomy::gap(&as_box, &b).expect("gap");
+        let got = Anatomy::gap(&as_mesh, &b).expect("gap");
+        if want > 1e-3 {
+            // The box's side is GJK's, whose stop grows with the length of
+            // the shaft (up to 160 mm here): 1e-5 mm.
+            assert!((got - want).abs() < 1e-5, "{b:?}: {got} vs {want}");
+            apart += 1;
+        } else {
+            assert!(got <= 1e-6, "{b:?}: overlapping gives {got}");
+        }
+    }
+    assert!(apart > 1000, "{apart}");
+}
