@@ -253,6 +253,15 @@ pub struct SimulateArgs {
     /// [default: none]; see --tip-load-left.
     #[arg(long, value_name = "FX,FY,FZ", value_parser = parse_floats::<3>, allow_hyphen_values = true)]
     pub tip_load_right: Option<[f64; 3]>,
+    /// Forbidden regions: an anatomy file (spheres, boxes, capsules, STL or
+    /// OBJ meshes in the fixed frame, mm). Every cycle checks the in-body
+    /// part of each shaft and of the endoscope against each region; the
+    /// output gets no_go_clearance_mm, and a planned run or procedure that
+    /// comes closer than the clearance stop threshold (0.5 mm by default)
+    /// fails before any output, naming the region. With --procedure, only
+    /// when the procedure names none itself.
+    #[arg(long, value_name = "FILE.toml")]
+    pub anatomy: Option<PathBuf>,
     /// The start pose and the tips.
     #[command(flatten)]
     pub place: PlaceArgs,
@@ -314,6 +323,7 @@ impl SimulateArgs {
             tip_load_left_n: self.tip_load_left,
             tip_load_right_n: self.tip_load_right,
             look_at: self.look_at.clone(),
+            anatomy: self.anatomy.clone(),
         })
     }
 

@@ -150,7 +150,7 @@ fn run(
         parasils_sim::output::check_size(path, *format, n, force)
             .map_err(|e| Failure::Output(e, path.clone()))?;
     }
-    let csv = columns::csv_columns_of(sim.scenario());
+    let csv = parasils_sim::no_go::csv_columns_of(sim.scenario());
     let mut table: Vec<Vec<f64>> = Vec::with_capacity(csv.len());
     for _ in csv {
         let mut c = Vec::new();
@@ -242,6 +242,7 @@ pub(crate) fn paper_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     tip_load_left_n = None,
     tip_load_right_n = None,
     look_at = None,
+    anatomy = None,
 ))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn simulate<'py>(
@@ -267,6 +268,7 @@ pub(crate) fn simulate<'py>(
     tip_load_left_n: Option<ArrayArg<'py>>,
     tip_load_right_n: Option<ArrayArg<'py>>,
     look_at: Option<Bound<'py, PyAny>>,
+    anatomy: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let format = match format {
         None => None,
@@ -303,6 +305,7 @@ pub(crate) fn simulate<'py>(
         tip_load_left_n: fixed::<3>(tip_load_left_n, "tip_load_left_n")?,
         tip_load_right_n: fixed::<3>(tip_load_right_n, "tip_load_right_n")?,
         look_at: look_at.map(|l| look_at_arg(&l)).transpose()?,
+        anatomy,
     };
     let scenario = input.resolve().map_err(|e| input_error(py, e))?;
     finish(py, scenario, out, format, force)
@@ -353,6 +356,9 @@ pub(crate) fn input_error(py: Python<'_>, error: InputError) -> PyErr {
             errors::robot_file(py, &e)
         }
         InputError::Procedure(e @ procedure::ProcedureError::Io { .. }) => {
+            PyOSError::new_err(e.to_string())
+        }
+        e @ InputError::Anatomy(parasils_sim::AnatomyError::Read { .. }) => {
             PyOSError::new_err(e.to_string())
         }
         e => PyValueError::new_err(e.to_string()),

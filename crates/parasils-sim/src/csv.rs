@@ -42,7 +42,7 @@ impl<W: Write> CsvSink<W> {
     /// # Errors
     /// The writer's I/O error.
     pub fn for_scenario(writer: W, scenario: &Scenario) -> csv::Result<Self> {
-        Self::with_columns(writer, columns::csv_columns_of(scenario))
+        Self::with_columns(writer, crate::no_go::csv_columns_of(scenario))
     }
 
     /// Writes the header row of `columns` and returns the sink.

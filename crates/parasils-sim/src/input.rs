@@ -52,6 +52,9 @@
 //! ```
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use parasils_anatomy::{Anatomy, AnatomyError};
 
 use parasils::traj::Synchronization;
 
@@ -136,6 +139,8 @@ pub enum InputField {
     TipLoadRightN,
     /// `look_at`, `--look-at`.
     LookAt,
+    /// `anatomy`, `--anatomy`.
+    Anatomy,
 }
 
 impl InputField {
@@ -169,6 +174,7 @@ impl InputField {
             Self::TipLoadLeftN => ("tip_load_left_n", "--tip-load-left"),
             Self::TipLoadRightN => ("tip_load_right_n", "--tip-load-right"),
             Self::LookAt => ("look_at", "--look-at"),
+            Self::Anatomy => ("anatomy", "--anatomy"),
         }
     }
 }
@@ -188,8 +194,10 @@ impl core::fmt::Display for InputField {
 ///   timing.
 /// - [`InputError::Unknown`]: use one of the names the message lists.
 /// - [`InputError::Conflict`]: give one of the two fields.
-/// - [`InputError::Procedure`], [`InputError::Robot`]: fix the file where
-///   the message says.
+/// - [`InputError::Procedure`], [`InputError::Robot`],
+///   [`InputError::Anatomy`]: fix the file where the message says.
+/// - [`InputError::AnatomyTwice`]: give the anatomy in the procedure file
+///   or on its own, not both.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum InputError {
@@ -215,6 +223,15 @@ pub enum InputError {
     /// The robot file does not read.
     #[error(transparent)]
     Robot(#[from] RobotFileError),
+    /// The anatomy file does not read.
+    #[error(transparent)]
+    Anatomy(#[from] AnatomyError),
+    /// An anatomy was given together with a procedure that names its own:
+    /// which one is meant cannot be guessed.
+    #[error(
+        "anatomy cannot be given with a procedure that names its own anatomy file: drop one of the two"
+    )]
+    AnatomyTwice,
     /// The time-optimal timing was asked for together with a command (a
     /// retarget or a stop): it plans motions from rest to rest, ahead,
     /// while commands are taken online.
@@ -245,6 +262,7 @@ impl InputError {
             | Self::Conflict { field, .. } => *field,
             Self::Procedure(_) => InputField::Procedure,
             Self::Robot(_) => InputField::Robot,
+            Self::Anatomy(_) | Self::AnatomyTwice => InputField::Anatomy,
         }
     }
 }
@@ -303,6 +321,9 @@ pub struct Input {
     /// tips (their midpoint, or one of them), instead of `psi_deg`,
     /// `theta_deg` and `absolute`. Default: none (the turn's angles).
     pub look_at: Option<LookAt>,
+    /// An anatomy file (TOML) of forbidden regions, read once. Default:
+    /// none. Allowed with a procedure that names none itself.
+    pub anatomy: Option<PathBuf>,
 }
 
 impl Input {
@@ -375,6 +396,12 @@ impl Input {
             scenario.rate_hz = rate_hz;
             scenario.tip_load_left_n = self.tip_load_left_n;
             scenario.tip_load_right_n = self.tip_load_right_n;
+            if let Some(path) = &self.anatomy {
+                if scenario.anatomy.is_some() {
+                    return Err(InputError::AnatomyTwice);
+                }
+                scenario.anatomy = Some(Arc::new(Anatomy::load(path)?));
+            }
             if let Run::Planned(timeline) = &mut scenario.run {
                 timeline.timing = timing;
             }
@@ -449,6 +476,10 @@ impl Input {
             bodies: robot.bodies,
             tip_load_left_n: self.tip_load_left_n,
             tip_load_right_n: self.tip_load_right_n,
+            anatomy: self
+                .anatomy
+                .map(|path| Anatomy::load(path).map(Arc::new))
+                .transpose()?,
             ..paper
         })
     }

@@ -99,6 +99,7 @@ mod engine;
 pub mod input;
 pub mod mcap;
 mod motion;
+pub mod no_go;
 pub mod output;
 #[cfg(feature = "plot")]
 pub mod plot;
@@ -128,6 +129,7 @@ pub use motion::{
     MotionSpec,
 };
 pub use output::{Flushed, Format, OutputError, OutputFile};
+pub use parasils_anatomy::{Anatomy, AnatomyError};
 #[cfg(feature = "plot")]
 pub use plot::PlotSink;
 pub use procedure::ProcedureError;

@@ -14,6 +14,7 @@
 //!
 //! ```toml
 //! robot = "../robots/default.toml"    # optional, relative to this file
+//! anatomy = "anatomy/demo.toml"       # optional, forbidden regions, relative to this file
 //! pose = [15, 20, -460, -15, 10, -60] # start pose, mm and deg (default: the paper's P0)
 //! tip_left_mm = [50, -50, -580]       # start tips (joints from the IK, mode A)
 //! # tip_right_mm: default the left tip's mirror across the platform at the start,
@@ -59,7 +60,10 @@
 //! its motion's type, an unknown or missing key and a bad value are errors
 //! naming the motion (index from 0), the key and the line.
 
+use std::sync::Arc;
+
 use core::fmt;
+use parasils_anatomy::{Anatomy, AnatomyError};
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
@@ -100,6 +104,9 @@ pub enum ProcedureError {
     /// The robot file the procedure names is wrong.
     #[error("{0}")]
     Robot(#[from] RobotFileError),
+    /// The anatomy file the procedure names is wrong.
+    #[error("{0}")]
+    Anatomy(#[from] AnatomyError),
 }
 
 struct Place<'a> {
@@ -128,6 +135,7 @@ impl fmt::Display for Place<'_> {
 #[serde(deny_unknown_fields)]
 struct ProcedureFile {
     robot: Option<String>,
+    anatomy: Option<String>,
     pose: Option<[f64; 6]>,
     tip_left_mm: Option<[f64; 3]>,
     tip_right_mm: Option<[f64; 3]>,
@@ -337,6 +345,9 @@ fn build(
         scenario.robot = robot.geometry;
         scenario.supervisor = robot.supervisor;
         scenario.bodies = robot.bodies;
+    }
+    if let Some(anatomy) = &file.anatomy {
+        scenario.anatomy = Some(Arc::new(Anatomy::load(base.join(anatomy))?));
     }
     if let Some(pose) = file.pose {
         scenario.start_mm_deg = errors.finite(None, "pose", pose)?;

@@ -191,6 +191,10 @@ pub struct Record {
     pub forces: ForceRecord,
     /// What the camera sees.
     pub camera: CameraRecord,
+    /// The smallest gap between the in-body part of a shaft or of the
+    /// endoscope and a forbidden region, mm (negative inside one; `+inf`
+    /// when nothing is inside the patient; written with an anatomy only).
+    pub no_go_clearance_mm: f64,
 }
 
 impl Record {

@@ -10,11 +10,14 @@
 //! [`Input::resolve`](crate::Input::resolve) starts from them and changes
 //! what its user gave.
 
+use std::sync::Arc;
+
 use nalgebra::Vector3;
 use parasils::kin::presets;
 use parasils::kin::{BodyGeometry, Pose, RobotGeometry, TipTargets, default_right_tip};
 use parasils::paper;
 use parasils::traj::{Limits, Synchronization};
+use parasils_anatomy::Anatomy;
 use serde::Serialize;
 
 use crate::motion::{LookAt, MotionGoal, MotionLimits, MotionSpec, turn_goal_rad};
@@ -79,6 +82,11 @@ pub struct Scenario {
     pub tip_load_left_n: Option<[f64; 3]>,
     /// The force the right tip exerts, N, fixed frame; `None` when not given.
     pub tip_load_right_n: Option<[f64; 3]>,
+    /// The forbidden regions (`--anatomy`, a procedure's `anatomy` key):
+    /// with them every cycle checks the in-body part of each shaft and of
+    /// the endoscope against each region, and the run writes
+    /// `no_go_clearance_mm`; `None` when not given.
+    pub anatomy: Option<Arc<Anatomy>>,
     /// What kind of run, with what only that kind has.
     pub run: Run,
 }
@@ -344,6 +352,7 @@ impl Scenario {
             bodies: BodyGeometry::assumed(),
             tip_load_left_n: None,
             tip_load_right_n: None,
+            anatomy: None,
         }
     }
 

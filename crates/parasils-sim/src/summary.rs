@@ -447,6 +447,26 @@ impl fmt::Display for MotionTable<'_> {
                 )?;
             }
         }
+        if !self.0.no_go_regions.is_empty() {
+            writeln!(
+                f,
+                "no-go clearance per motion, smallest sampled gap to each forbidden region, mm: {}",
+                self.0.no_go_regions.join(" ")
+            )?;
+            for m in &self.0.motions {
+                write!(f, "{:>6}", m.name.index)?;
+                for (k, name) in self.0.no_go_regions.iter().enumerate() {
+                    let gap = m.no_go_mm.get(k).copied().unwrap_or(f64::INFINITY);
+                    let width = name.len().max(10);
+                    if gap.is_finite() {
+                        write!(f, " {:>width$}", Fixed(gap, 3).to_string())?;
+                    } else {
+                        write!(f, " {:>width$}", "outside")?;
+                    }
+                }
+                writeln!(f)?;
+            }
+        }
         if self.0.warnings.is_empty() {
             write!(f, "supervisor: no margin below its warning threshold")
         } else {

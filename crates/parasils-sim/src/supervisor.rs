@@ -218,6 +218,14 @@ impl SupervisorTable {
         ])
     }
 
+    /// The stop threshold of the gaps to forbidden regions, mm: the table's
+    /// `clearance_stop_mm`, or its assumed default 0.5 mm. Unlike the gaps
+    /// between the bodies, supervised whenever an anatomy is given: giving
+    /// the regions is asking for them to be kept out of.
+    pub fn no_go_stop_mm(&self) -> f64 {
+        self.clearance_stop_mm.unwrap_or(CLEARANCE_DEFAULTS_MM[1])
+    }
+
     /// `base` with the thresholds this table gives.
     pub fn apply(&self, mut base: Supervisor<f64>) -> Supervisor<f64> {
         for Entry {

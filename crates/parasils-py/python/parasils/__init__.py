@@ -94,6 +94,7 @@ def simulate(
     tip_load_left_n=None,
     tip_load_right_n=None,
     look_at=None,
+    anatomy=None,
 ):
     """Simulates an endoscope reorientation (motion type 4) with the
     simulation library, as ``parasils simulate`` does: the platform turns
@@ -162,6 +163,13 @@ def simulate(
       ``right_tip_deflection_mm``: how far each tip gives way under the
       tissue's push with the assumed actuator stiffnesses (see
       docs/model.md, "Forces"). Allowed with a procedure.
+    - anatomy: a path to an anatomy file of forbidden regions (--anatomy):
+      spheres, boxes, capsules and STL/OBJ meshes, fixed frame, mm. Every
+      cycle checks the in-body part of each shaft and of the endoscope
+      against each region; the table gets ``no_go_clearance_mm``, last, and
+      a planned run or procedure closer to a region than the clearance stop
+      threshold (0.5 mm by default) raises ValueError naming the region, the
+      body and the time. Allowed with a procedure that names none itself.
     - force: write ``out`` even above the 10 GB cap (--force).
     - pose: deprecated name of pose_mm_deg (a DeprecationWarning; removed in
       the next release).
@@ -253,6 +261,7 @@ def simulate(
         tip_load_left_n=tip_load_left_n,
         tip_load_right_n=tip_load_right_n,
         look_at=look_at,
+        anatomy=anatomy,
     )
 
 

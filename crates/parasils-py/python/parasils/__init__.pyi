@@ -250,6 +250,7 @@ def simulate(
     tip_load_left_n: Optional[Sequence[float]] = None,
     tip_load_right_n: Optional[Sequence[float]] = None,
     look_at: Union[Sequence[float], Literal["tips", "left", "right"], None] = None,
+    anatomy: Optional[_Path] = None,
 ) -> Dict[str, npt.NDArray[Any]]:
     """``parasils simulate`` from the simulation library: the CSV table as
     NumPy columns keyed by COLUMNS (float64). ``pose_mm_deg`` is (x, y, z mm,
@@ -268,7 +269,9 @@ def simulate(
     ``look_at``: a point [x, y, z] mm or ``"tips"``, ``"left"``,
     ``"right"`` for the camera to look at instead of the angles
     (``--look-at``). Every table has the camera's columns (``left_tip_u`` ..
-    ``camera_roll_deg``). ``out`` is checked before writing: OSError (ENOSPC) above the
+    ``camera_roll_deg``).
+    ``anatomy``: a path to an anatomy file of forbidden regions
+    (``--anatomy``); the table then ends with ``no_go_clearance_mm``. ``out`` is checked before writing: OSError (ENOSPC) above the
     free space, ValueError above the 10 GB cap unless ``force=True``. The
     defaults are the paper's scenario.
 

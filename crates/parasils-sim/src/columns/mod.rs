@@ -24,6 +24,7 @@ mod runs;
 mod table;
 
 pub use column::{Channel, Column};
+pub(crate) use runs::join;
 pub use runs::{
     CSV, CSV_COUNT, CSV_NAMES, CSV_WITH_COMMAND, CSV_WITH_COMMAND_AND_FORCES,
     CSV_WITH_COMMAND_NAMES, CSV_WITH_FORCES, CSV_WITH_PROCEDURE, CSV_WITH_PROCEDURE_AND_FORCES,

@@ -190,7 +190,7 @@ pub const FORCES: [Column; 14] = [
 ];
 
 /// `a` then `b` (`N = A + B`, checked when the constant is evaluated).
-const fn join<const A: usize, const B: usize, const N: usize>(
+pub(crate) const fn join<const A: usize, const B: usize, const N: usize>(
     a: &[Column; A],
     b: &[Column; B],
 ) -> [Column; N] {

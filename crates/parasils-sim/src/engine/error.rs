@@ -2,6 +2,7 @@
 
 use parasils::kin::{ClearancePair, LimitError};
 use parasils::motions::Port;
+use parasils_anatomy::{AnatomyError, Body};
 
 use crate::timing::TimingError;
 
@@ -137,6 +138,38 @@ pub enum SimulationError {
         /// The limit, mm.
         stop_mm: f64,
     },
+    /// A shaft or the endoscope closer to a forbidden region than the
+    /// clearance stop threshold (`[supervisor]`'s `clearance_stop_mm`, 0.5
+    /// mm by default) at a sample of a planned run or a procedure: found
+    /// while the run is planned, before any output.
+    #[error(
+        "{}{body} is {} mm from the forbidden region {region:?}, below the stop threshold {} mm",
+        AtTime(*t), Fixed(*gap_mm, 3), Shortest(*stop_mm)
+    )]
+    NoGo {
+        /// The sample's time, s.
+        t: f64,
+        /// The sample's index.
+        sample: Option<usize>,
+        /// The region's name.
+        region: String,
+        /// Which body.
+        body: Body,
+        /// The gap, mm (negative inside the region).
+        gap_mm: f64,
+        /// The stop threshold, mm.
+        stop_mm: f64,
+    },
+    /// A query of the anatomy failed at a sample (a body not finite).
+    #[error("{}{error}", AtTime(*t))]
+    Anatomy {
+        /// The sample's time, s.
+        t: f64,
+        /// The sample's index.
+        sample: Option<usize>,
+        /// What failed (boxed: the variant stays small).
+        error: Box<AnatomyError>,
+    },
     /// The online controller refused a call for another reason than the
     /// kinematics or the trajectory (for instance, a supervisor threshold).
     #[error("{}{error}", AtTime(*t))]
@@ -181,6 +214,18 @@ impl SimulationError {
                 Fixed(*displacement_mm, 3),
                 Shortest(*stop_mm)
             ),
+            SimulationError::NoGo {
+                region,
+                body,
+                gap_mm,
+                stop_mm,
+                ..
+            } => format!(
+                "{body} is {} mm from the forbidden region {region:?}, below the stop threshold {} mm",
+                Fixed(*gap_mm, 3),
+                Shortest(*stop_mm)
+            ),
+            SimulationError::Anatomy { error, .. } => error.to_string(),
             e => e.to_string(),
         }
     }
@@ -193,6 +238,7 @@ impl SimulationError {
             | SimulationError::ActuatorLimit { t, .. }
             | SimulationError::Clearance { t, .. }
             | SimulationError::PortMotion { t, .. } => Some(*t),
+            SimulationError::NoGo { t, .. } | SimulationError::Anatomy { t, .. } => Some(*t),
             SimulationError::Motion { error, .. } => error.time_s(),
             _ => None,
         }

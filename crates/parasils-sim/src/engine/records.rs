@@ -14,6 +14,7 @@ use parasils::{MotionKind, OnlineController};
 
 use crate::record::{ClearanceRecord, ForceRecord, Record};
 use crate::scenario::{CommandKind, Scenario};
+use parasils_anatomy::{InBody, NoGoClearance};
 
 use super::error::SimulationError;
 use super::schedule::apply;
@@ -100,6 +101,74 @@ pub(super) fn with_clearance(
         }
     }
     Ok(record)
+}
+
+/// The gaps of `step`'s in-body parts (the shafts at its joints, the
+/// endoscope at `depth` mm) to the scenario's forbidden regions; `None`
+/// without an anatomy.
+pub(super) fn no_go_of(
+    sim: &Simulation,
+    controller: &Controller<f64>,
+    step: &ControlStep<f64>,
+    depth: f64,
+    t: f64,
+    k: usize,
+) -> Result<Option<NoGoClearance>, SimulationError> {
+    let Some(anatomy) = &sim.scenario.anatomy else {
+        return Ok(None);
+    };
+    let bodies = Bodies::at(
+        &sim.scenario.bodies,
+        &step.frame,
+        &controller.left,
+        &step.left.q,
+        &controller.right,
+        &step.right.q,
+        depth,
+    )
+    .map_err(|error| kinematics(error, t, k))?;
+    let inside = InBody::of(&bodies, step.left.q.qs3, step.right.q.qs3, depth);
+    anatomy
+        .clearance(&inside)
+        .map(Some)
+        .map_err(|error| SimulationError::Anatomy {
+            t,
+            sample: Some(k),
+            error: Box::new(error),
+        })
+}
+
+/// `record` with its smallest gap to a forbidden region ([`no_go_of`]),
+/// and the gaps to each; a gap below the stop threshold
+/// ([`SupervisorTable::no_go_stop_mm`](crate::SupervisorTable::no_go_stop_mm))
+/// is [`SimulationError::NoGo`], naming the region and the body.
+pub(super) fn with_no_go(
+    sim: &Simulation,
+    controller: &Controller<f64>,
+    step: &ControlStep<f64>,
+    depth: f64,
+    mut record: Record,
+) -> Result<(Record, Option<NoGoClearance>), SimulationError> {
+    let (t, k) = (record.t, record.index);
+    let no_go = no_go_of(sim, controller, step, depth, t, k)?;
+    let smallest = no_go.as_ref().and_then(NoGoClearance::min);
+    if let (Some(anatomy), Some(min)) = (&sim.scenario.anatomy, smallest) {
+        record.no_go_clearance_mm = min.gap_mm;
+        let stop_mm = sim.scenario.supervisor.no_go_stop_mm();
+        if let (Some(body), Some(region)) = (min.body, anatomy.regions.get(min.region))
+            && !(min.gap_mm >= stop_mm)
+        {
+            return Err(SimulationError::NoGo {
+                t,
+                sample: Some(k),
+                region: region.name.clone(),
+                body,
+                gap_mm: min.gap_mm,
+                stop_mm,
+            });
+        }
+    }
+    Ok((record, no_go))
 }
 
 /// The tip loads of `scenario` (`None` when neither is given), the
@@ -196,6 +265,9 @@ pub(super) struct ProcedureRun {
     /// The motion under way and its ports at its first record, for the
     /// supervisor's `port_motion_stop_mm`.
     pub(super) port_start: Option<(usize, [Vector3<f64>; 3])>,
+    /// The last sample's gaps to each forbidden region (`None` without an
+    /// anatomy), for the procedure's check.
+    pub(super) no_go: Option<NoGoClearance>,
 }
 
 impl ProcedureRun {
@@ -206,6 +278,7 @@ impl ProcedureRun {
             tracker: MarginTracker::new(),
             done: false,
             port_start: None,
+            no_go: None,
         }
     }
 
@@ -279,12 +352,26 @@ impl ProcedureRun {
             )
             .map_err(in_motion)?;
             check_ports(sim, &mut self.port_start, m, &record).map_err(in_motion)?;
-            Ok((record, margins))
+            let (record, no_go) = with_no_go(
+                sim,
+                &self.controller,
+                &out,
+                sample.endoscope.position,
+                record,
+            )
+            .map_err(in_motion)?;
+            Ok((record, margins, no_go))
         })();
-        if result.is_err() {
-            self.done = true;
+        match result {
+            Ok((record, margins, no_go)) => {
+                self.no_go = no_go;
+                Some(Ok((record, margins)))
+            }
+            Err(e) => {
+                self.done = true;
+                Some(Err(e))
+            }
         }
-        Some(result)
     }
 }
 
@@ -410,6 +497,18 @@ impl OnlineRun {
             t,
             k,
         )?;
+        // Recorded, not enforced, like the gaps between the bodies.
+        let no_go = no_go_of(
+            sim,
+            self.controller.controller(),
+            &cycle.step,
+            sim.scenario.endoscope_depth_mm,
+            t,
+            k,
+        )?;
+        if let Some(min) = no_go.as_ref().and_then(NoGoClearance::min) {
+            record.no_go_clearance_mm = min.gap_mm;
+        }
         let finished = self.pending >= sim.schedule.len() && self.controller.is_at_rest(t);
         match k.checked_add(1) {
             Some(next) if !finished => self.next = next,

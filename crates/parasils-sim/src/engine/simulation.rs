@@ -205,7 +205,7 @@ impl Simulation {
             duration,
         };
         if let Plan::Planned(sampler, _) = &sim.plan
-            && sim.scenario.is_procedure()
+            && (sim.scenario.is_procedure() || sim.scenario.anatomy.is_some())
         {
             // A procedure: plan, then check, then write; every sample
             // computed once here, so that a failure is known before the
@@ -215,15 +215,24 @@ impl Simulation {
             // is computed.
             let sampler = sampler.clone();
             let mut check = ProcedureCheck::new(sampler.motion(), &controller.endoscope.camera);
+            if let Some(anatomy) = &sim.scenario.anatomy {
+                check.no_go_regions = anatomy.regions.iter().map(|r| r.name.clone()).collect();
+            }
             let mut run = ProcedureRun::new(sampler.clone(), controller);
             while let Some(r) = run.next(&sim) {
                 let (record, margins) = r?;
                 check.push(&record, &margins, &sim.supervisor, &controller.limits);
+                check.push_no_go(&record, run.no_go.as_ref());
             }
             if let Some(e) = sampler.motion().failure() {
                 return Err(e.clone());
             }
-            if let Plan::Planned(_, c) = &mut sim.plan {
+            // The single turn is checked ahead only for its anatomy, so
+            // that entering a forbidden region fails before any output; it
+            // keeps no procedure table.
+            if let Plan::Planned(_, c) = &mut sim.plan
+                && sim.scenario.is_procedure()
+            {
                 *c = Some(check);
             }
         }
@@ -477,6 +486,8 @@ impl Simulation {
             ],
             forces: ForceRecord::default(),
             camera: self.camera(&out.frame, context, targets),
+            // Likewise (`records::with_no_go`).
+            no_go_clearance_mm: f64::INFINITY,
         }
     }
 

@@ -45,7 +45,10 @@
 //!   `A_i`), the platform triangle and its spokes to `P`, the endoscope along
 //!   `-z'` from `P` (a nominal length: its insertion is not simulated), both
 //!   instrument shafts (RCM to tip), the target tips and the camera's view
-//!   frustum (`camera_frustum`: lines from the eye to the image's corners).
+//!   frustum (`camera_frustum`: lines from the eye to the image's corners). With an anatomy,
+//!   one more `/scene` message at the first record draws every forbidden
+//!   region (entities `no_go_0`, `no_go_1`, ..., semi-transparent red, kept
+//!   for the whole run).
 //!
 //! For Foxglove's image panel, a schematic endoscope view (no picture: the
 //! annotations on an empty image of the calibration's size):
@@ -96,12 +99,14 @@
 //! builder), `schema` (the data channels' fields and schemas from the
 //! column table, and the Foxglove schemas), `scene` (the `/tf` frames and
 //! the `/scene` drawing),
+//! `regions` (the forbidden regions in the scene),
 //! `writer` (the writer thread), and `sink` ([`McapSink`], which ties them
 //! together).
 
 mod camera;
 mod error;
 mod json;
+mod regions;
 mod scene;
 mod schema;
 mod sink;

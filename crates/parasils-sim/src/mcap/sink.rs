@@ -15,6 +15,7 @@ pub const MOTION_TOPIC: &str = "/motion";
 use super::camera::{self, ANNOTATIONS_TOPIC, CALIBRATION_TOPIC, CameraImage};
 use super::error::McapError;
 use super::json::{log_time, push_num};
+use super::regions;
 use super::scene::{self, SCENE_TOPIC, SceneGeometry, TF_TOPIC};
 use super::schema::{
     self, CAMERA_CALIBRATION_SCHEMA, FRAME_TRANSFORMS_SCHEMA, Field, IMAGE_ANNOTATIONS_SCHEMA,
@@ -25,6 +26,8 @@ use crate::columns::Channel;
 use crate::record::Record;
 use crate::scenario::{CommandKind, Scenario};
 use crate::sink::Sink;
+use parasils_anatomy::Anatomy;
+use std::sync::Arc;
 
 /// The seven data channels' topics, one message per record on each, in the
 /// order of their channel ids.
@@ -105,6 +108,8 @@ pub struct McapSink<W: Write + Seek> {
     /// last `/scene` drew them, and how many path pieces were drawn.
     paths: Option<([Vector3<f64>; 3], u32)>,
     geometry: SceneGeometry,
+    /// The forbidden regions, until the first `/scene` has drawn them.
+    anatomy: Option<Arc<Anatomy>>,
     targets: [Vector3<f64>; 2],
     options: McapOptions,
     scene_period_ns: u64,
@@ -303,6 +308,7 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
                     .collect()
             }),
             paths: None,
+            anatomy: scenario.anatomy.clone(),
             geometry,
             targets: [tips.left, tips.right],
             options,
@@ -391,6 +397,14 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
         self.write(id, seq, ns);
         self.tf.1 = seq.wrapping_add(1);
 
+        // The forbidden regions, once, kept for the whole run.
+        if let Some(anatomy) = self.anatomy.take() {
+            self.buf.clear();
+            regions::write_regions(&anatomy, record.t, ns, &mut self.buf, &mut self.ryu)?;
+            let (id, seq) = self.scene;
+            self.write(id, seq, ns);
+            self.scene.1 = seq.wrapping_add(1);
+        }
         self.buf.clear();
         // In a procedure: the endoscope at its true depth, and the piece of
         // each tip's path since the last scene (kept: no lifetime).

@@ -14,6 +14,7 @@ use parasils::supervisor::{Margin, Margins};
 use super::plan::ProcedurePlan;
 use crate::motion::{Inside, MotionName};
 use crate::record::{ClearanceRecord, Record};
+use parasils_anatomy::NoGoClearance;
 
 /// What the check of a procedure found in one motion: its duration, its
 /// peak rates and its smallest margins.
@@ -55,6 +56,10 @@ pub struct MotionCheck {
     /// sample, mm, fixed frame, in the order of [`Record::PORTS`] (left,
     /// right, endoscope).
     pub port_motion_mm: [f64; 3],
+    /// The smallest sampled gap of the in-body parts to each forbidden
+    /// region, in the order of [`ProcedureCheck::no_go_regions`], mm
+    /// (`+inf` while nothing is inside; empty without an anatomy).
+    pub no_go_mm: Vec<f64>,
 }
 
 /// What the camera saw during a motion that follows the tips, from each
@@ -159,6 +164,9 @@ pub struct ProcedureCheck {
     /// Each actuator's largest fraction of its force limit over the
     /// procedure (0 without tip loads), in the same order.
     pub force_usage: [f64; 12],
+    /// The forbidden regions' names, in the anatomy file's order (empty
+    /// without an anatomy).
+    pub no_go_regions: Vec<String>,
     /// Per margin, the warning under way: its place in `warnings` and the
     /// last sample's index.
     open: [Option<(usize, usize)>; Margin::COUNT],
@@ -194,14 +202,30 @@ impl ProcedureCheck {
                     },
                     camera: m.follow.is_some().then(CameraCheck::default),
                     port_motion_mm: [0.0; 3],
+                    no_go_mm: Vec::new(),
                 })
                 .collect(),
             warnings: Vec::new(),
             usage: [[0.0; 12]; 2],
             force_usage: [0.0; 12],
+            no_go_regions: Vec::new(),
             open: [None; Margin::COUNT],
             camera: Some(*camera),
             port_start: None,
+        }
+    }
+
+    /// Takes one record's gaps to each forbidden region into account
+    /// (nothing without an anatomy).
+    pub(crate) fn push_no_go(&mut self, record: &Record, no_go: Option<&NoGoClearance>) {
+        let (Some(gaps), Some(m)) = (no_go, self.motions.get_mut(record.motion as usize)) else {
+            return;
+        };
+        if m.no_go_mm.len() < gaps.regions.len() {
+            m.no_go_mm.resize(gaps.regions.len(), f64::INFINITY);
+        }
+        for (smallest, gap) in m.no_go_mm.iter_mut().zip(&gaps.regions) {
+            *smallest = smallest.min(gap.gap_mm);
         }
     }
 

@@ -1,0 +1,121 @@
+//! Forbidden regions per control cycle: a closed organ-like mesh of 10^5
+//! triangles (an ellipsoid, `Mesh::ellipsoid(.., 201, 250)`) against the
+//! three in-body segments (both shafts and the endoscope, 50 mm in) at
+//! `t = 1 s` of the paper's motion, through parry's BVH; the organ 10 mm
+//! below the lowest tip (`near`: the query must descend to the triangles
+//! under the tips) and 100 mm below (`far`). The primitives alone for
+//! comparison (a sphere, a rotated box). `f64`.
+//!
+//! `cargo bench -p parasils --bench anatomy`; results in `BENCHMARKS.md`.
+
+mod common;
+
+use core::hint::black_box;
+
+use criterion::Criterion;
+use parasils::kin::{Bodies, BodyGeometry};
+use parasils_anatomy::{Anatomy, InBody, Mesh, Region, Shape};
+
+use common::paper_step_inputs;
+
+/// The three in-body segments at `t = 1 s` of the paper's motion, the
+/// endoscope 50 mm in.
+fn in_body() -> [Option<InBody>; 3] {
+    let common::StepInputs {
+        controller,
+        mut tracker,
+        tips,
+        states,
+    } = paper_step_inputs::<f64>();
+    let step = controller
+        .step(&states[1], &tips, &mut tracker)
+        .expect("the paper's step is regular");
+    let depth = 50.0;
+    let bodies = Bodies::at(
+        &BodyGeometry::assumed(),
+        &step.frame,
+        &controller.left,
+        &step.left.q,
+        &controller.right,
+        &step.right.q,
+        depth,
+    )
+    .expect("finite");
+    InBody::of(&bodies, step.left.q.qs3, step.right.q.qs3, depth)
+}
+
+fn organ(below_mm: f64, bodies: &[Option<InBody>; 3]) -> Anatomy {
+    let lowest = bodies
+        .iter()
+        .flatten()
+        .map(|b| b.tip)
+        .min_by(|a, b| a.z.total_cmp(&b.z))
+        .expect("three bodies inside");
+    let radii = [80.0, 50.0, 30.0];
+    let centre = [lowest.x, lowest.y, lowest.z - below_mm - radii[2]];
+    let mesh = Mesh::ellipsoid(centre, radii, 201, 250).expect("a valid ellipsoid");
+    assert_eq!(mesh.triangles().len(), 100_000);
+    let shape = Shape::Mesh {
+        file: "organ.stl".into(),
+        translation_mm: [0.0; 3],
+        solid: mesh.is_closed(),
+        mesh,
+    };
+    Anatomy {
+        file: "bench.toml".into(),
+        regions: vec![Region::new("organ".into(), shape).expect("parry builds it")],
+    }
+}
+
+fn bench_mesh(c: &mut Criterion) {
+    let bodies = in_body();
+    for (case, below) in [("near", 10.0), ("far", 100.0)] {
+        let anatomy = organ(below, &bodies);
+        let gap = anatomy
+            .clearance(&bodies)
+            .ok()
+            .and_then(|g| g.min())
+            .map(|g| g.gap_mm);
+        eprintln!("anatomy/mesh_1e5/{case}: smallest gap {gap:?} mm");
+        c.bench_function(&format!("anatomy/mesh_1e5_three_segments/{case}"), |b| {
+            b.iter(|| black_box(&anatomy).clearance(black_box(&bodies)))
+        });
+    }
+}
+
+fn bench_primitives(c: &mut Criterion) {
+    let bodies = in_body();
+    let shapes = [
+        (
+            "sphere",
+            Shape::Sphere {
+                centre_mm: [0.0, 0.0, -700.0],
+                radius_mm: 40.0,
+            },
+        ),
+        (
+            "box",
+            Shape::Box {
+                centre_mm: [0.0, 0.0, -700.0],
+                half_extents_mm: [40.0, 30.0, 20.0],
+                rotation_deg: [10.0, -5.0, 30.0],
+            },
+        ),
+    ];
+    for (name, shape) in shapes {
+        let anatomy = Anatomy {
+            file: "bench.toml".into(),
+            regions: vec![Region::new(name.into(), shape).expect("valid")],
+        };
+        c.bench_function(&format!("anatomy/{name}_three_segments"), |b| {
+            b.iter(|| black_box(&anatomy).clearance(black_box(&bodies)))
+        });
+    }
+}
+
+fn main() {
+    let mut c = Criterion::default().configure_from_args();
+    bench_mesh(&mut c);
+    bench_primitives(&mut c);
+    c.final_summary();
+}
