@@ -97,6 +97,8 @@ pub mod columns;
 pub mod csv;
 mod engine;
 pub mod input;
+#[cfg(test)]
+mod input_tests;
 pub mod mcap;
 mod motion;
 pub mod no_go;
@@ -104,6 +106,8 @@ pub mod output;
 #[cfg(feature = "plot")]
 pub mod plot;
 pub mod procedure;
+#[cfg(test)]
+mod procedure_tests;
 mod record;
 mod robot;
 pub mod robot_file;
