@@ -43,6 +43,17 @@
 //! towards the limit, the supervisor stops it again; if it leaves, the margin
 //! grows and nothing is demanded.
 //!
+//! # Clearance
+//! [`with_clearance`](OnlineController::with_clearance) gives the
+//! controller the bodies ([`ClearanceWatch`]: the shafts' and the
+//! endoscope's sizes, the endoscope's depth, the warning and stop
+//! thresholds in mm). Every tick then computes the three surface gaps
+//! ([`Bodies::clearance`], in [`Setpoint::clearance`]) and their rates and
+//! bends from the previous ticks, and the supervisor demands the controlled
+//! stop for a decreasing gap predicted to end below the stop threshold
+//! ([`ClearanceThresholds::check_ahead`]); the stop is carried out as a
+//! margin's. Without it, nothing of the clearance is computed.
+//!
 //! # Time
 //! The controller only uses the time since the active motion's start,
 //! `t - start`, computed in `T`. In `f32` the spacing of the values near
@@ -108,9 +119,12 @@
 
 use crate::Real;
 use crate::error::Error;
-use crate::kin::{ControlStep, Controller, MarginTracker, PlatformState, Pose, TipTargets};
+use crate::kin::{
+    Bodies, BodyGeometry, Clearance, ControlStep, Controller, MarginTracker, PlatformState, Pose,
+    TipTargets,
+};
 use crate::reorientation::turned;
-use crate::supervisor::{MarginSet, Margins, Supervisor};
+use crate::supervisor::{ClearanceThresholds, MarginSet, Margins, PairSet, Supervisor};
 use crate::traj::{Limits, OnlineMulti, State, Synchronization};
 
 /// What the active motion of an [`OnlineController`] is.
@@ -157,6 +171,40 @@ pub struct Setpoint<T: Real> {
     /// The margins that demanded a controlled stop in this cycle (empty when
     /// none did); it was carried out unless a stop was already under way.
     pub stop: MarginSet,
+    /// The surface gaps between the bodies at this cycle, with the closest
+    /// points of their axes (mm, fixed frame); `None` when the controller
+    /// watches no clearance ([`OnlineController::with_clearance`]).
+    pub clearance: Option<Clearance<T>>,
+    /// The pairs whose gap is below the clearance warning threshold.
+    pub clearance_warnings: PairSet,
+    /// The pairs whose gap demanded a controlled stop in this cycle (carried
+    /// out as a margin's is).
+    pub clearance_stop: PairSet,
+}
+
+/// What the online controller needs to watch the clearance between the
+/// instrument shafts and the endoscope ([`OnlineController::with_clearance`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClearanceWatch<T> {
+    /// The bodies' sizes, mm.
+    pub bodies: BodyGeometry<T>,
+    /// The endoscope's insertion below `P` along `-Z'`, mm.
+    pub endoscope_depth: T,
+    /// The warning and stop thresholds on every gap, mm.
+    pub thresholds: ClearanceThresholds<T>,
+}
+
+/// The clearance watched, and what the previous tick saw of it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Watched<T> {
+    watch: ClearanceWatch<T>,
+    /// The previous tick's gaps, mm.
+    previous: Option<[T; 3]>,
+    /// Their rates from the tick before, mm/s (`None` before two ticks).
+    rates: Option<[T; 3]>,
+    /// Their second derivatives along the path at the current speed,
+    /// mm/s^2 (0 before three ticks).
+    bends: [T; 3],
 }
 
 /// The per-cycle controller of motion type 4 with online goals, stops and a
@@ -182,6 +230,8 @@ pub struct OnlineController<T: Real> {
     /// The previous tick's time and margins, and the rates from the tick before.
     previous: Option<(T, Margins<T>)>,
     rates: Margins<T>,
+    /// The clearance watched, if any.
+    clearance: Option<Watched<T>>,
 }
 
 impl<T: Real> OnlineController<T> {
@@ -228,7 +278,62 @@ impl<T: Real> OnlineController<T> {
             last: None,
             previous: None,
             rates: Margins::splat(T::zero()),
+            clearance: None,
         })
+    }
+
+    /// The same controller watching the clearance between the bodies of
+    /// `watch`: every tick computes the three surface gaps
+    /// ([`Bodies::clearance`]) and the supervisor demands a controlled stop
+    /// for a decreasing gap that would end below the stop threshold
+    /// ([`ClearanceThresholds::check_ahead`]), as it does for the margins.
+    /// Called before the first tick (the gaps' rates start from the next
+    /// tick).
+    ///
+    /// # Errors
+    /// [`Error::InvalidClearanceThreshold`] for a threshold that is not
+    /// finite or a warning below the stop one; [`Error::Kinematics`] for an
+    /// invalid size or a non-finite depth (the bodies are placed once at
+    /// the current pose to check them).
+    pub fn with_clearance(mut self, watch: ClearanceWatch<T>) -> Result<Self, Error> {
+        watch.thresholds.validate()?;
+        let mut tracker = self.tracker;
+        let t = self.last.unwrap_or(self.start);
+        let step = self
+            .controller
+            .step(&self.state_at(t), &self.tips, &mut tracker)?;
+        self.gaps(&watch, &step)?;
+        self.clearance = Some(Watched {
+            watch,
+            previous: None,
+            rates: None,
+            bends: [T::zero(); 3],
+        });
+        Ok(self)
+    }
+
+    /// The clearance watched (`None` when none is).
+    pub fn clearance_watch(&self) -> Option<&ClearanceWatch<T>> {
+        self.clearance.as_ref().map(|w| &w.watch)
+    }
+
+    /// The three gaps of `step` with the bodies of `watch`.
+    fn gaps(
+        &self,
+        watch: &ClearanceWatch<T>,
+        step: &ControlStep<T>,
+    ) -> Result<Clearance<T>, Error> {
+        let c = &self.controller;
+        Ok(Bodies::at(
+            &watch.bodies,
+            &step.frame,
+            &c.left,
+            &step.left.q,
+            &c.right,
+            &step.right.q,
+            watch.endoscope_depth,
+        )?
+        .clearance()?)
     }
 
     /// A new goal `[psi, theta]` (rad) accepted at `t` (s): replanned from
@@ -295,20 +400,44 @@ impl<T: Real> OnlineController<T> {
             .controller
             .step(&state, &self.tips, &mut self.tracker)?;
         let margins = Margins::of(&step);
+        let clearance = match &self.clearance {
+            Some(w) => Some(self.gaps(&w.watch, &step)?),
+            None => None,
+        };
+        let mut period = T::zero();
         if let Some((t_prev, m_prev)) = self.previous
             && t > t_prev
         {
-            let per_s = T::one() / (t - t_prev);
+            period = t - t_prev;
+            let per_s = T::one() / period;
             for ((r, m), p) in self.rates.0.iter_mut().zip(margins.0).zip(m_prev.0) {
                 *r = (m - p) * per_s;
             }
+            if let (Some(w), Some(c)) = (&mut self.clearance, &clearance)
+                && let Some(g_prev) = w.previous
+            {
+                w.update(&gap_array(c), &g_prev, per_s, &angles);
+            }
         }
         self.previous = Some((t, margins));
+        if let (Some(w), Some(c)) = (&mut self.clearance, &clearance) {
+            w.previous = Some(gap_array(c));
+        }
         self.last = Some(t);
         let stop_time = self.stop_time(&angles);
         let verdict = self
             .supervisor
             .check_ahead(&margins, &self.rates, stop_time);
+        let gap_verdict = match (&self.clearance, &clearance) {
+            (Some(w), Some(c)) => w.watch.thresholds.check_ahead(
+                &gap_array(c),
+                &w.rates.unwrap_or([T::zero(); 3]),
+                &w.bends,
+                stop_time,
+                period,
+            ),
+            _ => Default::default(),
+        };
         let setpoint = Setpoint {
             t,
             state,
@@ -318,8 +447,11 @@ impl<T: Real> OnlineController<T> {
             margins,
             warnings: verdict.warnings,
             stop: verdict.stop,
+            clearance,
+            clearance_warnings: gap_verdict.warnings,
+            clearance_stop: gap_verdict.stop,
         };
-        if !verdict.stop.is_empty()
+        if (!verdict.stop.is_empty() || !gap_verdict.stop.is_empty())
             && !self.kind.is_stop()
             && stop_time > T::zero()
             && let Ok(motion) = OnlineMulti::stop(angles, self.limits)
@@ -472,5 +604,49 @@ impl<T: Real> OnlineController<T> {
             }
         }
         longest
+    }
+}
+
+/// The three gaps of `c` in the order of [`ClearancePair::ALL`], mm.
+///
+/// [`ClearancePair::ALL`]: crate::kin::ClearancePair::ALL
+fn gap_array<T: Real>(c: &Clearance<T>) -> [T; 3] {
+    [
+        c.left_right.gap,
+        c.left_endoscope.gap,
+        c.right_endoscope.gap,
+    ]
+}
+
+impl<T: Real> Watched<T> {
+    /// The rates from the gaps `now` and `before`, one cycle apart
+    /// (`per_s` = 1 / the cycle, 1/s), and the bends from the change of the
+    /// rates: a gap `g(t) = G(sigma(t))`, `sigma` the way travelled in
+    /// `(psi, theta)`, has `g'' = G'' sigma'^2 + G' sigma''`; the bend is
+    /// `G'' sigma'^2 = g'' - g' sigma'' / sigma'`, what `g''` would be at
+    /// the current speed `sigma'` held constant (the motion's own
+    /// acceleration `sigma''` taken out), 0 at rest.
+    fn update(&mut self, now: &[T; 3], before: &[T; 3], per_s: T, angles: &[State<T>; 2]) {
+        let [a, b] = angles;
+        let speed = (a.velocity * a.velocity + b.velocity * b.velocity).sqrt();
+        let along = if speed > T::zero() {
+            (a.velocity * a.acceleration + b.velocity * b.acceleration) / (speed * speed)
+        } else {
+            T::zero()
+        };
+        let mut rates = [T::zero(); 3];
+        for ((r, g), p) in rates.iter_mut().zip(now).zip(before) {
+            *r = (*g - *p) * per_s;
+        }
+        if let Some(old) = self.rates {
+            for ((bend, r), o) in self.bends.iter_mut().zip(rates).zip(old) {
+                *bend = if speed > T::zero() {
+                    (r - o) * per_s - r * along
+                } else {
+                    T::zero()
+                };
+            }
+        }
+        self.rates = Some(rates);
     }
 }
