@@ -11,7 +11,10 @@
 
 use nalgebra::{Matrix3, Vector3};
 use parasils_sim::robot_file::{parse_robot, robot_to_toml_string};
-use parasils_sim::{ClearanceRecord, Record, Scenario, Simulation, SimulationError, procedure};
+use parasils_sim::{
+    ClearanceRecord, CommandKind, Input, Record, Retarget, RobotSource, Scenario, Simulation,
+    SimulationError, procedure,
+};
 
 type V = Vector3<f64>;
 
@@ -324,4 +327,51 @@ fn the_check_gives_each_motions_smallest_sampled_gaps() {
             assert_eq!(gaps(&m.clearance_mm)[pair], min, "motion {k}, pair {pair}");
         }
     }
+}
+
+/// An online run (the paper's turn, then the same goal commanded again at
+/// 0.5 s) with the right tip moved by `(60, -40, 40)` mm from the mirror, so
+/// that the shafts clear each other: what the turn runs into is the left
+/// shaft against the endoscope (1.287 mm at `P0`, -1.373 mm at the goal).
+fn online_run(clearance_stop: Option<f64>) -> Vec<Record> {
+    let mut robot = parse_robot(&default_robot_text()).expect("valid");
+    robot.supervisor.clearance_stop_mm = clearance_stop;
+    let right = parasils::kin::TipTargets::<f64>::paper().right + V::new(60.0, -40.0, 40.0);
+    let scenario = Input {
+        tip_right_mm: Some([right.x, right.y, right.z]),
+        robot: Some(RobotSource::Loaded(Box::new(robot))),
+        retarget: Some(vec![Retarget {
+            t_s: 0.5,
+            psi_deg: 15.0,
+            theta_deg: 25.0,
+        }]),
+        ..Input::default()
+    }
+    .resolve()
+    .expect("an online run");
+    records(&Simulation::new(scenario).expect("planned"))
+}
+
+#[test]
+fn an_online_run_stops_ahead_of_the_clearance_stop_threshold() {
+    // Unsupervised, the left shaft runs into the endoscope.
+    let free = online_run(None);
+    let lowest = free
+        .iter()
+        .map(|r| r.clearance.left_endoscope)
+        .fold(f64::INFINITY, f64::min);
+    assert!(lowest < -1.3, "{lowest}");
+    assert!(free.iter().all(|r| r.kind != CommandKind::SupervisorStop));
+    // With the robot file's threshold, the online controller stops it, and
+    // every gap (computed apart from the kernel) stays at or above 0.5 mm.
+    let held = online_run(Some(0.5));
+    assert!(held.iter().any(|r| r.kind == CommandKind::SupervisorStop));
+    let sizes = [5.0, 400.0, 10.0, 400.0];
+    for r in held.iter().step_by(7).chain(held.last()) {
+        let g = independent(r, 0.0, sizes);
+        assert!(g.iter().all(|&x| x >= 0.5), "t = {}: {g:?}", r.t);
+        assert!((gaps(&r.clearance)[1] - g[1]).abs() < 1e-9);
+    }
+    let end = held.last().expect("records").clearance.left_endoscope;
+    assert!((0.5..0.7).contains(&end), "{end}");
 }
