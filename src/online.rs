@@ -205,6 +205,12 @@ struct Watched<T> {
     /// Their second derivatives along the path at the current speed,
     /// mm/s^2 (0 before three ticks).
     bends: [T; 3],
+    /// The latest interval between two ticks, s.
+    period: Option<T>,
+    /// A command's time and the rates its motion starts with, looked ahead
+    /// (see [`OnlineController::command`]): the tick at that time checks
+    /// them instead of the rates of the motion before.
+    probe: Option<(T, [T; 3])>,
 }
 
 /// The per-cycle controller of motion type 4 with online goals, stops and a
@@ -308,6 +314,8 @@ impl<T: Real> OnlineController<T> {
             previous: None,
             rates: None,
             bends: [T::zero(); 3],
+            period: None,
+            probe: None,
         });
         Ok(self)
     }
@@ -364,8 +372,40 @@ impl<T: Real> OnlineController<T> {
     ) -> Result<Synchronization, Error> {
         self.check_time(t)?;
         let motion = OnlineMulti::new(self.angles_at(t), goal, self.limits, sync)?;
+        let probe = self.probe(&motion);
         self.begin(t, motion, MotionKind::Command);
+        if let Some(w) = &mut self.clearance {
+            w.probe = probe.map(|rates| (t, rates));
+        }
         Ok(motion.synchronization())
+    }
+
+    /// The gaps' rates at the start of `motion`, looked ahead one cycle:
+    /// the gaps at its start and one tick interval later (1 ms before any
+    /// interval is known), through the kinematics. The rates of the ticks
+    /// are measured over the cycle before, so at a command they are the old
+    /// motion's, and from rest they are 0: a command from a rest just above
+    /// the stop threshold would move a cycle inwards before any rate showed
+    /// it. `None` when the clearance is not watched or either instant
+    /// cannot be solved (the ticks then report it).
+    fn probe(&self, motion: &OnlineMulti<T, 2>) -> Option<[T; 3]> {
+        let w = self.clearance.as_ref()?;
+        let h = w.period.unwrap_or(T::lit(1e-3));
+        let mut tracker = self.tracker;
+        let mut gaps_at = |dt: T| {
+            let state = self.platform(motion.sample(dt));
+            let step = self
+                .controller
+                .step(&state, &self.tips, &mut tracker)
+                .ok()?;
+            self.gaps(&w.watch, &step).ok().map(|c| gap_array(&c))
+        };
+        let (now, later) = (gaps_at(T::zero())?, gaps_at(h)?);
+        let mut rates = [T::zero(); 3];
+        for ((r, a), b) in rates.iter_mut().zip(now).zip(later) {
+            *r = (b - a) / h;
+        }
+        Some(rates)
     }
 
     /// The controlled stop from the state at `t` (s): both angles to rest at
@@ -417,6 +457,7 @@ impl<T: Real> OnlineController<T> {
                 && let Some(g_prev) = w.previous
             {
                 w.update(&gap_array(c), &g_prev, per_s, &angles);
+                w.period = Some(period);
             }
         }
         self.previous = Some((t, margins));
@@ -428,14 +469,18 @@ impl<T: Real> OnlineController<T> {
         let verdict = self
             .supervisor
             .check_ahead(&margins, &self.rates, stop_time);
-        let gap_verdict = match (&self.clearance, &clearance) {
-            (Some(w), Some(c)) => w.watch.thresholds.check_ahead(
-                &gap_array(c),
-                &w.rates.unwrap_or([T::zero(); 3]),
-                &w.bends,
-                stop_time,
-                period,
-            ),
+        let gap_verdict = match (&mut self.clearance, &clearance) {
+            (Some(w), Some(c)) => {
+                // At a command's own tick, the rates its motion starts with.
+                let rates = match w.probe {
+                    Some((t0, rates)) if t0 == t => rates,
+                    _ => w.rates.unwrap_or([T::zero(); 3]),
+                };
+                w.probe = None;
+                w.watch
+                    .thresholds
+                    .check_ahead(&gap_array(c), &rates, &w.bends, stop_time, period)
+            }
             _ => Default::default(),
         };
         let setpoint = Setpoint {
@@ -451,9 +496,13 @@ impl<T: Real> OnlineController<T> {
             clearance_warnings: gap_verdict.warnings,
             clearance_stop: gap_verdict.stop,
         };
+        // A gap's demand at a motion's first instant, still at rest, holds
+        // the platform there (a stop of zero duration): the motion would
+        // take it below the stop threshold.
+        let holds = !gap_verdict.stop.is_empty() && !self.is_at_rest(t);
         if (!verdict.stop.is_empty() || !gap_verdict.stop.is_empty())
             && !self.kind.is_stop()
-            && stop_time > T::zero()
+            && (stop_time > T::zero() || holds)
             && let Ok(motion) = OnlineMulti::stop(angles, self.limits)
         {
             self.begin(t, motion, MotionKind::SupervisorStop);
