@@ -182,6 +182,11 @@ pub struct Setpoint<T: Real> {
     pub clearance_stop: PairSet,
 }
 
+/// How far above the clearance stop threshold (mm) a command looks its
+/// motion's first cycle ahead even when no gap is below the warning
+/// threshold (see [`OnlineController::command`]).
+pub const PROBE_BAND_MM: f64 = 1.0;
+
 /// What the online controller needs to watch the clearance between the
 /// instrument shafts and the endoscope ([`OnlineController::with_clearance`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -308,10 +313,12 @@ impl<T: Real> OnlineController<T> {
         let step = self
             .controller
             .step(&self.state_at(t), &self.tips, &mut tracker)?;
-        self.gaps(&watch, &step)?;
+        let gaps = self.gaps(&watch, &step)?;
         self.clearance = Some(Watched {
             watch,
-            previous: None,
+            // Where it rests now: a first command looks ahead only near the
+            // stop threshold (the rates start from two ticks).
+            previous: Some(gap_array(&gaps)),
             rates: None,
             bends: [T::zero(); 3],
             period: None,
@@ -349,6 +356,9 @@ impl<T: Real> OnlineController<T> {
     /// time-optimal, phase synchronisation requested (a straight line when
     /// the velocity points along the remaining way or the platform is at
     /// rest, else time synchronisation). Returns the synchronisation used.
+    /// Watching the clearance with a gap near its stop threshold, it also
+    /// takes the gaps' rates at the new motion's start one cycle ahead,
+    /// through the kinematics, for the tick at `t` to check.
     ///
     /// # Errors
     /// [`Error::NonFiniteTime`], [`Error::TimeReversed`], or
@@ -386,10 +396,25 @@ impl<T: Real> OnlineController<T> {
     /// are measured over the cycle before, so at a command they are the old
     /// motion's, and from rest they are 0: a command from a rest just above
     /// the stop threshold would move a cycle inwards before any rate showed
-    /// it. `None` when the clearance is not watched or either instant
-    /// cannot be solved (the ticks then report it).
+    /// it. A cycle's motion moves a gap by micrometres, so the look-ahead
+    /// (two kinematics steps, as much as two cycles) is taken only when the
+    /// latest tick had a gap below the warning threshold or within
+    /// [`PROBE_BAND_MM`] of the stop threshold. `None` otherwise, when the
+    /// clearance is not watched, or when either instant cannot be solved
+    /// (the ticks then report it).
     fn probe(&self, motion: &OnlineMulti<T, 2>) -> Option<[T; 3]> {
         let w = self.clearance.as_ref()?;
+        let near = T::lit(PROBE_BAND_MM) + w.watch.thresholds.stop;
+        let band = if w.watch.thresholds.warn > near {
+            w.watch.thresholds.warn
+        } else {
+            near
+        };
+        if let Some(gaps) = w.previous
+            && gaps.iter().all(|&g| g >= band)
+        {
+            return None;
+        }
         let h = w.period.unwrap_or(T::lit(1e-3));
         let mut tracker = self.tracker;
         let mut gaps_at = |dt: T| {

@@ -480,7 +480,7 @@ impl<T: Real> ClearanceThresholds<T> {
             };
             // The predicted change, negative when the gap falls.
             let change = (rate * lead + lower) * T::lit(1.25);
-            let decreasing = !(rate >= T::zero());
+            let decreasing = !(rate >= T::zero()) || bend.is_nan() || x.is_nan();
             if decreasing && !(x + change >= self.stop) {
                 v.stop.insert(pair);
             }

@@ -297,6 +297,48 @@ fn invalid_thresholds_and_sizes_are_typed_errors() -> Result<(), Error> {
     Ok(())
 }
 
+#[test]
+fn the_prediction_is_the_documented_one() {
+    let th = ClearanceThresholds {
+        warn: 2.0,
+        stop: 0.5,
+    };
+    let check = |x: f64, rate: f64, bend: f64| {
+        let v = th.check_ahead(
+            &[x, 5.0, 5.0],
+            &[rate, 0.0, 0.0],
+            &[bend, 0.0, 0.0],
+            0.5,
+            1e-3,
+        );
+        assert!(v.stop.len() <= 1 && v.warnings.len() <= 1);
+        (
+            v.warnings.contains(ClearancePair::LeftRight),
+            v.stop.contains(ClearancePair::LeftRight),
+        )
+    };
+    // L = 1.5 ms + (0.5 s + 1 ms) / 2 = 0.252 s; falling at 1 mm/s the
+    // predicted fall is 1.25 * 0.252 = 0.315 mm.
+    assert_eq!(check(0.816, -1.0, 0.0), (true, false));
+    assert_eq!(check(0.814, -1.0, 0.0), (true, true));
+    // A bend of -2 mm/s^2 adds 1.25 * 2 * 0.252^2 / 2 = 0.0794 mm.
+    assert_eq!(check(0.896, -1.0, -2.0), (true, false));
+    assert_eq!(check(0.893, -1.0, -2.0), (true, true));
+    // A positive bend counts for nothing; a gap that grows demands nothing,
+    // however low.
+    assert_eq!(check(0.814, -1.0, 5.0), (true, true));
+    assert_eq!(check(0.1, 1.0, -100.0), (true, false));
+    assert_eq!(check(3.0, -1.0, 0.0), (false, false));
+    // NaN demands a stop.
+    for (x, rate, bend) in [
+        (f64::NAN, 0.0, 0.0),
+        (1.0, f64::NAN, 0.0),
+        (1.0, 0.0, f64::NAN),
+    ] {
+        assert!(check(x, rate, bend).1, "{x} {rate} {bend}");
+    }
+}
+
 /// What a batch of random retarget sequences saw.
 #[derive(Debug, Default)]
 struct Tally {
