@@ -401,7 +401,7 @@ fn path_minimum(start: &Record, goal: &Record) -> f64 {
     (0..=20_000)
         .map(|i| {
             let s = f64::from(i) / 20_000.0;
-            let mut r = start.clone();
+            let mut r = *start;
             for k in 3..5 {
                 r.pose[k] = start.pose[k] + s * (goal.pose[k] - start.pose[k]);
             }
