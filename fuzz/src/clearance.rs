@@ -117,25 +117,44 @@ fn check<T: FuzzFloat>(a: &Segment<T>, b: &Segment<T>) {
     let (s, t) = (c.s.wide(), c.t.wide());
     let (pa, pb) = (wide(&c.point_a), wide(&c.point_b));
     let all = [d, s, t, pa.x, pa.y, pa.z, pb.x, pb.y, pb.z];
-    assert!(all.iter().all(|x| x.is_finite()), "a non-finite Ok: {all:?} ({})", T::NAME);
+    assert!(
+        all.iter().all(|x| x.is_finite()),
+        "a non-finite Ok: {all:?} ({})",
+        T::NAME
+    );
     assert!(d >= 0.0, "a negative distance {d}");
-    assert!((0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t), "s = {s}, t = {t}");
+    assert!(
+        (0.0..=1.0).contains(&s) && (0.0..=1.0).contains(&t),
+        "s = {s}, t = {t}"
+    );
     let [a0, a1, b0, b1] = ends;
     for (p, x0, x1, u, what) in [(pa, a0, a1, s, "a"), (pb, b0, b1, t, "b")] {
         let on = x0 + (x1 - x0) * u;
-        assert!((p - on).norm() <= tol, "point_{what} {p:?} is not at {u} on its segment: {on:?} (tolerance {tol})");
+        assert!(
+            (p - on).norm() <= tol,
+            "point_{what} {p:?} is not at {u} on its segment: {on:?} (tolerance {tol})"
+        );
     }
     let between = (pa - pb).norm();
-    assert!((d - between).abs() <= tol, "distance {d} but |point_a - point_b| = {between} (tolerance {tol})");
+    assert!(
+        (d - between).abs() <= tol,
+        "distance {d} but |point_a - point_b| = {between} (tolerance {tol})"
+    );
     match kernel(b, a) {
         Ok(swapped) => {
             let e = swapped.distance.wide();
-            assert!((d - e).abs() <= tol, "not symmetric: {d} and {e} (tolerance {tol})");
+            assert!(
+                (d - e).abs() <= tol,
+                "not symmetric: {d} and {e} (tolerance {tol})"
+            );
         }
         Err(e) => panic!("the swap fails: {e}"),
     }
     for (p, x0, x1) in [(a0, b0, b1), (a1, b0, b1), (b0, a0, a1), (b1, a0, a1)] {
         let bound = point_segment(&p, &x0, &x1);
-        assert!(d <= bound + tol, "distance {d} above an end's distance {bound} (tolerance {tol})");
+        assert!(
+            d <= bound + tol,
+            "distance {d} above an end's distance {bound} (tolerance {tol})"
+        );
     }
 }
