@@ -253,7 +253,11 @@ pub fn values<T: Real>(s: &Setpoint<T>) -> impl Iterator<Item = T> {
 /// if the controller watched none).
 fn gaps<T: Real>(s: &Setpoint<T>) -> [T; 3] {
     s.clearance.map_or([T::lit(f64::NAN); 3], |c| {
-        [c.left_right.gap, c.left_endoscope.gap, c.right_endoscope.gap]
+        [
+            c.left_right.gap,
+            c.left_endoscope.gap,
+            c.right_endoscope.gap,
+        ]
     })
 }
 
