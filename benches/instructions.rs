@@ -16,16 +16,17 @@ use std::process::Command;
 
 use parasils::Reorientation;
 use parasils::kin::{
-    Actuators, AssemblyMode, ControlStep, Controller, FkSolution, InstrumentSolution, Joints,
-    MarginTracker, ParallelSolution, PlatformFrame, PlatformState, Pose, TipMotion, TipTargets,
+    Actuators, AssemblyMode, Bodies, BodyGeometry, Clearance, ControlStep, Controller, FkSolution,
+    InstrumentSolution, Joints, MarginTracker, ParallelSolution, PlatformFrame, PlatformState,
+    Pose, TipMotion, TipTargets,
 };
 use parasils::traj::{Multi, State, Synchronization};
 use parasils::{OnlineController, Setpoint};
 
-use common::{paper_motion, paper_online, paper_step_inputs, retarget};
+use common::{paper_motion, paper_online, paper_online_watching, paper_step_inputs, retarget};
 
 /// The kernels, by name: what each call does.
-const KERNELS: [(&str, &str); 14] = [
+const KERNELS: [(&str, &str); 17] = [
     (
         "step_f64",
         "Controller::step (from the step 1 ms earlier), f64",
@@ -69,6 +70,18 @@ const KERNELS: [(&str, &str); 14] = [
     (
         "online_tick_f32",
         "OnlineController::tick (step and supervisor, from 1 ms earlier), f32",
+    ),
+    (
+        "online_tick_clearance_f64",
+        "OnlineController::tick watching the clearance (the three gaps, checked ahead), f64",
+    ),
+    (
+        "online_tick_clearance_f32",
+        "OnlineController::tick watching the clearance (the three gaps, checked ahead), f32",
+    ),
+    (
+        "clearance_f64",
+        "Bodies::at and Bodies::clearance (the three capsule gaps of a cycle), f64",
     ),
     (
         "online_command_f64",
@@ -169,6 +182,46 @@ fn kernel_online_tick_f32(o: &mut OnlineController<f32>, t: f32) -> Option<Setpo
 }
 
 #[inline(never)]
+fn kernel_online_tick_clearance_f64(
+    o: &mut OnlineController<f64>,
+    t: f64,
+) -> Option<Clearance<f64>> {
+    // The tick's gaps, so that this wrapper is not folded into
+    // `kernel_online_tick_f64` (the same code otherwise).
+    o.tick(t).ok()?.clearance
+}
+
+#[inline(never)]
+fn kernel_online_tick_clearance_f32(
+    o: &mut OnlineController<f32>,
+    t: f32,
+) -> Option<Clearance<f32>> {
+    // The tick's gaps, so that this wrapper is not folded into
+    // `kernel_online_tick_f32` (the same code otherwise).
+    o.tick(t).ok()?.clearance
+}
+
+#[inline(never)]
+fn kernel_clearance_f64(
+    c: &Controller<f64>,
+    step: &ControlStep<f64>,
+    bodies: &BodyGeometry<f64>,
+) -> Option<Clearance<f64>> {
+    Bodies::at(
+        bodies,
+        &step.frame,
+        &c.left,
+        &step.left.q,
+        &c.right,
+        &step.right.q,
+        0.0,
+    )
+    .ok()?
+    .clearance()
+    .ok()
+}
+
+#[inline(never)]
 fn kernel_online_command_f64(
     o: &mut OnlineController<f64>,
     t: f64,
@@ -217,6 +270,12 @@ fn run(name: &str, n: usize) {
     // never runs backwards), made outside the kernel.
     let online = paper_online::<f64>();
     let online32 = paper_online::<f32>();
+    let watching = paper_online_watching::<f64>();
+    let watching32 = paper_online_watching::<f32>();
+    let bodies = BodyGeometry::<f64>::assumed();
+    let step = c
+        .step(&state, &tips, &mut MarginTracker::new())
+        .expect("regular");
     let goal = retarget::<f64>();
     for i in 0..n {
         // The steps alternate t = 1 s and t = 0.999 s (see `paper_step_inputs`).
@@ -271,6 +330,19 @@ fn run(name: &str, n: usize) {
                 let mut o = black_box(online32);
                 let _ = black_box(kernel_online_tick_f32(&mut o, black_box(1.0)));
             }
+            "online_tick_clearance_f64" => {
+                let mut o = black_box(watching);
+                let _ = black_box(kernel_online_tick_clearance_f64(&mut o, black_box(1.0)));
+            }
+            "online_tick_clearance_f32" => {
+                let mut o = black_box(watching32);
+                let _ = black_box(kernel_online_tick_clearance_f32(&mut o, black_box(1.0)));
+            }
+            "clearance_f64" => drop(black_box(kernel_clearance_f64(
+                black_box(&c),
+                black_box(&step),
+                black_box(&bodies),
+            ))),
             "online_command_f64" => {
                 let mut o = black_box(online);
                 let _ = black_box(kernel_online_command_f64(

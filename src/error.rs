@@ -45,4 +45,18 @@ pub enum Error {
         /// What it must exceed (a warning threshold may equal it).
         min: f64,
     },
+    /// A clearance threshold of the supervisor
+    /// ([`ClearanceThresholds`](crate::supervisor::ClearanceThresholds)) is
+    /// not finite, or the warning threshold is below the stop one.
+    #[error(
+        "the supervisor's clearance {what} threshold is {value} mm: it must be finite and at least {min} mm"
+    )]
+    InvalidClearanceThreshold {
+        /// `"stop"` or `"warning"`.
+        what: &'static str,
+        /// The threshold given, mm.
+        value: f64,
+        /// What it must reach (`-inf` for the stop threshold: only finite).
+        min: f64,
+    },
 }

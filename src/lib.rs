@@ -34,10 +34,12 @@ pub use follow::{Follow, FollowError, FollowParams, FollowPhase, FollowStep};
 pub use geometry::{Geometry, MotionSample, MotionType, Moving, Port, RobotState};
 pub use margin::Margin;
 pub use motions::{Insertion, Manipulation, Motion, Positioning, Turning};
-pub use online::{MotionKind, OnlineController, Setpoint};
+pub use online::{ClearanceWatch, MotionKind, OnlineController, Setpoint};
 pub use path::{MotionPath, PathPoint};
 pub use reorientation::Reorientation;
-pub use supervisor::{MarginSet, Margins, Supervisor, Verdict};
+pub use supervisor::{
+    ClearanceThresholds, ClearanceVerdict, MarginSet, Margins, PairSet, Supervisor, Verdict,
+};
 
 /// The float type of both crates, [`f32`] or [`f64`]: the one trait the
 /// kinematics ([`kin::Real`]) and the profiles ([`traj::Real`]) are both

@@ -43,6 +43,17 @@
 //! towards the limit, the supervisor stops it again; if it leaves, the margin
 //! grows and nothing is demanded.
 //!
+//! # Clearance
+//! [`with_clearance`](OnlineController::with_clearance) gives the
+//! controller the bodies ([`ClearanceWatch`]: the shafts' and the
+//! endoscope's sizes, the endoscope's depth, the warning and stop
+//! thresholds in mm). Every tick then computes the three surface gaps
+//! ([`Bodies::clearance`], in [`Setpoint::clearance`]) and their rates and
+//! bends from the previous ticks, and the supervisor demands the controlled
+//! stop for a decreasing gap predicted to end below the stop threshold
+//! ([`ClearanceThresholds::check_ahead`]); the stop is carried out as a
+//! margin's. Without it, nothing of the clearance is computed.
+//!
 //! # Time
 //! The controller only uses the time since the active motion's start,
 //! `t - start`, computed in `T`. In `f32` the spacing of the values near
@@ -108,9 +119,12 @@
 
 use crate::Real;
 use crate::error::Error;
-use crate::kin::{ControlStep, Controller, MarginTracker, PlatformState, Pose, TipTargets};
+use crate::kin::{
+    Bodies, BodyGeometry, Clearance, ControlStep, Controller, MarginTracker, PlatformState, Pose,
+    TipTargets,
+};
 use crate::reorientation::turned;
-use crate::supervisor::{MarginSet, Margins, Supervisor};
+use crate::supervisor::{ClearanceThresholds, MarginSet, Margins, PairSet, Supervisor};
 use crate::traj::{Limits, OnlineMulti, State, Synchronization};
 
 /// What the active motion of an [`OnlineController`] is.
@@ -157,6 +171,51 @@ pub struct Setpoint<T: Real> {
     /// The margins that demanded a controlled stop in this cycle (empty when
     /// none did); it was carried out unless a stop was already under way.
     pub stop: MarginSet,
+    /// The surface gaps between the bodies at this cycle, with the closest
+    /// points of their axes (mm, fixed frame); `None` when the controller
+    /// watches no clearance ([`OnlineController::with_clearance`]).
+    pub clearance: Option<Clearance<T>>,
+    /// The pairs whose gap is below the clearance warning threshold.
+    pub clearance_warnings: PairSet,
+    /// The pairs whose gap demanded a controlled stop in this cycle (carried
+    /// out as a margin's is).
+    pub clearance_stop: PairSet,
+}
+
+/// How far above the clearance stop threshold (mm) a command looks its
+/// motion's first cycle ahead even when no gap is below the warning
+/// threshold (see [`OnlineController::command`]).
+pub const PROBE_BAND_MM: f64 = 1.0;
+
+/// What the online controller needs to watch the clearance between the
+/// instrument shafts and the endoscope ([`OnlineController::with_clearance`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClearanceWatch<T> {
+    /// The bodies' sizes, mm.
+    pub bodies: BodyGeometry<T>,
+    /// The endoscope's insertion below `P` along `-Z'`, mm.
+    pub endoscope_depth: T,
+    /// The warning and stop thresholds on every gap, mm.
+    pub thresholds: ClearanceThresholds<T>,
+}
+
+/// The clearance watched, and what the previous tick saw of it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Watched<T> {
+    watch: ClearanceWatch<T>,
+    /// The previous tick's gaps, mm.
+    previous: Option<[T; 3]>,
+    /// Their rates from the tick before, mm/s (`None` before two ticks).
+    rates: Option<[T; 3]>,
+    /// Their second derivatives along the path at the current speed,
+    /// mm/s^2 (0 before three ticks).
+    bends: [T; 3],
+    /// The latest interval between two ticks, s.
+    period: Option<T>,
+    /// A command's time and the rates its motion starts with, looked ahead
+    /// (see [`OnlineController::command`]): the tick at that time checks
+    /// them instead of the rates of the motion before.
+    probe: Option<(T, [T; 3])>,
 }
 
 /// The per-cycle controller of motion type 4 with online goals, stops and a
@@ -182,6 +241,8 @@ pub struct OnlineController<T: Real> {
     /// The previous tick's time and margins, and the rates from the tick before.
     previous: Option<(T, Margins<T>)>,
     rates: Margins<T>,
+    /// The clearance watched, if any.
+    clearance: Option<Watched<T>>,
 }
 
 impl<T: Real> OnlineController<T> {
@@ -228,7 +289,66 @@ impl<T: Real> OnlineController<T> {
             last: None,
             previous: None,
             rates: Margins::splat(T::zero()),
+            clearance: None,
         })
+    }
+
+    /// The same controller watching the clearance between the bodies of
+    /// `watch`: every tick computes the three surface gaps
+    /// ([`Bodies::clearance`]) and the supervisor demands a controlled stop
+    /// for a decreasing gap that would end below the stop threshold
+    /// ([`ClearanceThresholds::check_ahead`]), as it does for the margins.
+    /// Called before the first tick (the gaps' rates start from the next
+    /// tick).
+    ///
+    /// # Errors
+    /// [`Error::InvalidClearanceThreshold`] for a threshold that is not
+    /// finite or a warning below the stop one; [`Error::Kinematics`] for an
+    /// invalid size or a non-finite depth (the bodies are placed once at
+    /// the current pose to check them).
+    pub fn with_clearance(mut self, watch: ClearanceWatch<T>) -> Result<Self, Error> {
+        watch.thresholds.validate()?;
+        let mut tracker = self.tracker;
+        let t = self.last.unwrap_or(self.start);
+        let step = self
+            .controller
+            .step(&self.state_at(t), &self.tips, &mut tracker)?;
+        let gaps = self.gaps(&watch, &step)?;
+        self.clearance = Some(Watched {
+            watch,
+            // Where it rests now: a first command looks ahead only near the
+            // stop threshold (the rates start from two ticks).
+            previous: Some(gap_array(&gaps)),
+            rates: None,
+            bends: [T::zero(); 3],
+            period: None,
+            probe: None,
+        });
+        Ok(self)
+    }
+
+    /// The clearance watched (`None` when none is).
+    pub fn clearance_watch(&self) -> Option<&ClearanceWatch<T>> {
+        self.clearance.as_ref().map(|w| &w.watch)
+    }
+
+    /// The three gaps of `step` with the bodies of `watch`.
+    fn gaps(
+        &self,
+        watch: &ClearanceWatch<T>,
+        step: &ControlStep<T>,
+    ) -> Result<Clearance<T>, Error> {
+        let c = &self.controller;
+        Ok(Bodies::at(
+            &watch.bodies,
+            &step.frame,
+            &c.left,
+            &step.left.q,
+            &c.right,
+            &step.right.q,
+            watch.endoscope_depth,
+        )?
+        .clearance()?)
     }
 
     /// A new goal `[psi, theta]` (rad) accepted at `t` (s): replanned from
@@ -236,6 +356,9 @@ impl<T: Real> OnlineController<T> {
     /// time-optimal, phase synchronisation requested (a straight line when
     /// the velocity points along the remaining way or the platform is at
     /// rest, else time synchronisation). Returns the synchronisation used.
+    /// Watching the clearance with a gap near its stop threshold, it also
+    /// takes the gaps' rates at the new motion's start one cycle ahead,
+    /// through the kinematics, for the tick at `t` to check.
     ///
     /// # Errors
     /// [`Error::NonFiniteTime`], [`Error::TimeReversed`], or
@@ -259,8 +382,55 @@ impl<T: Real> OnlineController<T> {
     ) -> Result<Synchronization, Error> {
         self.check_time(t)?;
         let motion = OnlineMulti::new(self.angles_at(t), goal, self.limits, sync)?;
+        let probe = self.probe(&motion);
         self.begin(t, motion, MotionKind::Command);
+        if let Some(w) = &mut self.clearance {
+            w.probe = probe.map(|rates| (t, rates));
+        }
         Ok(motion.synchronization())
+    }
+
+    /// The gaps' rates at the start of `motion`, looked ahead one cycle:
+    /// the gaps at its start and one tick interval later (1 ms before any
+    /// interval is known), through the kinematics. The rates of the ticks
+    /// are measured over the cycle before, so at a command they are the old
+    /// motion's, and from rest they are 0: a command from a rest just above
+    /// the stop threshold would move a cycle inwards before any rate showed
+    /// it. A cycle's motion moves a gap by micrometres, so the look-ahead
+    /// (two kinematics steps, as much as two cycles) is taken only when the
+    /// latest tick had a gap below the warning threshold or within
+    /// [`PROBE_BAND_MM`] of the stop threshold. `None` otherwise, when the
+    /// clearance is not watched, or when either instant cannot be solved
+    /// (the ticks then report it).
+    fn probe(&self, motion: &OnlineMulti<T, 2>) -> Option<[T; 3]> {
+        let w = self.clearance.as_ref()?;
+        let near = T::lit(PROBE_BAND_MM) + w.watch.thresholds.stop;
+        let band = if w.watch.thresholds.warn > near {
+            w.watch.thresholds.warn
+        } else {
+            near
+        };
+        if let Some(gaps) = w.previous
+            && gaps.iter().all(|&g| g >= band)
+        {
+            return None;
+        }
+        let h = w.period.unwrap_or(T::lit(1e-3));
+        let mut tracker = self.tracker;
+        let mut gaps_at = |dt: T| {
+            let state = self.platform(motion.sample(dt));
+            let step = self
+                .controller
+                .step(&state, &self.tips, &mut tracker)
+                .ok()?;
+            self.gaps(&w.watch, &step).ok().map(|c| gap_array(&c))
+        };
+        let (now, later) = (gaps_at(T::zero())?, gaps_at(h)?);
+        let mut rates = [T::zero(); 3];
+        for ((r, a), b) in rates.iter_mut().zip(now).zip(later) {
+            *r = (b - a) / h;
+        }
+        Some(rates)
     }
 
     /// The controlled stop from the state at `t` (s): both angles to rest at
@@ -295,20 +465,49 @@ impl<T: Real> OnlineController<T> {
             .controller
             .step(&state, &self.tips, &mut self.tracker)?;
         let margins = Margins::of(&step);
+        let clearance = match &self.clearance {
+            Some(w) => Some(self.gaps(&w.watch, &step)?),
+            None => None,
+        };
+        let mut period = T::zero();
         if let Some((t_prev, m_prev)) = self.previous
             && t > t_prev
         {
-            let per_s = T::one() / (t - t_prev);
+            period = t - t_prev;
+            let per_s = T::one() / period;
             for ((r, m), p) in self.rates.0.iter_mut().zip(margins.0).zip(m_prev.0) {
                 *r = (m - p) * per_s;
             }
+            if let (Some(w), Some(c)) = (&mut self.clearance, &clearance)
+                && let Some(g_prev) = w.previous
+            {
+                w.update(&gap_array(c), &g_prev, per_s, &angles);
+                w.period = Some(period);
+            }
         }
         self.previous = Some((t, margins));
+        if let (Some(w), Some(c)) = (&mut self.clearance, &clearance) {
+            w.previous = Some(gap_array(c));
+        }
         self.last = Some(t);
         let stop_time = self.stop_time(&angles);
         let verdict = self
             .supervisor
             .check_ahead(&margins, &self.rates, stop_time);
+        let gap_verdict = match (&mut self.clearance, &clearance) {
+            (Some(w), Some(c)) => {
+                // At a command's own tick, the rates its motion starts with.
+                let rates = match w.probe {
+                    Some((t0, rates)) if t0 == t => rates,
+                    _ => w.rates.unwrap_or([T::zero(); 3]),
+                };
+                w.probe = None;
+                w.watch
+                    .thresholds
+                    .check_ahead(&gap_array(c), &rates, &w.bends, stop_time, period)
+            }
+            _ => Default::default(),
+        };
         let setpoint = Setpoint {
             t,
             state,
@@ -318,10 +517,17 @@ impl<T: Real> OnlineController<T> {
             margins,
             warnings: verdict.warnings,
             stop: verdict.stop,
+            clearance,
+            clearance_warnings: gap_verdict.warnings,
+            clearance_stop: gap_verdict.stop,
         };
-        if !verdict.stop.is_empty()
+        // A gap's demand at a motion's first instant, still at rest, holds
+        // the platform there (a stop of zero duration): the motion would
+        // take it below the stop threshold.
+        let holds = !gap_verdict.stop.is_empty() && !self.is_at_rest(t);
+        if (!verdict.stop.is_empty() || !gap_verdict.stop.is_empty())
             && !self.kind.is_stop()
-            && stop_time > T::zero()
+            && (stop_time > T::zero() || holds)
             && let Ok(motion) = OnlineMulti::stop(angles, self.limits)
         {
             self.begin(t, motion, MotionKind::SupervisorStop);
@@ -472,5 +678,49 @@ impl<T: Real> OnlineController<T> {
             }
         }
         longest
+    }
+}
+
+/// The three gaps of `c` in the order of [`ClearancePair::ALL`], mm.
+///
+/// [`ClearancePair::ALL`]: crate::kin::ClearancePair::ALL
+fn gap_array<T: Real>(c: &Clearance<T>) -> [T; 3] {
+    [
+        c.left_right.gap,
+        c.left_endoscope.gap,
+        c.right_endoscope.gap,
+    ]
+}
+
+impl<T: Real> Watched<T> {
+    /// The rates from the gaps `now` and `before`, one cycle apart
+    /// (`per_s` = 1 / the cycle, 1/s), and the bends from the change of the
+    /// rates: a gap `g(t) = G(sigma(t))`, `sigma` the way travelled in
+    /// `(psi, theta)`, has `g'' = G'' sigma'^2 + G' sigma''`; the bend is
+    /// `G'' sigma'^2 = g'' - g' sigma'' / sigma'`, what `g''` would be at
+    /// the current speed `sigma'` held constant (the motion's own
+    /// acceleration `sigma''` taken out), 0 at rest.
+    fn update(&mut self, now: &[T; 3], before: &[T; 3], per_s: T, angles: &[State<T>; 2]) {
+        let [a, b] = angles;
+        let speed = (a.velocity * a.velocity + b.velocity * b.velocity).sqrt();
+        let along = if speed > T::zero() {
+            (a.velocity * a.acceleration + b.velocity * b.acceleration) / (speed * speed)
+        } else {
+            T::zero()
+        };
+        let mut rates = [T::zero(); 3];
+        for ((r, g), p) in rates.iter_mut().zip(now).zip(before) {
+            *r = (*g - *p) * per_s;
+        }
+        if let Some(old) = self.rates {
+            for ((bend, r), o) in self.bends.iter_mut().zip(rates).zip(old) {
+                *bend = if speed > T::zero() {
+                    (r - o) * per_s - r * along
+                } else {
+                    T::zero()
+                };
+            }
+        }
+        self.rates = Some(rates);
     }
 }

@@ -8,9 +8,10 @@
 //! code measured is the general one.
 #![allow(dead_code, reason = "each bench uses a part")]
 
-use parasils::kin::{Controller, MarginTracker, PlatformState, Pose, TipTargets};
+use parasils::kin::{BodyGeometry, Controller, MarginTracker, PlatformState, Pose, TipTargets};
+use parasils::supervisor::ClearanceThresholds;
 use parasils::traj::Limits;
-use parasils::{OnlineController, Real, Reorientation, Supervisor};
+use parasils::{ClearanceWatch, OnlineController, Real, Reorientation, Supervisor};
 
 /// The paper's reorientation: `psi` +15 deg, `theta` +25 deg from `P0`,
 /// 10 deg/s and 5 deg/s^2, phase-synchronised (4.5 s).
@@ -59,6 +60,26 @@ pub fn paper_step_inputs<T: Real>() -> StepInputs<T> {
 /// bench ticks (or commands) a copy of it at `t = 1 s`, since the
 /// controller's clock never runs backwards.
 pub fn paper_online<T: Real>() -> OnlineController<T> {
+    paper_online_with(None)
+}
+
+/// [`paper_online`] watching the clearance of the assumed bodies (the
+/// endoscope at depth 0) with thresholds no gap of the paper's run reaches
+/// (-1000 mm: its shafts overlap, see `docs/model.md`, *Clearance*), so
+/// that every tick computes the three gaps and checks them ahead and the
+/// supervisor stops nothing: the cost of the clearance on a tick.
+pub fn paper_online_watching<T: Real>() -> OnlineController<T> {
+    paper_online_with(Some(ClearanceWatch {
+        bodies: BodyGeometry::assumed(),
+        endoscope_depth: T::zero(),
+        thresholds: ClearanceThresholds {
+            warn: T::lit(-1000.0),
+            stop: T::lit(-1000.0),
+        },
+    }))
+}
+
+fn paper_online_with<T: Real>(watch: Option<ClearanceWatch<T>>) -> OnlineController<T> {
     let lit = T::lit;
     let rad = |deg: f64| lit(deg.to_radians());
     let p0 = Pose::<T>::paper_start();
@@ -70,6 +91,9 @@ pub fn paper_online<T: Real>() -> OnlineController<T> {
         Supervisor::default(),
     )
     .expect("the paper's start is regular");
+    if let Some(w) = watch {
+        online = online.with_clearance(w).expect("valid bodies");
+    }
     online
         .command(T::zero(), [p0.psi + rad(15.0), p0.theta + rad(25.0)])
         .expect("a finite goal");

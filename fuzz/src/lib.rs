@@ -34,6 +34,7 @@ mod calibrate;
 mod stdout;
 
 pub mod calibration;
+pub mod clearance;
 pub mod cli;
 pub mod input;
 pub mod kin;
@@ -47,7 +48,7 @@ pub mod writers;
 pub type Target = (&'static str, fn(&[u8]));
 
 /// Every target, in the campaign's order.
-pub const TARGETS: [Target; 11] = [
+pub const TARGETS: [Target; 12] = [
     ("robot_file", robot_file::robot_file),
     ("cli_simulate", cli::cli_simulate),
     ("instrument", kin::instrument),
@@ -59,4 +60,5 @@ pub const TARGETS: [Target; 11] = [
     ("procedure_file", procedure::procedure_file),
     ("calibration_data", calibration::calibration_data),
     ("tolerance_spec", calibration::tolerance_spec),
+    ("segment_distance", clearance::segment_distance),
 ];

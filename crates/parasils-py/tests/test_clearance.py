@@ -96,3 +96,22 @@ def test_non_finite_input_raises_or_is_masked():
     with pytest.raises(parasils.NonFiniteError) as e:
         parasils.segment_distance_mm([0, 0, 0], [1, 0, 0], [1e300, 0, 0], [-1e300, 1e300, 0])
     assert e.value.what == "segment distance (overflow)"
+
+
+def test_a_batch_is_the_scalar_call_row_by_row():
+    # Random, near-parallel and degenerate rows: every output of the batch
+    # call is, to the bit, the scalar call's on that row (one kernel).
+    n = 90
+    a0, a1, b0, b1 = (RNG.uniform(-300, 300, (n, 3)) for _ in range(4))
+    b1[:30] = b0[:30]
+    a1[30:45] = a0[30:45]
+    u = a1[45:] - a0[45:]
+    b1[45:] = b0[45:] + u + np.cross(RNG.normal(0, 1e-9, (n - 45, 3)), u)
+    d, pa, pb = parasils.segment_distance_mm(a0, a1, b0, b1)
+    for k in range(n):
+        dk, pak, pbk = parasils.segment_distance_mm(a0[k], a1[k], b0[k], b1[k])
+        assert isinstance(dk, float) and pak.shape == (3,) and pbk.shape == (3,)
+        assert d[k] == dk
+        assert np.array_equal(pa[k], pak) and np.array_equal(pb[k], pbk)
+    # And the distance is |pa - pb| by NumPy's own arithmetic.
+    np.testing.assert_allclose(d, np.sqrt(np.sum((pa - pb) ** 2, axis=1)), rtol=1e-15, atol=1e-12)

@@ -3,8 +3,8 @@
 //! margin.
 
 use parasils::kin::{
-    ControlStep, Controller, Error, InstrumentSingularity, Interval, Joint, MarginTracker,
-    PlatformState, Pose, Side, TipTargets,
+    Bodies, BodyGeometry, ClearancePair, ControlStep, Controller, Error, InstrumentSingularity,
+    Interval, Joint, MarginTracker, PlatformState, Pose, Side, TipTargets,
 };
 
 use parasils_sim::{Scenario, SimulationError};
@@ -14,7 +14,7 @@ use parasils_sim::{Scenario, SimulationError};
 /// [`Constraint::code`] is its stable name, as the CSV's `limiting` column
 /// and Python's codes write it: `ok`, `left.qs2.limit`,
 /// `right.out_of_reach`, `module1.q4.stroke`, `module1.q2.serial_singular`,
-/// `module1.parallel_singular`, ...
+/// `module1.parallel_singular`, `clearance.left_right`, ...
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Constraint {
     /// Feasible: every module solved within every limit and threshold.
@@ -42,6 +42,11 @@ pub enum Constraint {
     /// An instrument joint beyond its limit: `left.qs1.limit`, ...,
     /// `right.qs3.limit`.
     JointLimit(Side, Joint),
+    /// Two bodies closer than the robot file's clearance stop threshold
+    /// (`[supervisor]`'s `clearance_stop_mm`; checked only when the file
+    /// gives a clearance threshold): `clearance.left_right`,
+    /// `clearance.left_endoscope`, `clearance.right_endoscope`.
+    Clearance(ClearancePair),
     /// Any other error of the kinematics (a non-finite number): `error`.
     Other,
 }
@@ -95,7 +100,8 @@ const INSTRUMENT: [[&str; 6]; 2] = [
 impl Constraint {
     /// Every constraint, in the order the controller checks them (module 1's
     /// legs, serial margins, strokes, parallel margin; then the left module,
-    /// then the right one), [`Constraint::Ok`] first and
+    /// then the right one; then the clearance of the three pairs, checked
+    /// once the kinematics solve), [`Constraint::Ok`] first and
     /// [`Constraint::Other`] last.
     pub fn all() -> Vec<Constraint> {
         let mut out = vec![Constraint::Ok];
@@ -117,6 +123,7 @@ impl Constraint {
                 Constraint::JointLimit(side, Joint::Qs3),
             ]);
         }
+        out.extend(ClearancePair::ALL.map(Constraint::Clearance));
         out.push(Constraint::Other);
         out
     }
@@ -142,7 +149,10 @@ impl Constraint {
             Constraint::CosQs2Singular(s) => 21 + side(s),
             Constraint::Qs3Singular(s) => 22 + side(s),
             Constraint::JointLimit(s, j) => 20 + side(s) + joint(j),
-            Constraint::Other => 32,
+            Constraint::Clearance(ClearancePair::LeftRight) => 32,
+            Constraint::Clearance(ClearancePair::LeftEndoscope) => 33,
+            Constraint::Clearance(ClearancePair::RightEndoscope) => 34,
+            Constraint::Other => 35,
         }
     }
 
@@ -165,6 +175,9 @@ impl Constraint {
             Constraint::JointLimit(s, Joint::Qs1) => INSTRUMENT[side(s)][3],
             Constraint::JointLimit(s, Joint::Qs2) => INSTRUMENT[side(s)][4],
             Constraint::JointLimit(s, Joint::Qs3) => INSTRUMENT[side(s)][5],
+            Constraint::Clearance(ClearancePair::LeftRight) => "clearance.left_right",
+            Constraint::Clearance(ClearancePair::LeftEndoscope) => "clearance.left_endoscope",
+            Constraint::Clearance(ClearancePair::RightEndoscope) => "clearance.right_endoscope",
             Constraint::Other => "error",
         }
     }
@@ -234,17 +247,31 @@ fn relative(range: &Interval<f64>, value: f64) -> Option<f64> {
     (width.is_finite() && width > 0.0).then(|| range.margin(value) / width)
 }
 
+/// The clearance a [`Checker`] checks: the bodies, the endoscope's depth
+/// and the stop threshold, mm.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct ClearanceCheck {
+    bodies: BodyGeometry<f64>,
+    depth_mm: f64,
+    stop_mm: f64,
+}
+
 /// One orientation's check, as the controller runs it every cycle.
 ///
 /// Holds a [`Controller`] and a margin tracker of its own (the parallel
 /// margin tracked from one call to the next, as in a control loop), the
-/// tips, and the start pose.
+/// tips, and the start pose; and, when the scenario's robot file gives
+/// clearance thresholds (`[supervisor]`'s `clearance_warn_mm` or
+/// `clearance_stop_mm`), the bodies: an orientation where a gap between the
+/// shafts and the endoscope is below the stop threshold is infeasible
+/// ([`Constraint::Clearance`]), as a planned run there would fail.
 #[derive(Debug, Clone)]
 pub struct Checker {
     controller: Controller<f64>,
     tracker: MarginTracker<f64>,
     tips: TipTargets<f64>,
     start: Pose<f64>,
+    clearance: Option<ClearanceCheck>,
 }
 
 impl Checker {
@@ -270,11 +297,20 @@ impl Checker {
                 return Err(fail(Error::NonFinite { what, value }));
             }
         }
+        let clearance = scenario
+            .supervisor
+            .clearance()
+            .map(|[_, stop_mm]| ClearanceCheck {
+                bodies: scenario.bodies,
+                depth_mm: scenario.endoscope_depth_mm,
+                stop_mm,
+            });
         Ok(Self {
             controller,
             tracker: MarginTracker::new(),
             tips,
             start,
+            clearance,
         })
     }
 
@@ -315,13 +351,32 @@ impl Checker {
 
     /// Whether `(dpsi, dtheta)` (rad from the start) is feasible.
     pub fn feasible(&mut self, dpsi: f64, dtheta: f64) -> bool {
-        self.step(dpsi, dtheta).is_ok()
+        match self.step(dpsi, dtheta) {
+            Ok(step) => self
+                .gaps(&step)
+                .is_ok_and(|gaps| gaps.iter().all(|g| g.1 >= 0.0)),
+            Err(_) => false,
+        }
     }
 
     /// The verdict at `(dpsi, dtheta)` (rad from the start).
     pub fn check(&mut self, dpsi: f64, dtheta: f64) -> Verdict {
         match self.step(dpsi, dtheta) {
-            Ok(step) => self.margin_of(&step),
+            Ok(step) => match self.gaps(&step) {
+                Ok(gaps) => match gaps.iter().find(|g| !(g.1 >= 0.0)) {
+                    Some(&(pair, margin)) => Verdict {
+                        limiting: Constraint::Clearance(pair),
+                        margin,
+                        nearest: Constraint::Clearance(pair),
+                    },
+                    None => self.margin_of(&step, &gaps),
+                },
+                Err(_) => Verdict {
+                    limiting: Constraint::Other,
+                    margin: f64::NAN,
+                    nearest: Constraint::Other,
+                },
+            },
             Err(error) => {
                 let limiting = Constraint::of_error(&error);
                 Verdict {
@@ -348,8 +403,43 @@ impl Checker {
         }
     }
 
-    /// The smallest normalised margin of a successful step.
-    fn margin_of(&self, step: &ControlStep<f64>) -> Verdict {
+    /// Each pair's normalised clearance margin at `step` (in the order of
+    /// [`ClearancePair::ALL`]): the gap's distance above the stop threshold
+    /// over the two bodies' radii (0 on the threshold, negative below, 1
+    /// when the gap exceeds the threshold by both radii); none when the
+    /// clearance is not checked. An error for a body's non-finite end.
+    fn gaps(&self, step: &ControlStep<f64>) -> Result<Vec<(ClearancePair, f64)>, Error> {
+        let Some(check) = &self.clearance else {
+            return Ok(Vec::new());
+        };
+        let bodies = Bodies::at(
+            &check.bodies,
+            &step.frame,
+            &self.controller.left,
+            &step.left.q,
+            &self.controller.right,
+            &step.right.q,
+            check.depth_mm,
+        )?;
+        let gaps = bodies.clearance()?;
+        let radii = |pair| match pair {
+            ClearancePair::LeftRight => bodies.left.radius + bodies.right.radius,
+            ClearancePair::LeftEndoscope => bodies.left.radius + bodies.endoscope.radius,
+            ClearancePair::RightEndoscope => bodies.right.radius + bodies.endoscope.radius,
+        };
+        Ok(ClearancePair::ALL
+            .into_iter()
+            .map(|pair| {
+                let scale = radii(pair);
+                let scale = if scale > 0.0 { scale } else { 1.0 };
+                (pair, (gaps.get(pair).gap - check.stop_mm) / scale)
+            })
+            .collect())
+    }
+
+    /// The smallest normalised margin of a successful step, the clearance
+    /// margins `gaps` included.
+    fn margin_of(&self, step: &ControlStep<f64>, gaps: &[(ClearancePair, f64)]) -> Verdict {
         let mut best = (f64::INFINITY, Constraint::Ok);
         let mut consider = |value: Option<f64>, c: Constraint| {
             if let Some(v) = value
@@ -401,6 +491,9 @@ impl Checker {
                 Some((q.qs3 - g.thresholds.qs3) / self.qs3_scale(side)),
                 Constraint::Qs3Singular(side),
             );
+        }
+        for &(pair, margin) in gaps {
+            consider(Some(margin), Constraint::Clearance(pair));
         }
         Verdict {
             limiting: Constraint::Ok,

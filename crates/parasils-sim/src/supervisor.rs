@@ -22,15 +22,17 @@
 //! clearance_stop_mm = 0.5
 //! ```
 //!
-//! The two clearance keys are not margins of the online controller's
-//! supervisor: they check the surface gaps between the bodies (the robot
-//! file's `[bodies]`) at every sample of a planned run or a procedure, and
-//! **only when the file gives one of them** (the other then takes its
-//! assumed default, 2.0 mm to warn, 0.5 mm to stop). They are off by
-//! default because, with the assumed bodies, the paper's own run has its
-//! shafts overlapping (see `docs/model.md`, *Clearance*). A gap below the
-//! stop threshold fails the run before any output, naming the motion, the
-//! time, the pair and the depth below the ports.
+//! The two clearance keys check the surface gaps between the bodies (the
+//! robot file's `[bodies]`) **only when the file gives one of them** (the
+//! other then takes its assumed default, 2.0 mm to warn, 0.5 mm to stop).
+//! They are off by default because, with the assumed bodies, the paper's
+//! own run has its shafts overlapping (see `docs/model.md`, *Clearance*).
+//! In a planned run or a procedure, every sample is checked and a gap below
+//! the stop threshold fails the run before any output, naming the motion,
+//! the time, the pair and the depth below the ports; in an online run
+//! (retargets, a stop), the online controller watches the gaps
+//! (`parasils::OnlineController::with_clearance`) and stops the platform
+//! ahead of the stop threshold, as it does for the margins.
 //!
 //! Those are the defaults (`parasils::supervisor`'s table), raised where a
 //! robot file's hard thresholds are higher (see

@@ -6,6 +6,17 @@
 //! points, checked [`TimingOptions::checks`] times denser, and sampled like
 //! any planned motion.
 //!
+//! **Clearance.** The gaps between the shafts and the endoscope are a
+//! function of where the bodies are, not of when: of the path point alone
+//! (the platform's pose, the tips, the endoscope's depth), never of its
+//! rates. The time-optimal motion follows the same path as the motion's
+//! other timings, so its samples go through the same per-sample check as
+//! every planned run (a gap below the robot file's `clearance_stop_mm`
+//! fails the run, `SimulationError::Clearance`), and the smallest gap of
+//! the path, found once from its geometry, is the one every timing meets
+//! (up to where the samples fall): the timing needs no clearance limit of
+//! its own (`crates/parasils-sim/tests/clearance.rs`).
+//!
 //! ```
 //! use parasils::kin::{ActuatorLimits, Controller, Pose, TipTargets};
 //! use parasils::traj::Motion;

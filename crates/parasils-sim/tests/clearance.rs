@@ -11,7 +11,10 @@
 
 use nalgebra::{Matrix3, Vector3};
 use parasils_sim::robot_file::{parse_robot, robot_to_toml_string};
-use parasils_sim::{ClearanceRecord, Record, Scenario, Simulation, SimulationError, procedure};
+use parasils_sim::{
+    ClearanceRecord, CommandKind, Input, Record, Retarget, RobotSource, Scenario, Simulation,
+    SimulationError, TimingKind, procedure,
+};
 
 type V = Vector3<f64>;
 
@@ -354,4 +357,148 @@ fn the_check_gives_each_motions_smallest_sampled_gaps() {
             assert_eq!(gaps(&m.clearance_mm)[pair], min, "motion {k}, pair {pair}");
         }
     }
+}
+
+/// An online run (the paper's turn, then the same goal commanded again at
+/// 0.5 s) with the right tip moved by `(60, -40, 40)` mm from the mirror, so
+/// that the shafts clear each other: what the turn runs into is the left
+/// shaft against the endoscope (1.287 mm at `P0`, -1.373 mm at the goal).
+fn online_run(clearance_stop: Option<f64>) -> Vec<Record> {
+    let mut robot = parse_robot(&default_robot_text()).expect("valid");
+    robot.supervisor.clearance_stop_mm = clearance_stop;
+    let right = parasils::kin::TipTargets::<f64>::paper().right + V::new(60.0, -40.0, 40.0);
+    let scenario = Input {
+        tip_right_mm: Some([right.x, right.y, right.z]),
+        robot: Some(RobotSource::Loaded(Box::new(robot))),
+        retarget: Some(vec![Retarget {
+            t_s: 0.5,
+            psi_deg: 15.0,
+            theta_deg: 25.0,
+        }]),
+        ..Input::default()
+    }
+    .resolve()
+    .expect("an online run");
+    records(&Simulation::new(scenario).expect("planned"))
+}
+
+#[test]
+fn an_online_run_stops_ahead_of_the_clearance_stop_threshold() {
+    // Unsupervised, the left shaft runs into the endoscope.
+    let free = online_run(None);
+    let lowest = free
+        .iter()
+        .map(|r| r.clearance.left_endoscope)
+        .fold(f64::INFINITY, f64::min);
+    assert!(lowest < -1.3, "{lowest}");
+    assert!(free.iter().all(|r| r.kind != CommandKind::SupervisorStop));
+    // With the robot file's threshold, the online controller stops it, and
+    // every gap (computed apart from the kernel) stays at or above 0.5 mm.
+    let held = online_run(Some(0.5));
+    assert!(held.iter().any(|r| r.kind == CommandKind::SupervisorStop));
+    let sizes = [5.0, 400.0, 10.0, 400.0];
+    for r in held.iter().step_by(7).chain(held.last()) {
+        let g = independent(r, 0.0, sizes);
+        assert!(g.iter().all(|&x| x >= 0.5), "t = {}: {g:?}", r.t);
+        assert!((gaps(&r.clearance)[1] - g[1]).abs() < 1e-9);
+    }
+    let end = held.last().expect("records").clearance.left_endoscope;
+    assert!((0.5..0.7).contains(&end), "{end}");
+}
+
+/// The paper's turn with the right tip moved as in [`online_run`], timed
+/// `timing`, with the robot file's clearance stop threshold or without.
+fn turn(timing: TimingKind, clearance_stop: Option<f64>) -> Simulation {
+    let mut robot = parse_robot(&default_robot_text()).expect("valid");
+    robot.supervisor.clearance_stop_mm = clearance_stop;
+    let right = parasils::kin::TipTargets::<f64>::paper().right + V::new(60.0, -40.0, 40.0);
+    let scenario = Input {
+        tip_right_mm: Some([right.x, right.y, right.z]),
+        robot: Some(RobotSource::Loaded(Box::new(robot))),
+        timing: Some(timing),
+        ..Input::default()
+    }
+    .resolve()
+    .expect("a planned turn");
+    Simulation::new(scenario).expect("planned")
+}
+
+/// The gaps along the turn's path computed once from its geometry alone:
+/// the platform at `s` of the straight line from the start to the goal in
+/// `(psi, theta)`, `P` and `phi` fixed, the tips held; no timing enters.
+/// Returns the smallest left shaft - endoscope gap over 20001 points.
+fn path_minimum(start: &Record, goal: &Record) -> f64 {
+    (0..=20_000)
+        .map(|i| {
+            let s = f64::from(i) / 20_000.0;
+            let mut r = *start;
+            for k in 3..5 {
+                r.pose[k] = start.pose[k] + s * (goal.pose[k] - start.pose[k]);
+            }
+            independent(&r, 0.0, [5.0, 400.0, 10.0, 400.0])[1]
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+#[test]
+fn the_optimal_timing_sees_the_gaps_of_the_same_geometry() {
+    let optimal = records(&turn(TimingKind::Optimal, None));
+    let trapezoid = records(&turn(TimingKind::Trapezoid, None));
+    // Faster, but over the same path.
+    assert!(optimal.last().expect("records").t < trapezoid.last().expect("records").t);
+    // Every sample's gaps are those of its pose and tips alone: the
+    // independent computation takes no rate.
+    for r in optimal.iter().step_by(11) {
+        let g = independent(r, 0.0, [5.0, 400.0, 10.0, 400.0]);
+        for (a, b) in gaps(&r.clearance).iter().zip(g) {
+            assert!((a - b).abs() < 1e-9, "t = {}: {a} vs {b}", r.t);
+        }
+    }
+    // So the path's smallest gap, found once from the geometry, is what
+    // both timings' samples reach (to within their sampling).
+    let once = path_minimum(&optimal[0], optimal.last().expect("records"));
+    for run in [&optimal, &trapezoid] {
+        let lowest = run
+            .iter()
+            .map(|r| r.clearance.left_endoscope)
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            lowest >= once - 1e-9 && lowest < once + 1e-6,
+            "{lowest} vs {once}"
+        );
+    }
+}
+
+#[test]
+fn the_optimal_timing_is_checked_against_the_clearance_stop() {
+    let fail = |timing| {
+        let sim = turn(timing, Some(0.5));
+        let e = sim
+            .samples()
+            .find_map(Result::err)
+            .expect("the turn runs in");
+        match e {
+            SimulationError::Clearance {
+                t, pair, gap_mm, ..
+            } => {
+                assert_eq!(pair, parasils::kin::ClearancePair::LeftEndoscope);
+                assert!(gap_mm < 0.5);
+                // The record before is above the threshold.
+                let before = sim
+                    .samples()
+                    .map_while(Result::ok)
+                    .last()
+                    .expect("samples before");
+                assert!(before.clearance.left_endoscope >= 0.5);
+                (t, before.pose[3], before.pose[4])
+            }
+            other => panic!("{other}"),
+        }
+    };
+    let (t_opt, psi_opt, theta_opt) = fail(TimingKind::Optimal);
+    let (t_trap, psi_trap, theta_trap) = fail(TimingKind::Trapezoid);
+    // Earlier in time, at the same place of the path (to within a sample's
+    // travel, well under 0.01 deg).
+    assert!(t_opt < t_trap);
+    assert!((psi_opt - psi_trap).abs() < 2e-4 && (theta_opt - theta_trap).abs() < 2e-4);
 }

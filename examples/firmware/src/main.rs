@@ -7,9 +7,9 @@
 //! replanned from the state of the motion at that instant), then runs one
 //! [`OnlineController::tick`]: the platform state of the active motion,
 //! module 1 (actuators, rates, accelerations, margins), both instrument
-//! modules (joints, rates, accelerations, margins) and the margin
-//! supervisor; it then recomputes both tips from the joints (forward
-//! kinematics), all in `f32`. The command stream is that of
+//! modules (joints, rates, accelerations, margins), the three clearance gaps
+//! between the shafts and the endoscope, and the supervisor; it then
+//! recomputes both tips from the joints (forward kinematics), all in `f32`. The command stream is that of
 //! [`scenario`]: the paper's goal at 0 s, a new goal at 1.2 s while turning,
 //! a stop at 3.0 s, a third goal at 3.5 s, until rest.
 //!
@@ -402,7 +402,11 @@ fn run(out: &mut Out) -> bool {
             }
         }
         ok &= check_motion(out, &limits, previous.as_ref(), s, &mut steps);
-        if !(s.warnings.is_empty() && s.stop.is_empty()) {
+        if !(s.warnings.is_empty()
+            && s.stop.is_empty()
+            && s.clearance_warnings.is_empty()
+            && s.clearance_stop.is_empty())
+        {
             out.str("MISMATCH: the supervisor warned or stopped at cycle ");
             out.u64(c.index as u64)
                 .str(" (bits ")

@@ -15,10 +15,19 @@
 //!
 //! and the loop runs until the platform rests on the third goal. See
 //! `docs/model.md`, *Trajectories* and *Check values*.
+//!
+//! The controller watches the clearance of the assumed bodies (shafts of 5
+//! mm, the endoscope of 10 mm at depth 0): every cycle computes the three
+//! gaps between them and checks them ahead, and they are compared with the
+//! references like the rest. Its thresholds (-1000 mm) are ones no gap
+//! reaches: with the paper's tips the shafts overlap from the start
+//! (`docs/model.md`, *Clearance*), so this run measures the clearance and
+//! its cost, it does not stop on it.
 
-use parasils::kin::{ControlStep, Controller, Pose, TipTargets};
+use parasils::kin::{BodyGeometry, ControlStep, Controller, Pose, TipTargets};
+use parasils::supervisor::ClearanceThresholds;
 use parasils::traj::{Limits, Synchronization};
-use parasils::{Error, OnlineController, Real, Setpoint, Supervisor};
+use parasils::{ClearanceWatch, Error, OnlineController, Real, Setpoint, Supervisor};
 
 /// The control rate, Hz.
 pub const RATE_HZ: f64 = parasils::paper::RATE_HZ;
@@ -86,7 +95,8 @@ pub fn time<T: Real>(k: usize) -> T {
 }
 
 /// The controller at rest at `P0`, holding the paper's tips, with the limits
-/// [`LIMITS_DEG`] and the default supervisor.
+/// [`LIMITS_DEG`] and the default supervisor, watching the clearance (see
+/// the module docs).
 pub fn online<T: Real>() -> Result<OnlineController<T>, Error> {
     let [v, a] = LIMITS_DEG.map(|x| T::lit(x.to_radians()));
     OnlineController::new(
@@ -95,7 +105,15 @@ pub fn online<T: Real>() -> Result<OnlineController<T>, Error> {
         Pose::paper_start(),
         [Limits::new(v, a); 2],
         Supervisor::default(),
-    )
+    )?
+    .with_clearance(ClearanceWatch {
+        bodies: BodyGeometry::assumed(),
+        endoscope_depth: T::zero(),
+        thresholds: ClearanceThresholds {
+            warn: T::lit(-1000.0),
+            stop: T::lit(-1000.0),
+        },
+    })
 }
 
 /// The commands as the controller takes them: `(cycle, goal)`, the goal in
@@ -131,7 +149,7 @@ pub fn give<T: Real>(
 }
 
 /// How many values of a cycle are compared, see [`fields`].
-pub const FIELD_COUNT: usize = 46;
+pub const FIELD_COUNT: usize = 49;
 
 /// The names of the values of [`fields`], in order (units: mm, rad, s).
 pub const FIELD_NAMES: [&str; FIELD_COUNT] = [
@@ -180,7 +198,10 @@ pub const FIELD_NAMES: [&str; FIELD_COUNT] = [
     "m1.parallel_margin",
     "m1.serial_margin_min",
     "left.cos_qs2",
-    "right.cos_qs2",
+    "right.cos_qs2", //
+    "clearance.left_right",
+    "clearance.left_endoscope",
+    "clearance.right_endoscope",
 ];
 
 /// How a field is compared (see `tolerance` in `main.rs`).
@@ -205,7 +226,8 @@ pub const FIELD_KINDS: [Kind; FIELD_COUNT] = {
         L, L, L, L, L, L, R, R, R, R, R, R, R, R, R, R, R, R, //
         A, A, L, R, R, R, R, R, R, //
         A, A, L, R, R, R, R, R, R, //
-        M, M, M, M,
+        M, M, M, M, //
+        L, L, L,
     ]
 };
 
@@ -224,6 +246,19 @@ pub fn values<T: Real>(s: &Setpoint<T>) -> impl Iterator<Item = T> {
     ]
     .into_iter()
     .chain(step_values(&s.step))
+    .chain(gaps(s))
+}
+
+/// The three clearance gaps of a cycle, mm (NaN, which matches nothing,
+/// if the controller watched none).
+fn gaps<T: Real>(s: &Setpoint<T>) -> [T; 3] {
+    s.clearance.map_or([T::lit(f64::NAN); 3], |c| {
+        [
+            c.left_right.gap,
+            c.left_endoscope.gap,
+            c.right_endoscope.gap,
+        ]
+    })
 }
 
 fn step_values<T: Real>(out: &ControlStep<T>) -> impl Iterator<Item = T> {

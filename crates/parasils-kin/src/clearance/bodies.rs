@@ -177,7 +177,11 @@ impl<T: Real> Clearance<T> {
 }
 
 /// The shaft's axis in the platform frame: `RCM + R_tool (0, 0, -qs3)` to
-/// `RCM + R_tool (0, 0, length - qs3)`.
+/// `RCM + R_tool (0, 0, length - qs3)`. `R_tool (0, 0, -1)` is the unit
+/// vector from the RCM to the tip, which the forward kinematics gives at
+/// `qs3 = 1` ([`Instrument::fk_local`], with the kinematics' own sine and
+/// cosine: the rotation matrix itself would take four of the float
+/// library's, most of a cycle's cost on a microcontroller).
 fn shaft<T: Real>(
     frame: &PlatformFrame<T>,
     module: &Instrument<T>,
@@ -185,8 +189,8 @@ fn shaft<T: Real>(
     length: T,
 ) -> Segment<T> {
     let rcm = module.geometry().rcm;
-    let tool = module.tool_rotation(q);
-    let along = |z: T| frame.to_fixed(&(rcm + tool * Vector3::new(T::zero(), T::zero(), z)));
+    let down = module.fk_local(&Joints::new(q.qs1, q.qs2, T::one()));
+    let along = |z: T| frame.to_fixed(&(rcm - down * z));
     Segment::new(along(-q.qs3), along(length - q.qs3))
 }
 

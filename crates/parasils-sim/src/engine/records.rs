@@ -474,9 +474,11 @@ impl OnlineRun {
                 ..Context::command(cycle.command, self.kind, cycle.warnings)
             },
         );
-        // Recorded, not enforced: the online controller's supervisor does
-        // not hold the platform on clearance yet, and a run of commands is
-        // not planned ahead, so a stop threshold here would fail mid-run.
+        // Recorded, not failed on: when the robot file gives clearance
+        // thresholds, the online controller watches the gaps and stops
+        // ahead of the stop threshold (its supervisor stop), as it does for
+        // the margins, so a run of commands holds instead of failing
+        // mid-run.
         let mut record = record;
         record.clearance = clearance_of(
             sim,

@@ -8,9 +8,10 @@ use parasils::kin::{
     AssemblyMode, Camera, ControlStep, Controller, ImagePoint, Instrument, InstrumentSolution,
     PlatformFrame, PlatformState, TipTargets,
 };
+use parasils::supervisor::ClearanceThresholds;
 use parasils::supervisor::{MarginSet, Margins};
 use parasils::traj::{Sampler, Synchronization};
-use parasils::{OnlineController, Reorientation, Supervisor};
+use parasils::{ClearanceWatch, OnlineController, Reorientation, Supervisor};
 
 use crate::motion::{MotionGoal, MotionSpec};
 use crate::record::{
@@ -302,6 +303,16 @@ impl Simulation {
             [run.turn.limits(); 2],
             scenario_supervisor(scenario, &controller)?,
         )
+        .and_then(|online| match scenario.supervisor.clearance() {
+            // The robot file's clearance thresholds: the controller stops
+            // ahead of the stop threshold, as it does for the margins.
+            Some([warn, stop]) => online.with_clearance(ClearanceWatch {
+                bodies: scenario.bodies,
+                endoscope_depth: scenario.endoscope_depth_mm,
+                thresholds: ClearanceThresholds { warn, stop },
+            }),
+            None => Ok(online),
+        })
         .map_err(|e| online_error(e, 0.0, 0))?;
         // The run planned: every command at its sample, no cycle run (the
         // supervisor, which needs the kinematics, can only end it sooner
