@@ -5,7 +5,7 @@
 use numpy::IntoPyArray;
 use numpy::ndarray::{Array1, Array2};
 use parasils_kin::nalgebra::Vector3;
-use parasils_kin::{Controller, Pose, TipTargets, mirror_across_platform, presets};
+use parasils_kin::{Controller, Pose, TipTargets, default_right_tip, presets};
 use parasils_sim::timing::{MotionPath, OptimalMotion, RobotState, TimingError, TimingOptions};
 use parasils_traj::Limits;
 use pyo3::exceptions::PyValueError;
@@ -15,8 +15,8 @@ use pyo3::types::{PyDict, PyList};
 use crate::batch::{ArrayArg, Rows};
 use crate::errors;
 
-/// The start pose (6,) and the tips (2, 3), the paper's left tip and its
-/// mirror image when `tips` is None.
+/// The start pose (6,) and the tips (2, 3), the paper's left tip and the
+/// default right tip at `pose` (`default_right_tip`) when `tips` is None.
 fn pose_and_tips(
     pose: &ArrayArg<'_>,
     tips: Option<&ArrayArg<'_>>,
@@ -31,7 +31,7 @@ fn pose_and_tips(
             let left = Vector3::from(presets::LEFT_TIP_MM);
             TipTargets {
                 left,
-                right: mirror_across_platform(&pose, &left),
+                right: default_right_tip(&pose, &left),
             }
         }
         Some(t) => {

@@ -210,7 +210,7 @@ impl Robot {
     ///
     /// pose: the start pose (x, y, z mm, psi, theta, phi rad), shape (6,).
     /// tips: the left and right tips held still, mm, fixed frame, shape
-    /// (2, 3); default the paper's left tip and its mirror image at `pose`.
+    /// (2, 3); default the paper's left tip and the default right tip.
     /// psi_range_deg, theta_range_deg: (min, max) of the increments, deg,
     /// as `parasils reach --psi-range`; each must contain 0. step_deg: the
     /// grid step, deg (cells at whole multiples of it). line: whether to
@@ -262,7 +262,8 @@ impl Robot {
     ///
     /// pose: the start pose (x, y, z mm, psi, theta, phi rad), shape (6,).
     /// tips: (2, 3) mm, the left tip then the right one; None: the paper's
-    ///     left tip and its mirror image across the platform at `pose`.
+    ///     left tip and the default right tip at `pose` (the mirror image
+    ///     moved 35 mm along X' and 100 mm along Y').
     ///
     /// Raises KinematicsError (subclass) where the path leaves the workspace.
     #[pyo3(signature = (pose, tips, dpsi, dtheta, s, order = 0))]

@@ -53,9 +53,23 @@ def robot():
     return parasils.Robot()
 
 
+def default_right_tip(pose, tip):
+    """The simulation's default right tip: the mirror image of `tip` moved
+    35 mm along X' and 100 mm along Y' (docs/model.md, *The paper's
+    scenario*), so that the shafts do not meet."""
+    return mirror_tip(pose, tip) + rotation(*pose[3:]) @ np.array([35.0, 100.0, 0.0])
+
+
 @pytest.fixture(scope="session")
 def right_tip():
+    """The paper's mirror image of the left tip at P0 (its check values)."""
     return mirror_tip(P0, LEFT_TIP)
+
+
+@pytest.fixture(scope="session")
+def default_right():
+    """The right tip `simulate` holds by default."""
+    return default_right_tip(P0, LEFT_TIP)
 
 
 @pytest.fixture(scope="session")

@@ -141,7 +141,7 @@ def test_instrument_rates_match_finite_differences(robot):
         np.testing.assert_allclose(qdd, (q_p - 2 * q + q_m) / (h * h), atol=2e-3, rtol=1e-3)
 
 
-def test_rates_agree_with_the_simulation(robot, right_tip):
+def test_rates_agree_with_the_simulation(robot, default_right):
     table = parasils.simulate(rate_hz=100.0)
     n = len(table["t_s"])
     rad = np.radians
@@ -151,7 +151,7 @@ def test_rates_agree_with_the_simulation(robot, right_tip):
     zero = np.zeros(n)
     rate = np.column_stack([zero, zero, zero, rad(table["psi_rate_deg_s"]), rad(table["theta_rate_deg_s"]), zero])
     acc = np.column_stack([zero, zero, zero, rad(table["psi_acc_deg_s2"]), rad(table["theta_acc_deg_s2"]), zero])
-    for side, tip in (("left", LEFT_TIP), ("right", right_tip)):
+    for side, tip in (("left", LEFT_TIP), ("right", default_right)):
         q, qd, qdd = robot.instrument_rates(side, pose, rate, acc, tip)
         for k, j in enumerate(("qs1", "qs2")):
             np.testing.assert_allclose(np.degrees(q[:, k]), table[f"{side}_{j}_deg"], atol=1e-9)

@@ -114,11 +114,12 @@ def test_the_image_columns_are_a_numpy_pinhole_of_the_tips():
     table = parasils.simulate(rate_hz=100.0)
     left = np.array([50.0, -50.0, -620.0])
     tips = {"left": left, "right": None}
-    # The right tip: the left one's mirror across the platform's Y'Z' plane.
+    # The right tip: the left one's mirror across the platform's Y'Z'
+    # plane, moved 35 mm along X' and 100 mm along Y' (the default).
     r0 = rotation(*np.radians([-15.0, 10.0, -60.0]))
     p0 = np.array([15.0, 20.0, -500.0])
     local = r0.T @ (left - p0)
-    tips["right"] = p0 + r0 @ (local * np.array([-1.0, 1.0, 1.0]))
+    tips["right"] = p0 + r0 @ (local * np.array([-1.0, 1.0, 1.0]) + np.array([35.0, 100.0, 0.0]))
     for k in range(0, len(table["t_s"]), 7):
         for side, tip in tips.items():
             u, v, ahead = paper_image(table, k, tip)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import parasils
-from conftest import LEFT_TIP, P0, mirror_tip, rotation
+from conftest import LEFT_TIP, P0, default_right_tip, rotation
 from test_simulate import read_csv
 
 LEFT_N = np.array([5.0, -3.0, 8.0])
@@ -48,7 +48,7 @@ def test_module1_by_virtual_work_against_the_ik(table, robot):
     # phi), written here: the force, and the moment about P on the angular
     # velocity per unit rate of each Euler angle (R = R_X R_Y R_Z: x, R_X y,
     # R_X R_Y z).
-    right_tip = mirror_tip(P0, LEFT_TIP)
+    right_tip = default_right_tip(P0, LEFT_TIP)
     checked = 0
     for k in range(0, len(table["t_s"]), 45):
         pose = pose_at(table, k)

@@ -64,7 +64,7 @@ def test_module1_at_p0(robot):
     np.testing.assert_allclose(robot.module1_fk(q, guess), P0, atol=1e-9, rtol=0)
 
 
-def test_tips_held_along_the_paper_motion(robot, right_tip):
+def test_tips_held_along_the_paper_motion(robot, default_right):
     table = parasils.simulate()
     assert len(table["t_s"]) == 4501
     assert table["t_s"][-1] == 4.5
@@ -78,7 +78,7 @@ def test_tips_held_along_the_paper_motion(robot, right_tip):
         [table["x_mm"], table["y_mm"], table["z_mm"]]
         + [np.radians(table[c]) for c in ("psi_deg", "theta_deg", "phi_deg")]
     )
-    for side, tip in (("left", LEFT_TIP), ("right", right_tip)):
+    for side, tip in (("left", LEFT_TIP), ("right", default_right)):
         qs = np.column_stack(
             [np.radians(table[f"{side}_qs1_deg"]), np.radians(table[f"{side}_qs2_deg"]), table[f"{side}_qs3_mm"]]
         )

@@ -84,7 +84,7 @@ class Robot:
     ) -> _F64:
         """Motion type 4 as a path s in [0, 1]: psi and theta turn by dpsi,
         dtheta (rad) from `pose` (6,) along a straight line, tips (2, 3) mm
-        held (None: the paper's left tip and its mirror image). Returns the
+        held (None: the paper's left tip and the default right tip). Returns the
         twelve actuators (q1..q6 mm, left and right qs1, qs2 rad, qs3 mm) at
         each s for order 0, their first (order 1) or second (order 2)
         derivatives in s: shape (len(s), 12), exact."""
