@@ -322,7 +322,7 @@ impl SimulateArgs {
             stop_at_s: self.stop_at,
             tip_load_left_n: self.tip_load_left,
             tip_load_right_n: self.tip_load_right,
-            look_at: self.look_at.clone(),
+            look_at: self.look_at,
             anatomy: self.anatomy.clone(),
         })
     }
