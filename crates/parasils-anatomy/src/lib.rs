@@ -29,7 +29,7 @@
 //! | [`error`] | [`AnatomyError`]: what is wrong with a file, where |
 //! | [`mesh`] | triangle meshes read from STL and OBJ, checked ([`Mesh`]) |
 //! | [`region`] | one forbidden region: its shape and parry's collider ([`Region`], [`Shape`]) |
-//! | [`file`] | the anatomy file ([`Anatomy`]) |
+//! | [`file`](mod@file) | the anatomy file ([`Anatomy`]) |
 //! | [`clearance`] | the gaps of the in-body parts to the regions ([`NoGoClearance`], [`RegionGap`]) |
 
 pub mod body;

@@ -9,7 +9,7 @@
 //!   the three capsules at a cycle from the platform frame, the instrument
 //!   joints and the endoscope's depth ([`Bodies`]), and the three gaps
 //!   between them ([`Clearance`]). See `docs/model.md`, *Clearance*;
-//! - [`certify`]: the smallest gap over a whole interval of time, not only
+//! - [`certify`](mod@certify): the smallest gap over a whole interval of time, not only
 //!   at samples: how fast an axis' ends can move ([`AxisState`]), the
 //!   lower bound between two instants ([`gap_lower_bound`]) and its
 //!   refinement by bisection ([`certify()`]).

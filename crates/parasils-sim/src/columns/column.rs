@@ -91,14 +91,14 @@ pub struct Column {
     /// The unit, for people: `"deg/s^2"`, `"1 (dimensionless)"`.
     pub unit: &'static str,
     /// The MCAP channel; `None` for the time, the first field of every
-    /// channel, and for [`COMMAND`], which is on `/motion` (see
+    /// channel, and for [`COMMAND`](crate::columns::COMMAND), which is on `/motion` (see
     /// [`mcap`](crate::mcap)).
     pub channel: Option<Channel>,
     /// Whether the CSV (and the Python table) has the column; `false` for
     /// the MCAP's recomputed tip positions.
     pub csv: bool,
     /// Whether the values are whole numbers, written without a fraction
-    /// (`2`, not `2.0`): [`COMMAND`].
+    /// (`2`, not `2.0`): [`COMMAND`](crate::columns::COMMAND).
     pub integer: bool,
     /// The value in the column's unit.
     pub get: fn(&Record) -> f64,

@@ -1,6 +1,6 @@
 //! The output columns, in one table: each with its name (which ends with its
 //! unit), its unit, its MCAP channel, whether the CSV has it, and how its
-//! value is read from a [`Record`].
+//! value is read from a [`Record`](crate::Record).
 //!
 //! Everything that writes a record out is derived from [`ALL`]: the CSV
 //! header and rows ([`csv`](crate::csv)), the MCAP channels, their fields and
@@ -16,7 +16,7 @@
 //!
 //! Angles are written in degrees, lengths in mm, times in s; margins are
 //! dimensionless. Rates are `_rate_` and accelerations `_acc_` in the names.
-//! The Euler angles are written as [`Record::angles_deg`], which gives back
+//! The Euler angles are written as [`Record::angles_deg`](crate::Record::angles_deg), which gives back
 //! the user's start angles exactly.
 
 mod column;

@@ -332,7 +332,7 @@ pub const ALL: [Column; 80] = [
 /// The index of the active command (see
 /// [`Command`](crate::scenario::Command)): 0 for the reorientation, one more
 /// at each retarget and at each stop. Only runs with commands have it: the
-/// last column of [`CSV_WITH_COMMAND`], and `/motion` in MCAP.
+/// last column of [`CSV_WITH_COMMAND`](crate::columns::CSV_WITH_COMMAND), and `/motion` in MCAP.
 pub const COMMAND: Column = Column {
     name: "command",
     unit: INDEX,
