@@ -13,6 +13,20 @@ pub enum Error {
     /// The trajectory cannot be planned or sampled (see [`parasils_traj::Error`]).
     #[error(transparent)]
     Trajectory(#[from] crate::traj::Error),
+    /// A look-at command has no solution (see [`parasils_kin::CameraError`]):
+    /// the target is behind the port, out of the view's reach with this
+    /// `phi`, or needs the gimbal's `theta = +-90 deg`.
+    #[error(transparent)]
+    Camera(#[from] crate::kin::CameraError),
+    /// A look-at command was given to an
+    /// [`OnlineController`](crate::OnlineController) that knows no
+    /// endoscope depth (give it with
+    /// [`with_endoscope_depth`](crate::OnlineController::with_endoscope_depth)
+    /// or [`with_clearance`](crate::OnlineController::with_clearance)).
+    #[error(
+        "a look-at command needs the endoscope's depth, and the online controller was given none"
+    )]
+    NoEndoscopeDepth,
     /// A time given to the [`OnlineController`](crate::OnlineController) is
     /// infinite or NaN.
     #[error("the time {value} s is not finite")]

@@ -12,6 +12,7 @@
 //! |---|---|
 //! | [`new`](OnlineController::new) | at rest at a pose; checks the supervisor's thresholds; seeds module 1's margin tracker (the one full SVD) here, outside the loop |
 //! | [`command`](OnlineController::command)`(t, [psi, theta])` | replans from the state of the active motion at `t` to rest at the goal (rad), time-optimal, `Phase` synchronisation requested; returns the one used |
+//! | [`command_look_at`](OnlineController::command_look_at)`(t, target)` | the goal that aims the camera's view axis through `target` (mm, fixed frame; [`Camera::look_at`] from the orientation at `t`, `phi` held), then as `command` |
 //! | [`stop`](OnlineController::stop)`(t)` | the controlled stop from the state at `t`: both angles to rest together, on a straight line |
 //! | [`tick`](OnlineController::tick)`(t)` | one cycle: the platform state at `t`, [`Controller::step`], the supervisor's verdict; returns a [`Setpoint`] |
 //! | [`command_index`](OnlineController::command_index) | 0 for the first motion, +1 at each command and each stop (a stop the supervisor demanded included) |
@@ -119,6 +120,7 @@
 
 use crate::Real;
 use crate::error::Error;
+use crate::kin::nalgebra::Vector3;
 use crate::kin::{
     Bodies, BodyGeometry, Clearance, ControlStep, Controller, MarginTracker, PlatformState, Pose,
     TipTargets,
@@ -243,6 +245,8 @@ pub struct OnlineController<T: Real> {
     rates: Margins<T>,
     /// The clearance watched, if any.
     clearance: Option<Watched<T>>,
+    /// The endoscope's insertion below `P`, mm, for look-at commands.
+    depth: Option<T>,
 }
 
 impl<T: Real> OnlineController<T> {
@@ -290,7 +294,36 @@ impl<T: Real> OnlineController<T> {
             previous: None,
             rates: Margins::splat(T::zero()),
             clearance: None,
+            depth: None,
         })
+    }
+
+    /// The same controller with the endoscope inserted `depth` mm below
+    /// `P` along `-Z'`: where its camera sits for
+    /// [`command_look_at`](Self::command_look_at).
+    /// [`with_clearance`](Self::with_clearance) sets it too, from
+    /// [`ClearanceWatch::endoscope_depth`].
+    ///
+    /// # Errors
+    /// [`Error::Kinematics`] (`InvalidParameter "endoscope.depth"`) for a
+    /// depth that is not finite or outside the endoscope's range.
+    pub fn with_endoscope_depth(mut self, depth: T) -> Result<Self, Error> {
+        let range = self.controller.endoscope.depth;
+        if !(depth.finite() && depth >= range.min && depth <= range.max) {
+            return Err(crate::kin::Error::InvalidParameter {
+                what: "endoscope.depth",
+                value: depth.to_f64(),
+            }
+            .into());
+        }
+        self.depth = Some(depth);
+        Ok(self)
+    }
+
+    /// The endoscope's depth the look-at commands use, mm (`None` when
+    /// none was given).
+    pub fn endoscope_depth(&self) -> Option<T> {
+        self.depth
     }
 
     /// The same controller watching the clearance between the bodies of
@@ -324,6 +357,7 @@ impl<T: Real> OnlineController<T> {
             period: None,
             probe: None,
         });
+        self.depth = Some(watch.endoscope_depth);
         Ok(self)
     }
 
@@ -366,6 +400,44 @@ impl<T: Real> OnlineController<T> {
     /// unchanged.
     pub fn command(&mut self, t: T, goal: [T; 2]) -> Result<Synchronization, Error> {
         self.command_synchronized(t, goal, Synchronization::Phase)
+    }
+
+    /// A goal that aims the camera at `target` (mm, fixed frame), accepted
+    /// at `t` (s): [`Camera::look_at`] of the controller's endoscope camera
+    /// ([`Controller::endoscope`]), at the endoscope's depth, from the
+    /// orientation of the active motion at `t` (`phi` held; the solution
+    /// nearest that orientation), then exactly [`command`](Self::command)
+    /// with the resulting `[psi, theta]`. When the motion ends, the view
+    /// axis passes through `target`; the tips are held as in every command.
+    /// Returns the synchronisation used.
+    ///
+    /// # Errors
+    /// [`Error::NonFiniteTime`], [`Error::TimeReversed`];
+    /// [`Error::NoEndoscopeDepth`] when no depth was given
+    /// ([`with_endoscope_depth`](Self::with_endoscope_depth),
+    /// [`with_clearance`](Self::with_clearance)); [`Error::Camera`] when no
+    /// turn aims at the target (behind the endoscope's tip, unreachable
+    /// with this `phi`, `theta = +-90 deg`) or for a non-finite target; as
+    /// [`command`](Self::command) for the plan. The controller is then
+    /// unchanged.
+    ///
+    /// [`Camera::look_at`]: crate::kin::Camera::look_at
+    /// [`Controller::endoscope`]: crate::kin::Controller::endoscope
+    pub fn command_look_at(&mut self, t: T, target: Vector3<T>) -> Result<Synchronization, Error> {
+        self.check_time(t)?;
+        let depth = self.depth.ok_or(Error::NoEndoscopeDepth)?;
+        let [psi, theta] = self.angles_at(t);
+        let now = Pose {
+            psi: psi.position,
+            theta: theta.position,
+            ..self.pose
+        };
+        let goal = self
+            .controller
+            .endoscope
+            .camera
+            .look_at(&now, depth, &target)?;
+        self.command(t, goal)
     }
 
     /// [`command`](Self::command) with the synchronisation `sync` requested
