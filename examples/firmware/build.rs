@@ -45,6 +45,7 @@ fn main() {
     let last_command = orders.iter().map(|o| o.0).max().unwrap_or(0);
     let mut next = orders.iter().peekable();
     let mut syncs = Vec::new();
+    let mut goals = Vec::new();
     let mut cycles = Vec::new();
     let mut worst_drift = 0.0f64;
     for k in 0..MAX_CYCLES {
@@ -55,6 +56,7 @@ fn main() {
             let sync = scenario::give(&mut online, t, goal)
                 .unwrap_or_else(|e| panic!("f64 command at cycle {k} failed: {e}"));
             syncs.push(sync_code(sync));
+            goals.push(online.goal());
             next.next();
         }
         let s = online
@@ -121,11 +123,14 @@ fn main() {
          pub const CYCLES: usize = {count};\n\
          /// Per command, the synchronisation used (0 for the stop, 1 phase, 2 time, 3 none).\n\
          pub const SYNCS: [u8; {}] = {syncs:?};\n\
+         /// Per command, the goal `[psi, theta]` it planned to, rad (f64).\n\
+         pub const GOALS: [[f64; 2]; {}] = {goals:?};\n\
          /// Per field, its largest magnitude over the run (f64).\n\
          pub const PEAK: [f64; {FIELD_COUNT}] = {:?};\n\
          /// `(cycle, fields)` of the compared cycles (f64).\n\
          pub const REFERENCES: [(usize, [f64; {FIELD_COUNT}]); {}] = [",
         syncs.len(),
+        goals.len(),
         peak,
         references.len()
     );

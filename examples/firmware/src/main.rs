@@ -71,8 +71,9 @@ const COMMAND_COUNT: usize = COMMANDS.len();
 /// Everything the control loop needs: the controller and the commands.
 pub struct Runtime {
     online: OnlineController<f32>,
-    /// `(cycle, goal)`: the goal `[psi, theta]` in rad, `None` for the stop.
-    orders: [(usize, Option<[f32; 2]>); COMMAND_COUNT],
+    /// `(cycle, order)`: a goal `[psi, theta]` in rad, the stop, or a
+    /// look-at target in mm.
+    orders: [(usize, scenario::Order<f32>); COMMAND_COUNT],
     /// The next command to give.
     next: usize,
     /// The next cycle.
@@ -339,6 +340,7 @@ fn run(out: &mut Out) -> bool {
     let mut command_cycles = [0u32; COMMAND_COUNT];
     let mut syncs = [u8::MAX; COMMAND_COUNT];
     let mut given = 0usize;
+    let mut goal_error = 0.0f64;
     let mut cycles = 0usize;
     let mut drift = [0.0f64; 2];
     let mut steps = Steps::default();
@@ -391,6 +393,24 @@ fn run(out: &mut Out) -> bool {
             {
                 *slot = ticks;
                 *code = sync_code(sync);
+            }
+            // The goal it planned to (a look-at's solved in f32 here) against
+            // the f64 one.
+            let goal = rt.online.goal().map(f64::from);
+            if let Some(expected) = reference::GOALS.get(given) {
+                let error = (goal[0] - expected[0])
+                    .abs()
+                    .max((goal[1] - expected[1]).abs());
+                if !(error <= tolerance(Kind::Angle, 0.0)) {
+                    out.str("MISMATCH: the goal of command ").u64(given as u64);
+                    out.str(" is ").fixed(error * 1e6, 2).str(" urad off").nl();
+                    ok = false;
+                }
+                goal_error = if error > goal_error {
+                    error
+                } else {
+                    goal_error
+                };
             }
             given += 1;
             // The new motion starts from the old one's state at this instant.
@@ -470,6 +490,12 @@ fn run(out: &mut Out) -> bool {
         .str(if at_rest { "yes" } else { "NO" });
     out.str("), references compared: ").u64(compared as u64);
     out.str(" of ").u64(reference::REFERENCES.len() as u64).nl();
+    out.str("goals of the commands (the look-at solved in f32): worst ");
+    out.fixed(goal_error * 1e6, 3)
+        .str(" urad from f64 (tolerance ");
+    out.fixed(tolerance(Kind::Angle, 0.0) * 1e6, 0)
+        .str(" urad)")
+        .nl();
     // The references are those of `scenario::compared`, the same cycles as here.
     let expected = (0..cycles)
         .filter(|&k| scenario::compared(k, cycles))

@@ -12,8 +12,9 @@
 //! | 1200 | 1.2 s | a new goal while turning: `psi` -10, `theta` +15 deg (`psi` turns back) |
 //! | 3000 | 3.0 s | the controlled stop, while moving towards it |
 //! | 3500 | 3.5 s | a third goal while still braking: `psi` +5, `theta` +10 deg |
+//! | 5000 | 5.0 s | look at the tips' midpoint, while turning: the goal from [`OnlineController::command_look_at`] (the camera at the endoscope's tip, depth 0 here) |
 //!
-//! and the loop runs until the platform rests on the third goal. See
+//! and the loop runs until the platform rests on the look-at goal. See
 //! `docs/model.md`, *Trajectories* and *Check values*.
 //!
 //! The controller watches the clearance of the assumed bodies (shafts of 5
@@ -24,6 +25,7 @@
 //! (`docs/model.md`, *Clearance*), so this run measures the clearance and
 //! its cost, it does not stop on it.
 
+use parasils::kin::nalgebra::Vector3;
 use parasils::kin::{BodyGeometry, ControlStep, Controller, Pose, TipTargets};
 use parasils::supervisor::ClearanceThresholds;
 use parasils::traj::{Limits, Synchronization};
@@ -39,45 +41,72 @@ pub const LIMITS_DEG: [f64; 2] = [
     parasils::paper::EPS_MAX_DEG_S2,
 ];
 
-/// A command of the stream: at `cycle`, a goal (`[psi, theta]`, deg from
-/// `P0`) or the controlled stop (`None`); `label` for the report.
+/// What a command of the stream asks, as written in [`COMMANDS`].
+#[derive(Clone, Copy)]
+pub enum Ask {
+    /// A goal `[psi, theta]`, deg from `P0`.
+    GoalDeg([f64; 2]),
+    /// The controlled stop.
+    Stop,
+    /// Aim the camera at the midpoint of the two tips.
+    LookAtTips,
+}
+
+/// A command of the stream: at `cycle`, what it asks; `label` for the
+/// report.
 #[derive(Clone, Copy)]
 pub struct Command {
     /// The cycle it is given at (`t = cycle / RATE_HZ`).
     pub cycle: usize,
-    /// The goal, deg from `P0`; `None` for the stop.
-    pub goal_deg: Option<[f64; 2]>,
+    /// What it asks.
+    pub ask: Ask,
     /// What it is, for the report.
     pub label: &'static str,
 }
 
+/// A command as the controller takes it.
+#[derive(Clone, Copy)]
+pub enum Order<T: Real> {
+    /// A goal `[psi, theta]`, rad (absolute).
+    Goal([T; 2]),
+    /// The controlled stop.
+    Stop,
+    /// A look-at target, mm, fixed frame.
+    LookAt(Vector3<T>),
+}
+
 /// The stream (see the [module docs](self)).
-pub const COMMANDS: [Command; 4] = [
+pub const COMMANDS: [Command; 5] = [
     Command {
         cycle: 0,
-        goal_deg: Some([15.0, 25.0]),
+        ask: Ask::GoalDeg([15.0, 25.0]),
         label: "the paper's goal, psi +15 theta +25 deg",
     },
     Command {
         cycle: 1200,
-        goal_deg: Some([-10.0, 15.0]),
+        ask: Ask::GoalDeg([-10.0, 15.0]),
         label: "new goal while turning, psi -10 theta +15 deg",
     },
     Command {
         cycle: 3000,
-        goal_deg: None,
+        ask: Ask::Stop,
         label: "controlled stop",
     },
     Command {
         cycle: 3500,
-        goal_deg: Some([5.0, 10.0]),
+        ask: Ask::GoalDeg([5.0, 10.0]),
         label: "third goal while braking, psi +5 theta +10 deg",
+    },
+    Command {
+        cycle: 5000,
+        ask: Ask::LookAtTips,
+        label: "look at the tips' midpoint while turning",
     },
 ];
 
-/// An upper bound of the run's cycles (rest comes at cycle 6510): the loop
+/// An upper bound of the run's cycles (the run has 11178): the loop
 /// never runs longer, whatever happens.
-pub const MAX_CYCLES: usize = 10_000;
+pub const MAX_CYCLES: usize = 15_000;
 
 /// Every how many cycles the firmware compares its `f32` results with the
 /// host's `f64` references; every command's cycle and the last cycle are
@@ -116,35 +145,41 @@ pub fn online<T: Real>() -> Result<OnlineController<T>, Error> {
     })
 }
 
-/// The commands as the controller takes them: `(cycle, goal)`, the goal in
-/// rad (absolute) or `None` for the stop. Computed once, outside the loop.
-pub fn orders<T: Real>() -> [(usize, Option<[T; 2]>); 4] {
+/// The commands as the controller takes them: `(cycle, order)`, a goal in
+/// rad (absolute), the stop, or a look-at target in mm (the midpoint of the
+/// paper's tips, computed in `T`). Computed once, outside the loop.
+pub fn orders<T: Real>() -> [(usize, Order<T>); COMMANDS.len()] {
     let p0 = Pose::<f64>::paper_start();
     let lit = |x: f64| T::lit(x);
+    let tips = TipTargets::<T>::paper();
+    let midpoint = (tips.left + tips.right) / T::lit(2.0);
     COMMANDS.map(|c| {
         (
             c.cycle,
-            c.goal_deg.map(|[psi, theta]| {
-                [
+            match c.ask {
+                Ask::GoalDeg([psi, theta]) => Order::Goal([
                     lit(p0.psi + psi.to_radians()),
                     lit(p0.theta + theta.to_radians()),
-                ]
-            }),
+                ]),
+                Ask::Stop => Order::Stop,
+                Ask::LookAtTips => Order::LookAt(midpoint),
+            },
         )
     })
 }
 
-/// Gives `order` to the controller at `t`: the synchronisation of a goal,
-/// `None` for the stop.
+/// Gives `order` to the controller at `t`: the synchronisation of a goal
+/// or a look-at, `None` for the stop.
 #[inline(always)]
 pub fn give<T: Real>(
     online: &mut OnlineController<T>,
     t: T,
-    goal: Option<[T; 2]>,
+    order: Order<T>,
 ) -> Result<Option<Synchronization>, Error> {
-    match goal {
-        Some(g) => online.command(t, g).map(Some),
-        None => online.stop(t).map(|()| None),
+    match order {
+        Order::Goal(g) => online.command(t, g).map(Some),
+        Order::Stop => online.stop(t).map(|()| None),
+        Order::LookAt(target) => online.command_look_at(t, target).map(Some),
     }
 }
 
