@@ -3,7 +3,7 @@
 //! firmware would embed it, run on QEMU's `mps2-an386` board.
 //!
 //! Every 1 ms control cycle ([`parasils_control_step`]) gives the controller
-//! the command due at that cycle, if any (a new goal or the controlled stop,
+//! the command due at that cycle, if any (a new goal, a point to look at or the controlled stop,
 //! replanned from the state of the motion at that instant), then runs one
 //! [`OnlineController::tick`]: the platform state of the active motion,
 //! module 1 (actuators, rates, accelerations, margins), both instrument
@@ -11,7 +11,8 @@
 //! between the shafts and the endoscope, and the supervisor; it then
 //! recomputes both tips from the joints (forward kinematics), all in `f32`. The command stream is that of
 //! [`scenario`]: the paper's goal at 0 s, a new goal at 1.2 s while turning,
-//! a stop at 3.0 s, a third goal at 3.5 s, until rest.
+//! a stop at 3.0 s, a third goal at 3.5 s, a look at the tips' midpoint at
+//! 5.0 s, until rest.
 //!
 //! The harness around it checks, at every cycle, that the tips stay within
 //! 2e-3 mm of their targets, that both angles keep within their velocity and
