@@ -14,7 +14,9 @@ use parasils::{Error, OnlineController, Real, Supervisor};
 
 const DEPTH_MM: f64 = 60.0;
 
-fn controller<T: Real>() -> OnlineController<T> {
+type Outcome = Result<(), Box<dyn core::error::Error>>;
+
+fn controller<T: Real>() -> Result<OnlineController<T>, Error> {
     let deg = |x: f64| T::lit(x.to_radians());
     OnlineController::new(
         Controller::paper(),
@@ -23,21 +25,20 @@ fn controller<T: Real>() -> OnlineController<T> {
         [Limits::new(deg(10.0), deg(5.0)); 2],
         Supervisor::default(),
     )
-    .unwrap()
 }
 
 /// The angle (rad) between the straight scope's view `-Z'` and the
 /// direction from its eye to `target`, written independently of the camera
 /// module.
-fn aim_angle<T: Real>(state: &PlatformState<T>, target: &Vector3<f64>) -> f64 {
-    let frame = state.frame().unwrap();
+fn aim_angle<T: Real>(state: &PlatformState<T>, target: &Vector3<f64>) -> Result<f64, Error> {
+    let frame = state.frame()?;
     let r = frame.rotation.map(|x| x.to_f64());
     let p = frame.position.map(|x| x.to_f64());
     let z = r.column(2).into_owned();
     let eye = p - z * DEPTH_MM;
     let to = target - eye;
     let view = -z;
-    view.cross(&to).norm().atan2(view.dot(&to))
+    Ok(view.cross(&to).norm().atan2(view.dot(&to)))
 }
 
 /// The two targets: a point off to one side beyond the endoscope's tip,
@@ -53,10 +54,8 @@ fn targets() -> [Vector3<f64>; 2] {
 /// Runs both look-at commands at 1 kHz (the second at 1.5 s, while the
 /// first is under way) until rest; returns the aim error at rest (rad) and
 /// the largest distance of a tip from its target on the way (mm).
-fn run<T: Real>() -> (f64, f64) {
-    let mut online = controller::<T>()
-        .with_endoscope_depth(T::lit(DEPTH_MM))
-        .unwrap();
+fn run<T: Real>() -> Result<(f64, f64), Error> {
+    let mut online = controller::<T>()?.with_endoscope_depth(T::lit(DEPTH_MM))?;
     let [first, second] = targets();
     let lit = |v: &Vector3<f64>| v.map(T::lit);
     let tips = TipTargets::<f64>::paper();
@@ -65,24 +64,20 @@ fn run<T: Real>() -> (f64, f64) {
     loop {
         let t = T::lit(f64::from(k) / 1000.0);
         if k == 0 {
-            online.command_look_at(t, lit(&first)).unwrap();
+            online.command_look_at(t, lit(&first))?;
         }
         if k == 1500 {
             assert!(
                 !online.is_at_rest(t),
                 "the second target comes while turning"
             );
-            online.command_look_at(t, lit(&second)).unwrap();
+            online.command_look_at(t, lit(&second))?;
         }
-        let s = online.tick(t).unwrap();
+        let s = online.tick(t)?;
         let c = online.controller();
         let pose = &s.state.pose;
-        let left = c.left.fk(pose, &s.step.left.q).unwrap().map(|x| x.to_f64());
-        let right = c
-            .right
-            .fk(pose, &s.step.right.q)
-            .unwrap()
-            .map(|x| x.to_f64());
+        let left = c.left.fk(pose, &s.step.left.q)?.map(|x| x.to_f64());
+        let right = c.right.fk(pose, &s.step.right.q)?.map(|x| x.to_f64());
         drift = drift
             .max((left - tips.left).norm())
             .max((right - tips.right).norm());
@@ -93,7 +88,7 @@ fn run<T: Real>() -> (f64, f64) {
                 "rest at cycle {k}, goal {:?}",
                 online.goal()
             );
-            return (aim_angle(&online.state_at(t), &second), drift);
+            return Ok((aim_angle(&online.state_at(t), &second)?, drift));
         }
         k += 1;
         assert!(k < 20_000, "the motion ends");
@@ -101,68 +96,70 @@ fn run<T: Real>() -> (f64, f64) {
 }
 
 #[test]
-fn look_at_aims_the_view_through_the_target_with_the_tips_held_f64() {
-    let (aim, drift) = run::<f64>();
+fn look_at_aims_the_view_through_the_target_with_the_tips_held_f64() -> Outcome {
+    let (aim, drift) = run::<f64>()?;
     assert!(aim < 1e-9, "aim error {aim} rad");
     assert!(drift < 1e-9, "tip drift {drift} mm");
+    Ok(())
 }
 
 #[test]
-fn look_at_aims_the_view_through_the_target_with_the_tips_held_f32() {
-    let (aim, drift) = run::<f32>();
+fn look_at_aims_the_view_through_the_target_with_the_tips_held_f32() -> Outcome {
+    let (aim, drift) = run::<f32>()?;
     assert!(aim < 1e-3, "aim error {aim} rad");
     assert!(drift < 1e-2, "tip drift {drift} mm");
+    Ok(())
 }
 
 #[test]
-fn look_at_from_rest_matches_the_goal_of_the_camera_and_moves() {
+fn look_at_from_rest_matches_the_goal_of_the_camera_and_moves() -> Outcome {
     // The goal is a real turn (not the start), and the start does not aim.
-    let mut online = controller::<f64>().with_endoscope_depth(DEPTH_MM).unwrap();
+    let mut online = controller::<f64>()?.with_endoscope_depth(DEPTH_MM)?;
     let [first, _] = targets();
-    assert!(aim_angle(&online.state_at(0.0), &first) > 0.05);
-    online.command_look_at(0.0, first).unwrap();
+    assert!(aim_angle(&online.state_at(0.0), &first)? > 0.05);
+    online.command_look_at(0.0, first)?;
     let goal = online.goal();
     let p0 = Pose::<f64>::paper_start();
     assert!((goal[0] - p0.psi).abs() + (goal[1] - p0.theta).abs() > 0.05);
     let end = online.motion_end();
-    assert!(aim_angle(&online.state_at(end), &first) < 1e-9);
+    assert!(aim_angle(&online.state_at(end), &first)? < 1e-9);
+    Ok(())
 }
 
 #[test]
-fn look_at_refuses_what_cannot_be_looked_at_and_changes_nothing() {
-    let mut online = controller::<f64>().with_endoscope_depth(DEPTH_MM).unwrap();
+fn look_at_refuses_what_cannot_be_looked_at_and_changes_nothing() -> Outcome {
+    let mut online = controller::<f64>()?.with_endoscope_depth(DEPTH_MM)?;
     let [first, _] = targets();
-    online.command_look_at(0.0, first).unwrap();
+    online.command_look_at(0.0, first)?;
     let before = online;
     // P itself: nearer the port than the endoscope's tip.
     let p = Pose::<f64>::paper_start().position();
-    let err = online.command_look_at(1.0, p).unwrap_err();
+    let got = online.command_look_at(1.0, p);
     assert!(
-        matches!(err, Error::Camera(CameraError::Behind { depth_mm, .. }) if depth_mm == DEPTH_MM),
-        "{err:?}"
+        matches!(got, Err(Error::Camera(CameraError::Behind { depth_mm, .. })) if depth_mm == DEPTH_MM),
+        "{got:?}"
     );
-    let err = online
-        .command_look_at(1.0, Vector3::new(f64::NAN, 0.0, -600.0))
-        .unwrap_err();
+    let got = online.command_look_at(1.0, Vector3::new(f64::NAN, 0.0, -600.0));
     assert!(
         matches!(
-            err,
-            Error::Camera(CameraError::NonFinite {
+            got,
+            Err(Error::Camera(CameraError::NonFinite {
                 what: "target.x",
                 ..
-            })
+            }))
         ),
-        "{err:?}"
+        "{got:?}"
     );
     assert_eq!(online, before);
     // Without a depth there is no camera position.
-    let mut bare = controller::<f64>();
+    let mut bare = controller::<f64>()?;
     assert_eq!(
         bare.command_look_at(0.0, first),
         Err(Error::NoEndoscopeDepth)
     );
-    assert_eq!(bare, controller::<f64>());
+    assert_eq!(bare, controller::<f64>()?);
     // A depth outside the endoscope's range is refused.
-    assert!(controller::<f64>().with_endoscope_depth(1e4).is_err());
-    assert!(controller::<f64>().with_endoscope_depth(f64::NAN).is_err());
+    assert!(controller::<f64>()?.with_endoscope_depth(1e4).is_err());
+    assert!(controller::<f64>()?.with_endoscope_depth(f64::NAN).is_err());
+    Ok(())
 }
