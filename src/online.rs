@@ -12,7 +12,7 @@
 //! |---|---|
 //! | [`new`](OnlineController::new) | at rest at a pose; checks the supervisor's thresholds; seeds module 1's margin tracker (the one full SVD) here, outside the loop |
 //! | [`command`](OnlineController::command)`(t, [psi, theta])` | replans from the state of the active motion at `t` to rest at the goal (rad), time-optimal, `Phase` synchronisation requested; returns the one used |
-//! | [`command_look_at`](OnlineController::command_look_at)`(t, target)` | the goal that aims the camera's view axis through `target` (mm, fixed frame; [`Camera::look_at`] from the orientation at `t`, `phi` held), then as `command` |
+//! | [`command_look_at`](OnlineController::command_look_at)`(t, target)` | the goal that aims the camera's view axis through `target` (mm, fixed frame; [`Camera::look_at`](crate::kin::Camera::look_at) from the orientation at `t`, `phi` held), then as `command` |
 //! | [`stop`](OnlineController::stop)`(t)` | the controlled stop from the state at `t`: both angles to rest together, on a straight line |
 //! | [`tick`](OnlineController::tick)`(t)` | one cycle: the platform state at `t`, [`Controller::step`], the supervisor's verdict; returns a [`Setpoint`] |
 //! | [`command_index`](OnlineController::command_index) | 0 for the first motion, +1 at each command and each stop (a stop the supervisor demanded included) |
