@@ -128,7 +128,7 @@ fn main() {
          /// Per field, its largest magnitude over the run (f64).\n\
          pub const PEAK: [f64; {FIELD_COUNT}] = {:?};\n\
          /// `(cycle, fields)` of the compared cycles (f64).\n\
-         pub const REFERENCES: [(usize, [f64; {FIELD_COUNT}]); {}] = [",
+         pub static REFERENCES: [(usize, [f64; {FIELD_COUNT}]); {}] = [",
         syncs.len(),
         goals.len(),
         peak,
