@@ -25,6 +25,7 @@ pub mod motions;
 pub mod online;
 pub mod paper;
 pub mod path;
+pub mod regions;
 pub mod reorientation;
 pub mod supervisor;
 
@@ -34,11 +35,15 @@ pub use follow::{Follow, FollowError, FollowParams, FollowPhase, FollowStep};
 pub use geometry::{Geometry, MotionSample, MotionType, Moving, Port, RobotState};
 pub use margin::Margin;
 pub use motions::{Insertion, Manipulation, Motion, Positioning, Turning};
-pub use online::{ClearanceWatch, MotionKind, OnlineController, Setpoint};
+pub use online::{
+    ClearanceWatch, MAX_TIP_STEP_MM, MotionKind, OnlineController, PROBE_BAND_MM, Setpoint,
+};
 pub use path::{MotionPath, PathPoint};
+pub use regions::{ForbiddenRegions, InBodyCapsules, NearestRegion, NoRegions, RegionQueryError};
 pub use reorientation::Reorientation;
 pub use supervisor::{
-    ClearanceThresholds, ClearanceVerdict, MarginSet, Margins, PairSet, Supervisor, Verdict,
+    ClearanceThresholds, ClearanceVerdict, GapVerdict, MarginSet, Margins, PairSet, Supervisor,
+    Verdict,
 };
 
 /// The float type of both crates, [`f32`] or [`f64`]: the one trait the
