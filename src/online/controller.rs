@@ -189,7 +189,7 @@ impl<T: Real> OnlineController<T> {
         self.clearance = Some(Watched {
             watch,
             pairs,
-            regions: GapTrack::new(),
+            regions: [GapTrack::new(); 3],
             period: None,
             probe: None,
         });

@@ -3,10 +3,12 @@
 
 use super::controller::OnlineController;
 use super::setpoint::{MotionKind, Setpoint};
-use super::watch::gap_array;
+use super::watch::{GapTrack, gap_array};
 use crate::Real;
 use crate::error::Error;
-use crate::regions::{ForbiddenRegions, InBodyCapsules, NoRegions, RegionQueryError};
+use crate::regions::{
+    ForbiddenRegions, InBodyCapsules, NearestRegion, NoRegions, RegionQueryError,
+};
 use crate::supervisor::{GapVerdict, Margins};
 use crate::traj::{OnlineMulti, State, Synchronization};
 
@@ -79,31 +81,30 @@ impl<T: Real> OnlineController<T> {
         let mut tracker = self.tracker;
         let step = self.solve(&state, &mut tracker)?;
         let margins = Margins::of(&step);
-        let (clearance, nearest) = match &self.clearance {
+        let (clearance, each) = match &self.clearance {
             Some(w) => {
                 let bodies = self.bodies(&w.watch, &step)?;
-                let nearest = if with_regions {
-                    let inside = InBodyCapsules::of(
-                        &bodies,
-                        step.left.q.qs3,
-                        step.right.q.qs3,
-                        w.watch.endoscope_depth,
-                    );
-                    let n = regions.nearest(&inside)?;
-                    if let Some(n) = n
-                        && !n.gap_mm.finite()
-                        && !(n.gap_mm > T::zero())
-                    {
-                        return Err(RegionQueryError { region: n.region }.into());
-                    }
-                    n
+                let each = if with_regions {
+                    nearest_each(
+                        regions,
+                        &InBodyCapsules::of(
+                            &bodies,
+                            step.left.q.qs3,
+                            step.right.q.qs3,
+                            w.watch.endoscope_depth,
+                        ),
+                    )?
                 } else {
-                    None
+                    [None; 3]
                 };
-                (Some(bodies.clearance()?), nearest)
+                (Some(bodies.clearance()?), each)
             }
-            None => (None, None),
+            None => (None, [None; 3]),
         };
+        let nearest =
+            each.into_iter()
+                .flatten()
+                .reduce(|a, b| if b.gap_mm < a.gap_mm { b } else { a });
         let mut period = T::zero();
         let mut per_s = None;
         if let Some((t_prev, m_prev)) = self.previous
@@ -121,9 +122,11 @@ impl<T: Real> OnlineController<T> {
             if per_s.is_some() {
                 w.period = Some(period);
             }
-            match nearest {
-                Some(n) => w.regions.observe(&[n.gap_mm], per_s, &angles),
-                None => w.regions = super::watch::GapTrack::new(),
+            for (track, n) in w.regions.iter_mut().zip(&each) {
+                match n {
+                    Some(n) => track.observe(&[n.gap_mm], per_s, &angles),
+                    None => *track = GapTrack::new(),
+                }
             }
         }
         self.tracker = tracker;
@@ -153,16 +156,20 @@ impl<T: Real> OnlineController<T> {
                     stop_time,
                     period,
                 );
-                let region = match nearest {
-                    Some(n) => w.watch.thresholds.check_gap_ahead(
-                        n.gap_mm,
-                        w.regions.rates_or_zero()[0],
-                        w.regions.bends[0],
-                        stop_time,
-                        period,
-                    ),
-                    None => GapVerdict::default(),
-                };
+                let mut region = GapVerdict::default();
+                for (track, n) in w.regions.iter().zip(&each) {
+                    if let Some(n) = n {
+                        let one = w.watch.thresholds.check_gap_ahead(
+                            n.gap_mm,
+                            track.rates_or_zero()[0],
+                            track.bends[0],
+                            stop_time,
+                            period,
+                        );
+                        region.warning |= one.warning;
+                        region.stop |= one.stop;
+                    }
+                }
                 (pairs, region)
             }
             _ => Default::default(),
@@ -199,4 +206,49 @@ impl<T: Real> OnlineController<T> {
         }
         Ok(setpoint)
     }
+}
+
+/// The smallest gap from each in-body part of `inside` to `regions`,
+/// `[left, right, endoscope]` (`None` for a part not inside, or when no
+/// region answers): one query per part, so that each part's gap has its
+/// own rate (the smallest over the parts has kinks where the nearest part
+/// changes, and a rate measured across one would lag). A NaN or `-inf` gap
+/// is the region's error.
+fn nearest_each<T: Real>(
+    regions: &dyn ForbiddenRegions<T>,
+    inside: &InBodyCapsules<T>,
+) -> Result<[Option<NearestRegion<T>>; 3], Error> {
+    let none = InBodyCapsules {
+        left: None,
+        right: None,
+        endoscope: None,
+    };
+    let parts = [
+        InBodyCapsules {
+            left: inside.left,
+            ..none
+        },
+        InBodyCapsules {
+            right: inside.right,
+            ..none
+        },
+        InBodyCapsules {
+            endoscope: inside.endoscope,
+            ..none
+        },
+    ];
+    let mut each = [None; 3];
+    for (out, (part, capsule)) in each.iter_mut().zip(parts.iter().zip(inside.all())) {
+        if capsule.is_none() {
+            continue;
+        }
+        let n = regions.nearest(part)?;
+        if let Some(n) = n
+            && !(n.gap_mm.finite() || n.gap_mm > T::zero())
+        {
+            return Err(RegionQueryError { region: n.region }.into());
+        }
+        *out = n;
+    }
+    Ok(each)
 }

@@ -105,9 +105,10 @@ pub(super) struct Watched<T> {
     pub(super) watch: ClearanceWatch<T>,
     /// The three gaps between the bodies.
     pub(super) pairs: GapTrack<T, 3>,
-    /// The smallest gap to the forbidden regions (reset by a tick without
-    /// regions).
-    pub(super) regions: GapTrack<T, 1>,
+    /// The smallest gap of each in-body part, `[left, right, endoscope]`,
+    /// to the forbidden regions (reset by a tick without regions or while
+    /// the part is not inside).
+    pub(super) regions: [GapTrack<T, 1>; 3],
     /// The latest interval between two ticks, s.
     pub(super) period: Option<T>,
     /// A command's time and the rates its motion starts with, looked ahead
