@@ -103,10 +103,17 @@ fn tips_that_move_are_exactly_where_commanded_while_the_platform_turns() -> Outc
         .fold(0.0, f64::max);
     assert!(moved > 5.0, "the tips moved {moved} mm at most");
     // The modules' rates are the joints' derivatives (central differences,
-    // O(h^2): the tips' own velocity is in them, not only the platform's).
+    // O(h^2), about 2e-5 here, away from the platform's steps of
+    // acceleration: the tips' own velocity is in them, not only the
+    // platform's).
     let mut rate_error = 0.0f64;
     for w in cycles.windows(3) {
         let [a, b, c] = [&w[0], &w[1], &w[2]];
+        if a.state.acceleration != c.state.acceleration {
+            // The platform's acceleration steps here (a phase of its
+            // trapezoid ends): the difference is first order.
+            continue;
+        }
         let h = c.t - a.t;
         for (qa, qb, qc) in [
             (&a.step.left, &b.step.left, &c.step.left),
@@ -320,6 +327,12 @@ fn the_camera_follows_tips_that_wander_with_both_in_view() -> Outcome {
         from = to;
     }
     let share = |n: u32| f64::from(n) / f64::from(samples);
+    println!(
+        "{samples} cycles: both in view {:.4} %, central 80 % {:.4} %, {settles} settles, \
+         aim after settling {worst_aim:.4} deg at most, tips {worst_tip:.3e} mm at most",
+        100.0 * share(in_view),
+        100.0 * share(central)
+    );
     // The figures `procedures/follow-demo.toml` meets in the simulation
     // (docs/model.md: 100 %, 100 %, 0.043 deg at most).
     assert_eq!(in_view, samples, "both tips in view in every cycle");

@@ -64,7 +64,7 @@ mod tests {
 
     use crate::file::Anatomy;
 
-    type Outcome = Result<(), Box<dyn std::error::Error>>;
+    type Outcome = Result<(), Box<dyn core::error::Error>>;
 
     fn anatomy(text: &str) -> Result<Anatomy, crate::AnatomyError> {
         Anatomy::parse(text, Path::new("test.toml"), Path::new("."))
