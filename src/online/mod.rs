@@ -96,18 +96,20 @@
 //! is one); [`tick`](OnlineController::tick) is `tick_with` with
 //! [`NoRegions`](crate::NoRegions). With the clearance watched
 //! ([`with_clearance`](OnlineController::with_clearance): the bodies' sizes
-//! and the thresholds), every such tick asks for the smallest gap from the
-//! in-body parts ([`InBodyCapsules`](crate::InBodyCapsules)) to the
-//! regions, reports it with its region's index ([`Setpoint::region`]),
-//! tracks its rate and bend from the previous ticks, and the supervisor
-//! demands the controlled stop for a decreasing gap predicted to end below
-//! the stop threshold exactly as for the pairs of bodies
-//! ([`ClearanceThresholds::check_gap_ahead`], [`Setpoint::region_stop`]).
-//! Unlike the pairs', a command does not look the region gap's rate one
-//! cycle ahead (the regions are not known between ticks): from a rest just
-//! above the stop threshold, a command heading inwards is seen one cycle
-//! later, by micrometres. A tick without regions forgets the region gap's
-//! rates.
+//! and the thresholds), every such tick asks for the smallest gap from each
+//! in-body part ([`InBodyCapsules`](crate::InBodyCapsules), one query per
+//! part) to the regions, reports the smallest with its region's index
+//! ([`Setpoint::region`]), tracks each part's rate and bend from the
+//! previous ticks (apart, because the smallest over the parts has kinks
+//! where the nearest part changes, and a rate measured across one lags),
+//! and the supervisor demands the controlled stop for a decreasing gap
+//! predicted to end below the stop threshold exactly as for the pairs of
+//! bodies ([`ClearanceThresholds::check_gap_ahead`],
+//! [`Setpoint::region_stop`]). Unlike the pairs', a command does not look
+//! the regions' rates one cycle ahead (the regions are known only at the
+//! ticks): from a rest just above the stop threshold, a command heading
+//! inwards is seen one cycle later, by micrometres. A tick without regions
+//! forgets their rates.
 //!
 //! # Time
 //! The controller only uses the time since the active motion's start,
