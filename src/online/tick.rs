@@ -101,10 +101,10 @@ impl<T: Real> OnlineController<T> {
             }
             None => (None, [None; 3]),
         };
-        let nearest =
-            each.into_iter()
-                .flatten()
-                .reduce(|a, b| if b.gap_mm < a.gap_mm { b } else { a });
+        let nearest = each
+            .into_iter()
+            .flatten()
+            .reduce(|a, b| if b.gap_mm < a.gap_mm { b } else { a });
         let mut period = T::zero();
         let mut per_s = None;
         if let Some((t_prev, m_prev)) = self.previous
