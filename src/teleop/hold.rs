@@ -1,0 +1,208 @@
+//! Limits held, never an error: a cycle's candidate motion is checked at
+//! the setpoint it reaches and at the point where the robot would come to
+//! rest if it braked from there; a candidate that would cross a limit is
+//! reduced, by bisection between the controlled stop and the candidate, to
+//! the largest fraction that passes (see `docs/model.md`, *Teleoperation*).
+
+use crate::kin::nalgebra::Vector3;
+use crate::kin::{
+    Bodies, Clearance, ClearancePair, ControlStep, MarginTracker, ModuleCommand, PlatformState,
+    Pose, Real, TipMotion, TipTargets,
+};
+use crate::supervisor::{Margin, Margins};
+
+use super::core::{Teleop, Velocities};
+use super::cycle::{Fault, HoldAt};
+
+/// How many halvings the search for the largest admissible fraction takes
+/// (the fraction to within 1/64 of the cycle's change of velocity).
+const BISECTIONS: usize = 6;
+
+/// A candidate cycle solved.
+struct Trial<T: Real> {
+    tips: [Vector3<T>; 2],
+    pose: Pose<T>,
+    step: ControlStep<T>,
+    margins: Margins<T>,
+    clearance: Option<Clearance<T>>,
+    tracker: MarginTracker<T>,
+    end_tracker: MarginTracker<T>,
+}
+
+impl<T: Real> Teleop<T> {
+    /// The gaps between the bodies at `step`, when the core watches them.
+    pub(super) fn clearance_of(
+        &self,
+        step: &ControlStep<T>,
+    ) -> Result<Option<Clearance<T>>, crate::kin::Error> {
+        let Some((bodies, _)) = &self.watch else {
+            return Ok(None);
+        };
+        let c = &self.controller;
+        Bodies::at(
+            bodies,
+            &step.frame,
+            &c.left,
+            &step.left.q,
+            &c.right,
+            &step.right.q,
+            self.depth,
+        )?
+        .clearance()
+        .map(Some)
+    }
+
+    /// Margins and gaps each at or above its stop threshold, or no lower
+    /// than at the current setpoint (a robot stopped near a limit may move
+    /// away from it).
+    fn admissible(&self, m: &Margins<T>, c: Option<&Clearance<T>>) -> Result<(), HoldAt> {
+        for k in Margin::ALL {
+            if !(m[k] >= self.supervisor.stop[k]) && !(m[k] >= self.margins[k]) {
+                return Err(HoldAt::Margin(k));
+            }
+        }
+        if let (Some((_, th)), Some(c), Some(now)) = (&self.watch, c, &self.clearance) {
+            for pair in ClearancePair::ALL {
+                let g = c.get(pair).gap;
+                if !(g >= th.stop) && !(g >= now.get(pair).gap) {
+                    return Err(HoldAt::Clearance(pair));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The cycle reached with the velocities `v` over `dt`, solved; with
+    /// `check`, it and its stopping point must be admissible.
+    fn trial(&self, dt: T, v: &Velocities<T>, check: bool) -> Result<Trial<T>, HoldAt> {
+        let per_s = if dt > T::zero() {
+            T::one() / dt
+        } else {
+            T::zero()
+        };
+        let tips = [0, 1].map(|m| self.tips[m] + v.tips[m] * dt);
+        let pose = Pose {
+            psi: self.pose.psi + v.angles[0] * dt,
+            theta: self.pose.theta + v.angles[1] * dt,
+            ..self.pose
+        };
+        let acc = [0, 1].map(|i| (v.angles[i] - self.velocity.angles[i]) * per_s);
+        let platform = PlatformState::reorientation(pose, v.angles, acc);
+        let command = |m: usize| {
+            ModuleCommand::Tip(TipMotion {
+                position: tips[m],
+                velocity: v.tips[m],
+                acceleration: (v.tips[m] - self.velocity.tips[m]) * per_s,
+            })
+        };
+        let mut tracker = self.tracker;
+        let step = self
+            .controller
+            .step_commanded(&platform, &command(0), &command(1), &mut tracker)
+            .map_err(HoldAt::Reach)?;
+        let margins = Margins::of(&step);
+        let clearance = self.clearance_of(&step).map_err(HoldAt::Reach)?;
+        let mut end_tracker = self.end_tracker;
+        if check {
+            self.admissible(&margins, clearance.as_ref())?;
+            if !v.is_zero() {
+                // Where a controlled stop from this setpoint would end, one
+                // cycle late: `v (|v| / 2a + dt)` further on.
+                let a = self.params.tip_accel_mm_s2;
+                let ends = [0, 1].map(|m| {
+                    let w = v.tips[m];
+                    tips[m] + w * (w.norm() / (a + a) + dt)
+                });
+                let alpha = self.params.camera.a_max;
+                let turn = |w: T| w * (w.abs() / (alpha + alpha) + dt);
+                let end_pose = Pose {
+                    psi: pose.psi + turn(v.angles[0]),
+                    theta: pose.theta + turn(v.angles[1]),
+                    ..pose
+                };
+                let end = self
+                    .controller
+                    .step(
+                        &PlatformState::at_rest(end_pose),
+                        &TipTargets {
+                            left: ends[0],
+                            right: ends[1],
+                        },
+                        &mut end_tracker,
+                    )
+                    .map_err(HoldAt::Reach)?;
+                let gaps = self.clearance_of(&end).map_err(HoldAt::Reach)?;
+                self.admissible(&Margins::of(&end), gaps.as_ref())?;
+            }
+        }
+        Ok(Trial {
+            tips,
+            pose,
+            step,
+            margins,
+            clearance,
+            tracker,
+            end_tracker,
+        })
+    }
+
+    fn commit(&mut self, trial: Trial<T>, v: Velocities<T>) {
+        self.tips = trial.tips;
+        self.pose = trial.pose;
+        self.step = trial.step;
+        self.margins = trial.margins;
+        self.clearance = trial.clearance;
+        self.tracker = trial.tracker;
+        self.end_tracker = trial.end_tracker;
+        self.velocity = v;
+    }
+
+    /// Moves the setpoint by the candidate velocities over `dt`, reduced if
+    /// needed (`checked`: the candidate is a command; otherwise it is the
+    /// controlled stop, taken as it is); returns the limit held at.
+    pub(super) fn advance(
+        &mut self,
+        dt: T,
+        candidate: &Velocities<T>,
+        checked: bool,
+    ) -> Option<HoldAt> {
+        let reason = match self.trial(dt, candidate, checked) {
+            Ok(trial) => {
+                self.commit(trial, *candidate);
+                return None;
+            }
+            Err(reason) => reason,
+        };
+        let brake = self.brake(dt);
+        let mut best = None;
+        if checked {
+            let (mut lo, mut hi) = (T::zero(), T::one());
+            for _ in 0..BISECTIONS {
+                let mid = (lo + hi) * T::lit(0.5);
+                let v = brake.lerp(candidate, mid);
+                match self.trial(dt, &v, true) {
+                    Ok(trial) => {
+                        lo = mid;
+                        best = Some((trial, v));
+                    }
+                    Err(_) => hi = mid,
+                }
+            }
+        }
+        let (trial, v) = match best {
+            Some(found) => found,
+            None => match self.trial(dt, &brake, false) {
+                Ok(trial) => (trial, brake),
+                Err(HoldAt::Reach(e)) => {
+                    // Not even the stop solves: hold the setpoint as it is.
+                    self.velocity = Velocities::zero();
+                    self.enter_fault(Fault::Unsolvable(e));
+                    return Some(HoldAt::Reach(e));
+                }
+                Err(other) => return Some(other),
+            },
+        };
+        self.commit(trial, v);
+        Some(reason)
+    }
+}
