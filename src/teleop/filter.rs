@@ -11,7 +11,7 @@
 //!
 //! (`tau` the group delay, `2 / w` at low frequencies). With the assumed
 //! `f_c = 2.5 Hz` it passes a surgeon's deliberate motion (below about 1
-//! Hz: -1.2 dB at 1 Hz) and attenuates the physiological tremor band, 6 to
+//! Hz: -1.3 dB at 1 Hz) and attenuates the physiological tremor band, 6 to
 //! 16 Hz, by 16.6 dB at 6 Hz to 32.5 dB at 16 Hz; its lag is 127 ms at low
 //! frequencies (110 ms at 1 Hz). A step of the input never overshoots
 //! (critical damping), so a full-scale step never asks the tip for more

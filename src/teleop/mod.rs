@@ -49,7 +49,7 @@
 //! state FAULT, a controlled stop within the acceleration limits, then held.
 //!
 //! ```
-//! use parasils::kin::{Controller, Pose, TipTargets};
+//! use parasils::kin::{Controller, Pose, Side, TipTargets};
 //! use parasils::teleop::{
 //!     BUTTON_ENABLE, Command, HandCommand, Inputs, OperatingState, Teleop, TeleopParams,
 //! };
@@ -73,12 +73,15 @@
 //!     inputs.left.buttons = BUTTON_ENABLE;
 //!     cycle = teleop.step(t, &inputs)?;
 //! }
-//! let moved = cycle.tips[0] - start[0];
+//! // The left hand drives the tip on the left of the picture: here the
+//! // right module's (the instruments cross).
+//! assert_eq!(teleop.hands(), [Side::Right, Side::Left]);
+//! let moved = cycle.tips[1] - start[1];
 //! // Along the image's u axis in the fixed frame, at up to 20 mm/s.
 //! let u = cycle.step.frame.rotation * teleop.camera().axes().column(0);
 //! assert!(moved.dot(&u) > 3.0 && moved.dot(&u) < 10.0);
 //! assert!((moved - u * moved.dot(&u)).norm() < 1e-9);
-//! assert_eq!(cycle.tips[1], start[1]); // the right hand did nothing
+//! assert_eq!(cycle.tips[0], start[0]); // the right hand did nothing
 //! assert!(cycle.hold.is_none() && cycle.setpoints.iter().all(|q| q.is_finite()));
 //! # Ok::<(), parasils::teleop::TeleopError>(())
 //! ```
