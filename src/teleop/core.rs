@@ -38,16 +38,19 @@ impl<T: Real> Velocities<T> {
             && self.angles.iter().all(|x| *x == T::zero())
     }
 
-    /// `self + s (other - self)`.
-    pub(super) fn lerp(&self, other: &Self, s: T) -> Self {
+    /// `self + s (other - self)` for the parts `which` names (the left tip,
+    /// the right tip, the view), `other` for the rest.
+    pub(super) fn lerp(&self, other: &Self, s: T, which: [bool; 3]) -> Self {
+        let k = |on: bool| if on { s } else { T::one() };
+        let (l, r, a) = (k(which[0]), k(which[1]), k(which[2]));
         Self {
             tips: [
-                self.tips[0] + (other.tips[0] - self.tips[0]) * s,
-                self.tips[1] + (other.tips[1] - self.tips[1]) * s,
+                self.tips[0] + (other.tips[0] - self.tips[0]) * l,
+                self.tips[1] + (other.tips[1] - self.tips[1]) * r,
             ],
             angles: [
-                self.angles[0] + (other.angles[0] - self.angles[0]) * s,
-                self.angles[1] + (other.angles[1] - self.angles[1]) * s,
+                self.angles[0] + (other.angles[0] - self.angles[0]) * a,
+                self.angles[1] + (other.angles[1] - self.angles[1]) * a,
             ],
         }
     }
@@ -272,8 +275,9 @@ impl<T: Real> Teleop<T> {
             Some(last) => t - last,
             None => T::zero(),
         };
+        let previous = self.last.unwrap_or(t);
         self.last = Some(t);
-        let command = inputs.command.map(|c| self.apply(t, c, inputs));
+        let command = inputs.command.map(|c| self.apply(t, previous, c, inputs));
         if self.state == OperatingState::Enabled
             && let Some(fault) = self.input_fault(t, inputs)
         {
@@ -287,9 +291,19 @@ impl<T: Real> Teleop<T> {
         };
         let hold = self.advance(dt, &candidate, enabled);
         if hold.is_some() {
-            // A held plan or law no longer describes the setpoint.
+            // A held plan or law no longer describes the setpoint; the
+            // filters restart from the velocities held (no wind-up: a
+            // reversal acts at once).
             self.homing = None;
             self.follow = None;
+            for h in 0..2 {
+                let m = match self.hands[h] {
+                    Side::Left => 0,
+                    Side::Right => 1,
+                };
+                self.filters[h].hold_at(self.velocity.tips[m].into());
+            }
+            self.camera_filter.hold_at(self.velocity.angles);
         } else if from_home
             && let Some((plan, start)) = self.homing
             && t - start >= plan.duration()
@@ -300,8 +314,10 @@ impl<T: Real> Teleop<T> {
         Ok(self.cycle(t, command, hold))
     }
 
-    /// A command's transition and what it starts or ends.
-    fn apply(&mut self, t: T, command: Command, inputs: &Inputs<T>) -> CommandOutcome {
+    /// A command's transition and what it starts or ends; `previous` is the
+    /// previous cycle's time, s, where the current setpoint is (a home move
+    /// starts there, so that this cycle is its first step).
+    fn apply(&mut self, t: T, previous: T, command: Command, inputs: &Inputs<T>) -> CommandOutcome {
         let cleared = self.is_at_rest() && self.input_fault(t, inputs).is_none();
         let before = self.state;
         let tr = before.after(command, cleared);
@@ -313,7 +329,7 @@ impl<T: Real> Teleop<T> {
                     self.reset_inputs();
                 }
                 Command::Resume => self.reset_inputs(),
-                Command::Home if !self.plan_home(t) => {
+                Command::Home if !self.plan_home(previous) => {
                     return CommandOutcome {
                         command,
                         accepted: false,
@@ -402,9 +418,9 @@ impl<T: Real> Teleop<T> {
         }
     }
 
-    /// The plan of the home move from the current state; false when it
-    /// cannot be planned.
-    fn plan_home(&mut self, t: T) -> bool {
+    /// The plan of the home move from the current state, starting at `t0`
+    /// (s); false when it cannot be planned.
+    fn plan_home(&mut self, t0: T) -> bool {
         let root3 = T::lit(3.0).sqrt();
         let tip = crate::traj::Limits::new(
             self.params.tip_speed_mm_s / root3,
@@ -435,7 +451,7 @@ impl<T: Real> Teleop<T> {
         }
         match OnlineMulti::new(start, goal, limits, crate::traj::Synchronization::Phase) {
             Ok(plan) => {
-                self.homing = Some((plan, t));
+                self.homing = Some((plan, t0));
                 self.follow = None;
                 true
             }

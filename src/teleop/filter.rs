@@ -72,6 +72,12 @@ impl<T: Real, const N: usize> LowPass<T, N> {
         self.v = [T::zero(); N];
     }
 
+    /// At rest at `x`: the output `x`, its rate 0.
+    pub fn hold_at(&mut self, x: [T; N]) {
+        self.x = x;
+        self.v = [T::zero(); N];
+    }
+
     /// Steps the filter by `dt` (s) with the input `u` held over it; returns
     /// the output.
     pub fn update(&mut self, dt: T, u: [T; N]) -> [T; N] {

@@ -18,6 +18,27 @@ use super::cycle::{Fault, HoldAt};
 /// (the fraction to within 1/64 of the cycle's change of velocity).
 const BISECTIONS: usize = 6;
 
+/// The parts of the motion a limit belongs to: `[left tip, right tip,
+/// view]`.
+fn culprits(reason: &HoldAt) -> [bool; 3] {
+    match reason {
+        HoldAt::Margin(m) => match m {
+            Margin::LeftCosQs2
+            | Margin::LeftQs3
+            | Margin::LeftAngleLimits
+            | Margin::LeftQs3Limits => [true, false, true],
+            Margin::RightCosQs2
+            | Margin::RightQs3
+            | Margin::RightAngleLimits
+            | Margin::RightQs3Limits => [false, true, true],
+            Margin::Serial | Margin::Parallel | Margin::Stroke => [true; 3],
+        },
+        HoldAt::Clearance(ClearancePair::LeftEndoscope) => [true, false, true],
+        HoldAt::Clearance(ClearancePair::RightEndoscope) => [false, true, true],
+        HoldAt::Clearance(_) | HoldAt::Reach(_) => [true; 3],
+    }
+}
+
 /// A candidate cycle solved.
 struct Trial<T: Real> {
     tips: [Vector3<T>; 2],
@@ -146,6 +167,38 @@ impl<T: Real> Teleop<T> {
         })
     }
 
+    /// The largest fraction `s` (to `2^-BISECTIONS`) of the way from the
+    /// stop `brake` to `candidate` in the parts `which` that passes.
+    fn search(
+        &self,
+        dt: T,
+        brake: &Velocities<T>,
+        candidate: &Velocities<T>,
+        which: [bool; 3],
+    ) -> Option<(Trial<T>, Velocities<T>)> {
+        let mut best = None;
+        let (mut lo, mut hi) = (T::zero(), T::one());
+        for _ in 0..BISECTIONS {
+            let mid = (lo + hi) * T::lit(0.5);
+            let v = brake.lerp(candidate, mid, which);
+            match self.trial(dt, &v, true) {
+                Ok(trial) => {
+                    lo = mid;
+                    best = Some((trial, v));
+                }
+                Err(_) => hi = mid,
+            }
+        }
+        if best.is_none() && which != [true; 3] {
+            // The stop in these parts alone, the rest as commanded.
+            let v = brake.lerp(candidate, T::zero(), which);
+            if let Ok(trial) = self.trial(dt, &v, true) {
+                best = Some((trial, v));
+            }
+        }
+        best
+    }
+
     fn commit(&mut self, trial: Trial<T>, v: Velocities<T>) {
         self.tips = trial.tips;
         self.pose = trial.pose;
@@ -176,17 +229,13 @@ impl<T: Real> Teleop<T> {
         let brake = self.brake(dt);
         let mut best = None;
         if checked {
-            let (mut lo, mut hi) = (T::zero(), T::one());
-            for _ in 0..BISECTIONS {
-                let mid = (lo + hi) * T::lit(0.5);
-                let v = brake.lerp(candidate, mid);
-                match self.trial(dt, &v, true) {
-                    Ok(trial) => {
-                        lo = mid;
-                        best = Some((trial, v));
-                    }
-                    Err(_) => hi = mid,
-                }
+            // First only what the limit belongs to (one module's tip and
+            // the view, which moves both modules' joints), then everything.
+            let all = [true; 3];
+            let own = culprits(&reason);
+            best = self.search(dt, &brake, candidate, own);
+            if best.is_none() && own != all {
+                best = self.search(dt, &brake, candidate, all);
             }
         }
         let (trial, v) = match best {
