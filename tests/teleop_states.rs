@@ -209,6 +209,10 @@ fn home_is_a_planned_move_back_and_busy_while_it_runs() -> R {
         assert!((end.tips[m] - home[m]).norm() < 1e-9);
     }
     assert!((end.angles[0] - angles[0]).abs() < 1e-12 && (end.angles[1] - angles[1]).abs() < 1e-12);
+    // The next cycle rests (the hands re-anchor after the move).
+    k += 1;
+    let next = t.step(t_of(k), &pushing(k, [-1.0; 6]))?;
+    assert_eq!(next.setpoints, end.setpoints);
     assert!(t.is_at_rest() && t.is_ready());
     Ok(())
 }
@@ -253,14 +257,16 @@ fn a_push_into_a_limit_stops_short_and_holds_there() -> R {
             m,
             Margin::LeftQs3 | Margin::LeftQs3Limits | Margin::RightQs3 | Margin::RightQs3Limits
         ));
-        // Stopped short: at rest, still pushing, the setpoints fixed and
-        // the hold reported every cycle.
+        // Stopped short: still pushing, the hold reported every cycle, the
+        // tips still (each cycle's search may creep on by a fraction of
+        // what one cycle of acceleration would move).
         let last = &cycles[cycles.len() - 100..];
-        assert!(
-            last.iter()
-                .all(|c| c.setpoints == last[0].setpoints && c.hold.is_some())
-        );
-        assert!(t.is_at_rest());
+        assert!(last.iter().all(|c| c.hold.is_some()));
+        let creep = (0..2)
+            .map(|m| (last[99].tips[m] - last[0].tips[m]).norm())
+            .fold(0.0, f64::max);
+
+        assert!(creep < 1e-6, "crept {creep} mm in 0.1 s");
         assert!(
             last[0].margins[m] - sup.stop[m] < 1.0,
             "stopped {} mm short",

@@ -292,8 +292,8 @@ impl<T: Real> Teleop<T> {
         let hold = self.advance(dt, &candidate, enabled);
         if hold.is_some() {
             // A held plan or law no longer describes the setpoint; the
-            // filters restart from the velocities held (no wind-up: a
-            // reversal acts at once).
+            // filters of what was reduced restart from the velocities held
+            // (no wind-up: a reversal acts at once).
             self.homing = None;
             self.follow = None;
             for h in 0..2 {
@@ -301,15 +301,21 @@ impl<T: Real> Teleop<T> {
                     Side::Left => 0,
                     Side::Right => 1,
                 };
-                self.filters[h].hold_at(self.velocity.tips[m].into());
+                if self.velocity.tips[m] != candidate.tips[m] {
+                    self.filters[h].hold_at(self.velocity.tips[m].into());
+                }
             }
-            self.camera_filter.hold_at(self.velocity.angles);
+            if self.velocity.angles != candidate.angles {
+                self.camera_filter.hold_at(self.velocity.angles);
+            }
         } else if from_home
             && let Some((plan, start)) = self.homing
             && t - start >= plan.duration()
         {
+            // Home: the hands start again from rest and re-anchor (the
+            // velocity is the last cycle's, which the next one brings to 0).
             self.homing = None;
-            self.velocity = Velocities::zero();
+            self.reset_inputs();
         }
         Ok(self.cycle(t, command, hold))
     }

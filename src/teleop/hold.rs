@@ -127,33 +127,32 @@ impl<T: Real> Teleop<T> {
         if check {
             self.admissible(&margins, clearance.as_ref())?;
             if !v.is_zero() {
-                // Where a controlled stop from this setpoint would end, one
-                // cycle late: `v (|v| / 2a + dt)` further on.
-                let a = self.params.tip_accel_mm_s2;
-                let ends = [0, 1].map(|m| {
-                    let w = v.tips[m];
-                    tips[m] + w * (w.norm() / (a + a) + dt)
-                });
-                let alpha = self.params.camera.a_max;
-                let turn = |w: T| w * (w.abs() / (alpha + alpha) + dt);
-                let end_pose = Pose {
-                    psi: pose.psi + turn(v.angles[0]),
-                    theta: pose.theta + turn(v.angles[1]),
-                    ..pose
-                };
-                let end = self
-                    .controller
-                    .step(
-                        &PlatformState::at_rest(end_pose),
-                        &TipTargets {
-                            left: ends[0],
-                            right: ends[1],
-                        },
-                        &mut end_tracker,
-                    )
-                    .map_err(HoldAt::Reach)?;
-                let gaps = self.clearance_of(&end).map_err(HoldAt::Reach)?;
-                self.admissible(&Margins::of(&end), gaps.as_ref())?;
+                // The controlled stop from this setpoint keeps to the line
+                // from it to `x + v (T_stop / 2 + dt)` (one cycle late):
+                // checked at its middle and its end.
+                let reach = self.stop_time(v) * T::lit(0.5) + dt;
+                for s in [T::lit(0.5), T::one()] {
+                    let k = reach * s;
+                    let ends = [0, 1].map(|m| tips[m] + v.tips[m] * k);
+                    let end_pose = Pose {
+                        psi: pose.psi + v.angles[0] * k,
+                        theta: pose.theta + v.angles[1] * k,
+                        ..pose
+                    };
+                    let end = self
+                        .controller
+                        .step(
+                            &PlatformState::at_rest(end_pose),
+                            &TipTargets {
+                                left: ends[0],
+                                right: ends[1],
+                            },
+                            &mut end_tracker,
+                        )
+                        .map_err(HoldAt::Reach)?;
+                    let gaps = self.clearance_of(&end).map_err(HoldAt::Reach)?;
+                    self.admissible(&Margins::of(&end), gaps.as_ref())?;
+                }
             }
         }
         Ok(Trial {

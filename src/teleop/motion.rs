@@ -181,15 +181,29 @@ impl<T: Real> Teleop<T> {
         out
     }
 
-    /// The controlled stop: every tip's speed and each angle's rate down by
-    /// one cycle of the acceleration limits, the tips along their paths.
+    /// The time a controlled stop from the velocities `v` takes, s: the
+    /// longest of the tips' `|v| / a_max` and the angles' `|w| / alpha_max`.
+    pub(super) fn stop_time(&self, v: &Velocities<T>) -> T {
+        let a = self.params.tip_accel_mm_s2;
+        let alpha = self.params.camera.a_max;
+        let tips = v.tips.iter().fold(T::zero(), |m, x| m.max(x.norm() / a));
+        v.angles.iter().fold(tips, |m, w| m.max(w.abs() / alpha))
+    }
+
+    /// The controlled stop's next cycle: every velocity scaled by the same
+    /// factor `1 - dt / T_stop`, so that all reach rest together, each
+    /// within its acceleration limit, and the robot's coordinates (both
+    /// tips and the two angles) keep to one straight line.
     pub(super) fn brake(&self, dt: T) -> Velocities<T> {
-        let a_step = self.params.tip_accel_mm_s2 * dt;
-        let w_step = self.params.camera.a_max * dt;
         let v = &self.velocity;
+        let t_stop = self.stop_time(v);
+        if !(t_stop > dt) {
+            return Velocities::zero();
+        }
+        let k = T::one() - dt / t_stop;
         Velocities {
-            tips: v.tips.map(|x| approach(&x, &Vector3::zeros(), a_step)),
-            angles: v.angles.map(|w| approach1(w, T::zero(), w_step)),
+            tips: v.tips.map(|x| x * k),
+            angles: v.angles.map(|w| w * k),
         }
     }
 }
