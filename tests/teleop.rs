@@ -11,7 +11,7 @@ use parasils::teleop::{
     TeleopCycle, TeleopParams,
 };
 
-type R<T = ()> = Result<T, Box<dyn std::error::Error>>;
+type R<T = ()> = Result<T, Box<dyn core::error::Error>>;
 
 const DT: f64 = 1e-3;
 const DEPTH: f64 = 60.0;
@@ -323,7 +323,7 @@ fn the_left_hand_drives_the_tip_on_the_left_of_the_picture() -> R {
 /// sine of `f` Hz, stepped at 1 kHz, by correlation over whole periods.
 fn response(cutoff: f64, f: f64) -> (f64, f64) {
     let mut filter = LowPass::<f64, 1>::new(cutoff);
-    let w = std::f64::consts::TAU * f;
+    let w = core::f64::consts::TAU * f;
     let settle = (2.0 * 1000.0) as u32; // 2 s, many time constants
     let periods = (f * 4.0).ceil().max(1.0);
     let n = (periods / f * 1000.0).round() as u32;
@@ -372,7 +372,7 @@ fn the_tremor_filter_has_its_stated_response() {
         let df = 0.01;
         let (_, p0) = response(fc, f - df);
         let (_, p1) = response(fc, f + df);
-        -(p1 - p0) / (std::f64::consts::TAU * 2.0 * df)
+        -(p1 - p0) / (core::f64::consts::TAU * 2.0 * df)
     };
     for (f, stated_ms) in [(0.1, 127.0), (1.0, 110.0)] {
         let measured = delay(f);

@@ -17,7 +17,7 @@ use parasils::teleop::{
 use parasils::{Supervisor, kin::ClearancePair};
 use parasils_io::Rng;
 
-type R<T = ()> = Result<T, Box<dyn std::error::Error>>;
+type R<T = ()> = Result<T, Box<dyn core::error::Error>>;
 
 const DT: f64 = 1e-3;
 const STOP_MM: f64 = 0.5;
@@ -124,11 +124,13 @@ fn check_cycle(
         c.t
     );
     let Some(b) = prev.last() else { return };
-    // Every margin and gap starts above its stop threshold and stays there.
+    // Every margin and gap starts above its stop threshold and stays there
+    // (to rounding: a tip held at a threshold creeps towards it by
+    // fractions of a cycle, and the margin's last digits are rounding).
     for m in Margin::ALL {
         let (x, before) = (c.margins[m], b.margins[m]);
         assert!(
-            x >= sup.stop[m],
+            x >= sup.stop[m] - 1e-12 * sup.stop[m].abs().max(1.0),
             "{m}: {x} from {before} (stop {}) at {}: {:?} {} {:?} {:?} {} after {:?} {:?}; v {:?} {:?} from {:?} {:?}",
             sup.stop[m],
             c.t,
@@ -148,14 +150,16 @@ fn check_cycle(
     if let (Some(g), Some(gb)) = (&c.clearance, &b.clearance) {
         for pair in ClearancePair::ALL {
             let (x, before) = (g.get(pair).gap, gb.get(pair).gap);
-            assert!(x >= STOP_MM, "{pair}: {x} from {before} at {}", c.t);
+            assert!(x >= STOP_MM - 1e-12, "{pair}: {x} from {before} at {}", c.t);
         }
     }
+    // Rounding: the angles (about 1 rad) and the tips (about 600 mm) are
+    // differenced twice; 1e-14 rad and 5e-12 mm are tens of ulps of them.
     let tol = 1.0 + 1e-9;
     for m in 0..2 {
         let d1 = c.tips[m] - b.tips[m];
         assert!(
-            d1.norm() <= p.tip_speed_mm_s * DT * tol + 1e-12,
+            d1.norm() <= p.tip_speed_mm_s * DT * tol + 5e-12,
             "speed at {}",
             c.t
         );
@@ -163,7 +167,7 @@ fn check_cycle(
             let d0 = b.tips[m] - a.tips[m];
             let jump = (d1 - d0).norm();
             assert!(
-                jump <= p.tip_accel_mm_s2 * DT * DT * tol + 1e-12,
+                jump <= p.tip_accel_mm_s2 * DT * DT * tol + 5e-12,
                 "a jump of {jump} mm at {}: {:?} {} {:?} {:?} after {:?} {} {:?} {:?}, v {:?} {:?}",
                 c.t,
                 c.state,
@@ -181,13 +185,25 @@ fn check_cycle(
     }
     for i in 0..2 {
         let d1 = c.angles[i] - b.angles[i];
-        assert!(d1.abs() <= p.camera.v_max * DT * tol + 1e-15);
+        assert!(d1.abs() <= p.camera.v_max * DT * tol + 1e-14);
         if let Some(a) = prev.get(prev.len().wrapping_sub(2)) {
             let d0 = b.angles[i] - a.angles[i];
             assert!(
-                (d1 - d0).abs() <= p.camera.a_max * DT * DT * tol + 1e-15,
-                "view jump at {}",
-                c.t
+                (d1 - d0).abs() <= p.camera.a_max * DT * DT * tol + 1e-14,
+                "view jump of {} rad at {}: {:?} {} {:?} {:?} following {} after {:?} {} {:?} following {}; rates {:?} from {:?}",
+                d1 - d0,
+                c.t,
+                c.state,
+                c.busy,
+                c.hold,
+                c.command,
+                c.following,
+                b.state,
+                b.busy,
+                b.hold,
+                b.following,
+                c.angle_rates,
+                b.angle_rates
             );
         }
     }
@@ -345,7 +361,11 @@ fn random_streams_never_cross_a_limit_jump_or_fail_to_stop() -> R {
 #[test]
 #[ignore = "long: 2 x 10^7 cycles"]
 fn random_streams_long() -> R {
-    for seed in 100..120u64 {
+    let seeds: Vec<u64> = match std::env::var("TELEOP_SEED") {
+        Ok(s) => vec![s.parse()?],
+        Err(_) => (100..120).collect(),
+    };
+    for seed in seeds {
         let tally = run(seed, 1_000_000, seed % 2 == 0)?;
         eprintln!("seed {seed}: {tally:?}");
     }
