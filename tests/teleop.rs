@@ -401,3 +401,55 @@ fn a_full_scale_step_never_asks_more_than_full_scale() {
     }
     assert!(last > 1.0 - 1e-12);
 }
+
+/// 500 cycles of the left hand at full scale along `u` in `T`: the left
+/// hand's tip's displacement (mm) and the setpoints' largest change.
+fn push_along_u<T: parasils::Real>() -> R<([f64; 3], [f64; 12])> {
+    let mut teleop = Teleop::<T>::new(
+        Controller::paper(),
+        Pose::paper_start(),
+        TipTargets::paper(),
+        T::lit(DEPTH),
+        TeleopParams::assumed(),
+    )?;
+    let c0 = teleop.step(
+        T::zero(),
+        &Inputs::idle(T::zero()).with_command(Command::Enable),
+    )?;
+    let m = module(teleop.hands()[0]);
+    let mut last = c0;
+    for k in 1..=500 {
+        let t = T::from_index(k) * T::lit(DT);
+        let mut inputs = Inputs::idle(t);
+        inputs.left.command = HandCommand::Rate([
+            T::one(),
+            T::zero(),
+            T::zero(),
+            T::zero(),
+            T::zero(),
+            T::zero(),
+        ]);
+        inputs.left.buttons = BUTTON_ENABLE;
+        last = teleop.step(t, &inputs)?;
+    }
+    let d = last.tips[m] - c0.tips[m];
+    let q = core::array::from_fn(|i| (last.setpoints[i] - c0.setpoints[i]).to_f64());
+    Ok(([d.x.to_f64(), d.y.to_f64(), d.z.to_f64()], q))
+}
+
+#[test]
+fn the_core_in_f32_moves_as_in_f64() -> R {
+    let (d64, q64) = push_along_u::<f64>()?;
+    let (d32, q32) = push_along_u::<f32>()?;
+    // About 7 mm of motion; f32's tips (about 600 mm) carry 6e-5 mm per
+    // rounding, over 500 integrations.
+    let moved: f64 = d64.iter().map(|x| x * x).sum::<f64>().sqrt();
+    assert!(moved > 3.0, "{moved}");
+    for (a, b) in d64.iter().zip(d32) {
+        assert!((a - b).abs() < 0.02, "{a} vs {b}");
+    }
+    for (a, b) in q64.iter().zip(q32) {
+        assert!((a - b).abs() < 0.02, "{a} vs {b}");
+    }
+    Ok(())
+}
