@@ -39,6 +39,27 @@ fn culprits(reason: &HoldAt) -> [bool; 3] {
     }
 }
 
+/// The three gaps of `c`, in the order of [`ClearancePair::ALL`], mm.
+fn gap_array<T: Real>(c: &Clearance<T>) -> [T; 3] {
+    ClearancePair::ALL.map(|pair| c.get(pair).gap)
+}
+
+/// The lowest value on `[0, 1]` of the parabola through `(0, a)`,
+/// `(1/2, b)`, `(1, c)`: the smallest of the three, or the vertex when it
+/// is a minimum inside.
+fn dip<T: Real>(a: T, b: T, c: T) -> T {
+    let lowest = a.min(b).min(c);
+    let curve = (c - b - b + a) * T::lit(2.0);
+    let slope = c - a - curve;
+    if curve > T::zero() {
+        let s = -slope / (curve + curve);
+        if s > T::zero() && s < T::one() {
+            return lowest.min(a - slope * slope / (T::lit(4.0) * curve));
+        }
+    }
+    lowest
+}
+
 /// A candidate cycle solved.
 struct Trial<T: Real> {
     tips: [Vector3<T>; 2],
@@ -76,15 +97,14 @@ impl<T: Real> Teleop<T> {
     /// Margins and gaps each at or above its stop threshold, or no lower
     /// than at the current setpoint (a robot stopped near a limit may move
     /// away from it).
-    fn admissible(&self, m: &Margins<T>, c: Option<&Clearance<T>>) -> Result<(), HoldAt> {
+    fn admissible(&self, m: &Margins<T>, gaps: Option<[T; 3]>) -> Result<(), HoldAt> {
         for k in Margin::ALL {
             if !(m[k] >= self.supervisor.stop[k]) && !(m[k] >= self.margins[k]) {
                 return Err(HoldAt::Margin(k));
             }
         }
-        if let (Some((_, th)), Some(c), Some(now)) = (&self.watch, c, &self.clearance) {
-            for pair in ClearancePair::ALL {
-                let g = c.get(pair).gap;
+        if let (Some((_, th)), Some(gaps), Some(now)) = (&self.watch, gaps, &self.clearance) {
+            for (pair, g) in ClearancePair::ALL.into_iter().zip(gaps) {
                 if !(g >= th.stop) && !(g >= now.get(pair).gap) {
                     return Err(HoldAt::Clearance(pair));
                 }
@@ -125,13 +145,17 @@ impl<T: Real> Teleop<T> {
         let clearance = self.clearance_of(&step).map_err(HoldAt::Reach)?;
         let mut end_tracker = self.end_tracker;
         if check {
-            self.admissible(&margins, clearance.as_ref())?;
+            let gaps = clearance.as_ref().map(gap_array);
+            self.admissible(&margins, gaps)?;
             if !v.is_zero() {
                 // The controlled stop from this setpoint keeps to the line
                 // from it to `x + v (T_stop / 2 + dt)` (one cycle late):
-                // checked at its middle and its end.
+                // solved at its middle and its end, and each margin and gap
+                // checked there and at the lowest point of the parabola
+                // through its three values (a dip between the points).
                 let reach = self.stop_time(v) * T::lit(0.5) + dt;
-                for s in [T::lit(0.5), T::one()] {
+                let mut along = [(margins, gaps); 3];
+                for (i, s) in [(1, T::lit(0.5)), (2, T::one())] {
                     let k = reach * s;
                     let ends = [0, 1].map(|m| tips[m] + v.tips[m] * k);
                     let end_pose = Pose {
@@ -150,9 +174,19 @@ impl<T: Real> Teleop<T> {
                             &mut end_tracker,
                         )
                         .map_err(HoldAt::Reach)?;
-                    let gaps = self.clearance_of(&end).map_err(HoldAt::Reach)?;
-                    self.admissible(&Margins::of(&end), gaps.as_ref())?;
+                    let g = self.clearance_of(&end).map_err(HoldAt::Reach)?;
+                    along[i] = (Margins::of(&end), g.as_ref().map(gap_array));
+                    self.admissible(&along[i].0, along[i].1)?;
                 }
+                let mut lowest = margins;
+                for (k, x) in lowest.0.iter_mut().enumerate() {
+                    *x = dip(along[0].0.0[k], along[1].0.0[k], along[2].0.0[k]);
+                }
+                let gaps = match (along[0].1, along[1].1, along[2].1) {
+                    (Some(a), Some(b), Some(c)) => Some([0, 1, 2].map(|k| dip(a[k], b[k], c[k]))),
+                    _ => None,
+                };
+                self.admissible(&lowest, gaps)?;
             }
         }
         Ok(Trial {
@@ -252,5 +286,22 @@ impl<T: Real> Teleop<T> {
         };
         self.commit(trial, v);
         Some(reason)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::dip;
+
+    #[test]
+    fn the_dip_is_a_quadratics_minimum() {
+        // f(s) = 2 (s - 0.3)^2 + 0.05: its minimum 0.05 at s = 0.3, between
+        // the samples 0.23, 0.13 and 1.03.
+        let f = |s: f64| 2.0 * (s - 0.3) * (s - 0.3) + 0.05;
+        assert!((dip(f(0.0), f(0.5), f(1.0)) - 0.05).abs() < 1e-15);
+        // Its minimum outside [0, 1], or a concave one: the lowest sample.
+        let g = |s: f64| (1.0 - s) * (1.0 - s) - 0.5 * s;
+        assert_eq!(dip(g(0.0), g(0.5), g(1.0)), g(1.0));
+        assert_eq!(dip(0.0, 1.0, 0.5), 0.0);
     }
 }
