@@ -1,23 +1,6 @@
 //! The input mapping's shaping: the dead zone of a normalised axis, and the
 //! low-pass filter against tremor (a critically damped second-order
 //! filter, see `docs/model.md`, *Teleoperation*).
-//!
-//! The filter is `x'' = w^2 (u - x) - 2 w x'`, two real poles at
-//! `-w = -2 pi f_c`, the transfer function `H(s) = w^2 / (s + w)^2`:
-//!
-//! ```text
-//! |H(j 2 pi f)| = 1 / (1 + (f / f_c)^2)        tau(f) = 2 w / (w^2 + (2 pi f)^2)
-//! ```
-//!
-//! (`tau` the group delay, `2 / w` at low frequencies). With the assumed
-//! `f_c = 2.5 Hz` it passes a surgeon's deliberate motion (below about 1
-//! Hz: -1.3 dB at 1 Hz) and attenuates the physiological tremor band, 6 to
-//! 16 Hz, by 16.6 dB at 6 Hz to 32.5 dB at 16 Hz; its lag is 127 ms at low
-//! frequencies (110 ms at 1 Hz). A step of the input never overshoots
-//! (critical damping), so a full-scale step never asks the tip for more
-//! than the full-scale speed. It is stepped exactly for an input held over
-//! the cycle (the zero-order hold), so it is stable and the same filter
-//! whatever the period.
 
 use crate::kin::Real;
 
@@ -34,8 +17,24 @@ pub fn dead_zone<T: Real>(x: T, dead_zone: T) -> T {
     if x < T::zero() { -y } else { y }
 }
 
-/// A critically damped second-order low-pass filter of `N` components (see
-/// the [module docs](self)).
+/// A critically damped second-order low-pass filter of `N` components.
+///
+/// The filter is `x'' = w^2 (u - x) - 2 w x'`, two real poles at
+/// `-w = -2 pi f_c`, the transfer function `H(s) = w^2 / (s + w)^2`:
+///
+/// ```text
+/// |H(j 2 pi f)| = 1 / (1 + (f / f_c)^2)        tau(f) = 2 w / (w^2 + (2 pi f)^2)
+/// ```
+///
+/// (`tau` the group delay, `2 / w` at low frequencies). With the assumed
+/// `f_c = 2.5 Hz` it passes a surgeon's deliberate motion (below about 1
+/// Hz: -1.3 dB at 1 Hz) and attenuates the physiological tremor band, 6 to
+/// 16 Hz, by 16.6 dB at 6 Hz to 32.5 dB at 16 Hz; its lag is 127 ms at low
+/// frequencies (110 ms at 1 Hz). A step of the input never overshoots
+/// (critical damping), so a full-scale step never asks the tip for more
+/// than the full-scale speed. It is stepped exactly for an input held over
+/// the cycle (the zero-order hold), so it is stable and the same filter
+/// whatever the period.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LowPass<T, const N: usize> {
     /// `w = 2 pi f_c`, rad/s.

@@ -1,33 +1,34 @@
 //! The operating states and their transitions, as the Collaborative
-//! Robotics Toolkit (CRTK) names them.
-//!
-//! Our reading of CRTK's *robot meta-states*: four mutually exclusive
-//! states, DISABLED (motion power off: here the setpoint comes to rest and
-//! holds, inputs ignored), ENABLED (the robot moves as commanded), PAUSED
-//! (power on, the robot cannot be moved: it comes to rest and holds) and
-//! FAULT (entered only by the system on a fault it detects, never by a
-//! command: here a non-finite input, an input older than the timeout, or a
-//! cycle that cannot be solved; the robot makes a controlled stop and
-//! holds). CRTK's table, with `home` added (a planned move, accepted in
-//! ENABLED only):
-//!
-//! | state \ command | enable | disable | pause | resume | home |
-//! |---|---|---|---|---|---|
-//! | DISABLED | ENABLED | DISABLED | DISABLED (invalid) | DISABLED (invalid) | DISABLED (invalid) |
-//! | ENABLED | ENABLED | DISABLED | PAUSED | ENABLED (invalid) | ENABLED, busy |
-//! | PAUSED | PAUSED (invalid) | DISABLED | PAUSED | ENABLED | PAUSED (invalid) |
-//! | FAULT | ENABLED if cleared, else FAULT (retry refused) | DISABLED | FAULT (invalid) | FAULT (invalid) | FAULT (invalid) |
-//!
-//! A fault is *cleared* when this cycle's inputs are finite and fresh and
-//! the controlled stop has ended. `is_busy` is CRTK's: a command is being
-//! executed, here the home move (teleoperation itself is a servo command,
-//! never busy); `is_homed` is true (the core starts from a known pose: the
-//! drives' referencing is below it); `is_ready` is CRTK's
-//! `is_enabled && is_homed`.
+//! Robotics Toolkit (CRTK) names them (the table is
+//! [`OperatingState`]'s).
 
 use super::input::Command;
 
 /// The operating state (CRTK's meta-states).
+///
+/// Our reading of CRTK's *robot meta-states*: four mutually exclusive
+/// states, DISABLED (motion power off: here the setpoint comes to rest and
+/// holds, inputs ignored), ENABLED (the robot moves as commanded), PAUSED
+/// (power on, the robot cannot be moved: it comes to rest and holds) and
+/// FAULT (entered only by the system on a fault it detects, never by a
+/// command: here a non-finite input, an input older than the timeout, or a
+/// cycle that cannot be solved; the robot makes a controlled stop and
+/// holds). CRTK's table, with `home` added (a planned move, accepted in
+/// ENABLED only):
+///
+/// | state \ command | enable | disable | pause | resume | home |
+/// |---|---|---|---|---|---|
+/// | DISABLED | ENABLED | DISABLED | DISABLED (invalid) | DISABLED (invalid) | DISABLED (invalid) |
+/// | ENABLED | ENABLED | DISABLED | PAUSED | ENABLED (invalid) | ENABLED, busy |
+/// | PAUSED | PAUSED (invalid) | DISABLED | PAUSED | ENABLED | PAUSED (invalid) |
+/// | FAULT | ENABLED if cleared, else FAULT (retry refused) | DISABLED | FAULT (invalid) | FAULT (invalid) | FAULT (invalid) |
+///
+/// A fault is *cleared* when this cycle's inputs are finite and fresh and
+/// the controlled stop has ended. `is_busy` is CRTK's: a command is being
+/// executed, here the home move (teleoperation itself is a servo command,
+/// never busy); `is_homed` is true (the core starts from a known pose: the
+/// drives' referencing is below it); `is_ready` is CRTK's
+/// `is_enabled && is_homed`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum OperatingState {
     /// Motion off: the setpoint comes to rest and holds; inputs ignored.
@@ -61,8 +62,7 @@ impl OperatingState {
     }
 
     /// The state after `command` and whether the command is valid (see the
-    /// [module docs](self)' table); `fault_cleared` decides an `enable`
-    /// from FAULT.
+    /// table above); `fault_cleared` decides an `enable` from FAULT.
     pub const fn after(self, command: Command, fault_cleared: bool) -> Transition {
         use Command as C;
         use OperatingState as S;
