@@ -8,7 +8,8 @@
 //! [`PlatformState`](kin::PlatformState)s the controller steps through, and
 //! [`paper`] states the paper's scenario once; [`OnlineController`] is the
 //! per-cycle loop that accepts new goals and stops while the platform moves,
-//! watched by a margin [`Supervisor`]. `#![no_std]`, allocation-free,
+//! watched by a margin [`Supervisor`]; [`teleop`] is the console's
+//! per-cycle core (hands and camera to the twelve setpoints). `#![no_std]`, allocation-free,
 //! generic over `f32`/`f64` ([`Real`]). The README above is this crate's
 //! documentation, so its Rust examples run as doc-tests.
 #![no_std]
@@ -28,6 +29,7 @@ pub mod path;
 pub mod regions;
 pub mod reorientation;
 pub mod supervisor;
+pub mod teleop;
 
 pub use cycle::{OnCycle, Stretch, TimeScaled};
 pub use error::Error;
@@ -44,6 +46,11 @@ pub use reorientation::Reorientation;
 pub use supervisor::{
     ClearanceThresholds, ClearanceVerdict, GapVerdict, MarginSet, Margins, PairSet, Supervisor,
     Verdict,
+};
+pub use teleop::{
+    CameraCommand, CameraInput, Command, CommandOutcome, Device, Fault, HandCommand, HandInput,
+    HoldAt, Inputs, LowPass, OperatingState, Teleop, TeleopCycle, TeleopError, TeleopParams,
+    Transition,
 };
 
 /// The float type of both crates, [`f32`] or [`f64`]: the one trait the
