@@ -1,7 +1,10 @@
 //! The error of a motion run through the controller: the planner's, the
 //! kinematics', or the online controller's own.
 
+use crate::follow::FollowError;
+use crate::kin::Side;
 use crate::margin::Margin;
+use crate::regions::RegionQueryError;
 
 /// What can fail when a trajectory drives the controller.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
@@ -73,4 +76,35 @@ pub enum Error {
         /// What it must reach (`-inf` for the stop threshold: only finite).
         min: f64,
     },
+    /// A tip given to the [`OnlineController`](crate::OnlineController)
+    /// ([`set_tips`](crate::OnlineController::set_tips),
+    /// [`move_tips`](crate::OnlineController::move_tips)) is further from
+    /// the tip held so far than the largest step it accepts in one call.
+    #[error(
+        "the {side} tip would move {step_mm} mm in one call, more than the largest step of {max_mm} mm"
+    )]
+    TipStep {
+        /// Which tip.
+        side: Side,
+        /// How far it would move, mm.
+        step_mm: f64,
+        /// The largest step accepted, mm.
+        max_mm: f64,
+    },
+    /// The follow law cannot take a cycle or its parameters are invalid
+    /// (see [`FollowError`]).
+    #[error(transparent)]
+    Follow(#[from] FollowError),
+    /// A forbidden region's gap could not be computed (see
+    /// [`RegionQueryError`]).
+    #[error(transparent)]
+    Region(#[from] RegionQueryError),
+    /// Forbidden regions were given to an
+    /// [`OnlineController`](crate::OnlineController) that knows no bodies'
+    /// sizes (give them with
+    /// [`with_clearance`](crate::OnlineController::with_clearance)).
+    #[error(
+        "forbidden regions need the bodies' sizes, and the online controller watches no clearance"
+    )]
+    NoClearanceWatch,
 }

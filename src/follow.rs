@@ -306,6 +306,60 @@ impl<T: Real> Follow<T> {
         })
     }
 
+    /// The same law taking over a turn under way: the profile `turn` of
+    /// `[psi, theta]` (rad) started at `start` (s), as if it were a
+    /// recentring this law had planned, its setpoint `turn`'s state at `t`
+    /// (s). While `turn` has not ended at `t`, the law is `Recentring`, so
+    /// that its next cycle aims at the tips' midpoint from that moving state
+    /// (replanned unless `turn` already aims there); once it has ended, the
+    /// law rests at its goal, `Idle`. For a controller that hands its
+    /// motion to the law ([`OnlineController::follow`]).
+    ///
+    /// [`OnlineController::follow`]: crate::OnlineController::follow
+    #[must_use]
+    pub fn taking_over(mut self, t: T, turn: OnlineMulti<T, 2>, start: T) -> Self {
+        let goal = turn.axes().each_ref().map(|a| a.target());
+        if t - start >= turn.duration() {
+            self.angles = goal.map(State::rest);
+            self.phase = FollowPhase::Idle;
+            self.turn = None;
+        } else {
+            self.angles = turn.sample(t - start);
+            self.phase = FollowPhase::Recentring;
+            self.turn = Some((turn, start, goal));
+        }
+        self
+    }
+
+    /// The recentring under way: its profile of `[psi, theta]` (rad, in s
+    /// from its start) and its start time (s); `None` when the law holds.
+    pub fn recentring(&self) -> Option<(&OnlineMulti<T, 2>, T)> {
+        self.turn
+            .as_ref()
+            .map(|(profile, start, _)| (profile, *start))
+    }
+
+    /// Moves the law's clock origin to `origin` (s): every later time is
+    /// given from there (see [`OnlineController::rebase`]).
+    ///
+    /// [`OnlineController::rebase`]: crate::OnlineController::rebase
+    pub fn rebase(&mut self, origin: T) {
+        if let Some((_, start, _)) = &mut self.turn {
+            *start -= origin;
+        }
+        if let Some((last, _)) = &mut self.last {
+            *last -= origin;
+        }
+        if let Some(since) = &mut self.still_since {
+            *since -= origin;
+        }
+    }
+
+    /// The law's parameters.
+    pub fn params(&self) -> &FollowParams<T> {
+        &self.params
+    }
+
     /// The phase the last cycle left.
     pub fn phase(&self) -> FollowPhase {
         self.phase

@@ -460,33 +460,56 @@ impl<T: Real> ClearanceThresholds<T> {
         period: T,
     ) -> ClearanceVerdict {
         let mut v = ClearanceVerdict::default();
-        let half = T::lit(0.5);
-        let lead = period * T::lit(1.5) + (stop_time + period) * half;
         for (((pair, x), rate), bend) in ClearancePair::ALL
             .into_iter()
             .zip(*now)
             .zip(*rates)
             .zip(*bends)
         {
-            if !(x >= self.warn) {
+            let one = self.check_gap_ahead(x, rate, bend, stop_time, period);
+            if one.warning {
                 v.warnings.insert(pair);
             }
-            let lower = if bend < T::zero() {
-                bend * lead * lead * half
-            } else if bend >= T::zero() {
-                T::zero()
-            } else {
-                bend
-            };
-            // The predicted change, negative when the gap falls.
-            let change = (rate * lead + lower) * T::lit(1.25);
-            let decreasing = !(rate >= T::zero()) || bend.is_nan() || x.is_nan();
-            if decreasing && !(x + change >= self.stop) {
+            if one.stop {
                 v.stop.insert(pair);
             }
         }
         v
     }
+
+    /// The verdict on one gap `now` (mm) changing at `rate` (mm/s) with
+    /// the bend `bend` (mm/s^2): the prediction of
+    /// [`check_ahead`](Self::check_ahead) for a single gap (what the online
+    /// controller applies to the smallest gap to the forbidden regions).
+    /// A NaN gap, rate or bend demands a stop.
+    pub fn check_gap_ahead(&self, now: T, rate: T, bend: T, stop_time: T, period: T) -> GapVerdict {
+        let half = T::lit(0.5);
+        let lead = period * T::lit(1.5) + (stop_time + period) * half;
+        let lower = if bend < T::zero() {
+            bend * lead * lead * half
+        } else if bend >= T::zero() {
+            T::zero()
+        } else {
+            bend
+        };
+        // The predicted change, negative when the gap falls.
+        let change = (rate * lead + lower) * T::lit(1.25);
+        let decreasing = !(rate >= T::zero()) || bend.is_nan() || now.is_nan();
+        GapVerdict {
+            warning: !(now >= self.warn),
+            stop: decreasing && !(now + change >= self.stop),
+        }
+    }
+}
+
+/// The supervisor's verdict on one gap
+/// ([`ClearanceThresholds::check_gap_ahead`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct GapVerdict {
+    /// The gap is below the warning threshold.
+    pub warning: bool,
+    /// The gap demands a controlled stop.
+    pub stop: bool,
 }
 
 fn min<T: Real>(a: T, b: T) -> T {

@@ -31,12 +31,14 @@
 //! | [`region`] | one forbidden region: its shape and parry's collider ([`Region`], [`Shape`]) |
 //! | [`file`](mod@file) | the anatomy file ([`Anatomy`]) |
 //! | [`clearance`] | the gaps of the in-body parts to the regions ([`NoGoClearance`], [`RegionGap`]) |
+//! | [`online`] | the anatomy as the online controller's forbidden regions ([`Anatomy`] implements [`parasils::ForbiddenRegions`]) |
 
 pub mod body;
 pub mod clearance;
 pub mod error;
 pub mod file;
 pub mod mesh;
+pub mod online;
 pub mod region;
 
 pub use body::{Body, InBody};
