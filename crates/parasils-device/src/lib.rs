@@ -10,7 +10,7 @@
 //! | [`error`] | [`DeviceError`]: what went wrong, with which device |
 //! | [`report`] | one HID input report, parsed ([`Report`]): both formats |
 //! | [`puck`] | the device's state built from its reports ([`Puck`], [`PuckState`]) in the console's frame |
-//! | [`recording`] | a recorded input stream, CSV, replayed at the control rate ([`Recording`], [`Player`]) |
+//! | [`recording`] | a recorded input stream, CSV, replayed at the control rate ([`Recording`], [`Player`]), in the teleoperation core's vocabulary (`parasils::teleop::Device`, `Command`) |
 //! | [`hid`] | finding and reading the devices over Linux hidraw ([`SpaceMouse`], [`DeviceInfo`]) |
 //!
 //! # The reports
@@ -67,5 +67,5 @@ pub mod report;
 pub use error::DeviceError;
 pub use hid::{DeviceInfo, SpaceMouse, VENDORS};
 pub use puck::{Puck, PuckState};
-pub use recording::{Command, InputEvent, Player, Recording, Source};
+pub use recording::{DEVICES, Held, InputEvent, Player, Recording};
 pub use report::{FULL_SCALE_COUNTS, Report};

@@ -18,79 +18,33 @@
 
 use std::path::Path;
 
+use parasils::teleop::{Command, Device};
+
 use crate::error::DeviceError;
-use crate::puck::PuckState;
 
 /// The header a recording starts with, in this order.
 pub const HEADER: [&str; 10] = [
     "t_s", "device", "tx", "ty", "tz", "rx", "ry", "rz", "buttons", "command",
 ];
 
-/// Which device a row is from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Source {
-    /// The left hand's device.
-    Left,
-    /// The right hand's device.
-    Right,
-    /// The camera's device.
-    Camera,
+/// The devices, in the order [`Player::held`] gives them.
+pub const DEVICES: [Device; 3] = [Device::Left, Device::Right, Device::Camera];
+
+/// What one device holds from its row on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Held {
+    /// `tx`, `ty`, `tz`, `rx`, `ry`, `rz`, each in `[-1, 1]`.
+    pub axes: [f64; 6],
+    /// Bit 0 enable, bit 1 clutch.
+    pub buttons: u8,
 }
 
-impl Source {
-    /// Every source, in the order [`Player::held`] gives them.
-    pub const ALL: [Self; 3] = [Self::Left, Self::Right, Self::Camera];
-
-    /// The name the `device` column uses.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Left => "left",
-            Self::Right => "right",
-            Self::Camera => "camera",
-        }
-    }
-
-    fn index(self) -> usize {
-        self as usize
-    }
-}
-
-/// A command of the console, as the `command` column names it (the names of
-/// the surgical robotics toolkit CRTK).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Command {
-    /// Power the drives and hold.
-    Enable,
-    /// Stop and release.
-    Disable,
-    /// Hold where the robot is; inputs ignored.
-    Pause,
-    /// Back from pause.
-    Resume,
-    /// A planned move to the home pose.
-    Home,
-}
-
-impl Command {
-    /// Every command.
-    pub const ALL: [Self; 5] = [
-        Self::Enable,
-        Self::Disable,
-        Self::Pause,
-        Self::Resume,
-        Self::Home,
-    ];
-
-    /// The name the `command` column uses.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Enable => "enable",
-            Self::Disable => "disable",
-            Self::Pause => "pause",
-            Self::Resume => "resume",
-            Self::Home => "home",
-        }
-    }
+impl Held {
+    /// A device at rest, no button held.
+    pub const REST: Self = Self {
+        axes: [0.0; 6],
+        buttons: 0,
+    };
 }
 
 /// One row.
@@ -99,9 +53,9 @@ pub struct InputEvent {
     /// When, s.
     pub t_s: f64,
     /// From which device.
-    pub source: Source,
+    pub device: Device,
     /// Its axes and buttons from now on.
-    pub state: PuckState,
+    pub held: Held,
     /// The command given at this instant, if any.
     pub command: Option<Command>,
 }
@@ -176,7 +130,7 @@ impl Recording {
                 ));
             }
             last = t_s;
-            let source = Source::ALL
+            let device = DEVICES
                 .into_iter()
                 .find(|s| s.name() == field(1))
                 .ok_or_else(|| {
@@ -195,13 +149,10 @@ impl Recording {
                     ));
                 }
             }
-            let buttons = field(8).parse::<u32>().map_err(|_| {
+            let buttons = field(8).parse::<u8>().map_err(|_| {
                 fail(
                     line,
-                    format!(
-                        "buttons: `{}` is not a bit mask (0, 1, 2, 3, ...)",
-                        field(8)
-                    ),
+                    format!("buttons: `{}` is not a bit mask from 0 to 255", field(8)),
                 )
             })?;
             let command = match field(9) {
@@ -217,8 +168,8 @@ impl Recording {
             };
             events.push(InputEvent {
                 t_s,
-                source,
-                state: PuckState { axes, buttons },
+                device,
+                held: Held { axes, buttons },
                 command,
             });
         }
@@ -240,10 +191,7 @@ impl Recording {
         Player {
             events: &self.events,
             next: 0,
-            held: [PuckState {
-                axes: [0.0; 6],
-                buttons: 0,
-            }; 3],
+            held: [Held::REST; 3],
         }
     }
 }
@@ -253,7 +201,7 @@ impl Recording {
 pub struct Player<'a> {
     events: &'a [InputEvent],
     next: usize,
-    held: [PuckState; 3],
+    held: [Held; 3],
 }
 
 impl Player<'_> {
@@ -262,8 +210,8 @@ impl Player<'_> {
     pub fn advance(&mut self, t_s: f64) -> Vec<Command> {
         let mut commands = Vec::new();
         while let Some(event) = self.events.get(self.next).filter(|e| e.t_s <= t_s) {
-            if let Some(slot) = self.held.get_mut(event.source.index()) {
-                *slot = event.state;
+            if let Some(slot) = self.held.get_mut(index(event.device)) {
+                *slot = event.held;
             }
             commands.extend(event.command);
             self.next += 1;
@@ -272,18 +220,27 @@ impl Player<'_> {
     }
 
     /// What each device holds now: left, right, camera.
-    pub fn held(&self) -> [PuckState; 3] {
+    pub fn held(&self) -> [Held; 3] {
         self.held
     }
 
-    /// The state `source` holds now.
-    pub fn state(&self, source: Source) -> PuckState {
-        self.held[source.index()]
+    /// What `device` holds now.
+    pub fn state(&self, device: Device) -> Held {
+        self.held[index(device)]
     }
 
     /// Whether every row has been applied.
     pub fn is_done(&self) -> bool {
         self.next >= self.events.len()
+    }
+}
+
+/// `device`'s place in [`DEVICES`].
+fn index(device: Device) -> usize {
+    match device {
+        Device::Left => 0,
+        Device::Right => 1,
+        Device::Camera => 2,
     }
 }
 
@@ -309,15 +266,15 @@ t_s,device,tx,ty,tz,rx,ry,rz,buttons,command
         assert_eq!(player.advance(0.0), [Command::Enable]);
         assert_eq!(player.advance(0.0), []); // given once
         assert_eq!(player.advance(0.499), []);
-        assert_eq!(player.state(Source::Left).axes[0], 0.0);
+        assert_eq!(player.state(Device::Left).axes[0], 0.0);
         assert_eq!(player.advance(1.0), []);
-        assert_eq!(player.state(Source::Left).axes[..2], [0.25, -1.0]);
-        assert_eq!(player.state(Source::Left).buttons, 1);
-        assert_eq!(player.state(Source::Right).axes[2], 0.5);
-        assert_eq!(player.state(Source::Right).buttons, 3);
-        assert_eq!(player.state(Source::Camera).axes[3], 0.0);
+        assert_eq!(player.state(Device::Left).axes[..2], [0.25, -1.0]);
+        assert_eq!(player.state(Device::Left).buttons, 1);
+        assert_eq!(player.state(Device::Right).axes[2], 0.5);
+        assert_eq!(player.state(Device::Right).buttons, 3);
+        assert_eq!(player.state(Device::Camera).axes[3], 0.0);
         assert_eq!(player.advance(1.25), []);
-        assert_eq!(player.state(Source::Camera).axes[3], 0.1);
+        assert_eq!(player.state(Device::Camera).axes[3], 0.1);
         assert!(!player.is_done());
         assert_eq!(player.advance(10.0), [Command::Pause]);
         assert!(player.is_done());
