@@ -359,7 +359,7 @@ impl Checker {
         }
         let clearance_stop_mm = scenario.supervisor.clearance().map(|[_, stop_mm]| stop_mm);
         let no_go = NoGoCheck::of(scenario);
-        let bodies = (clearance_stop_mm.is_some() || no_go.is_some()).then(|| BodyCheck {
+        let bodies = (clearance_stop_mm.is_some() || no_go.is_some()).then_some(BodyCheck {
             bodies: scenario.bodies,
             depth_mm: scenario.endoscope_depth_mm,
             clearance_stop_mm,
