@@ -315,6 +315,56 @@ def test_metadata_holds_the_scenario_and_geometry(recording, sample_count):
     assert int(metadata["parasils.run"]["samples"]) == sample_count
 
 
+def cylinder_ends(c: dict) -> tuple[list[float], list[float], float]:
+    """The two ends of a ``foxglove.CylinderPrimitive`` (its centre minus and
+    plus half its height along its own z, the quaternion's third column) and
+    its diameter."""
+    p, q, size = c["pose"]["position"], c["pose"]["orientation"], c["size"]
+    x, y, z, w = q["x"], q["y"], q["z"], q["w"]
+    axis = [2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)]
+    assert size["x"] == size["y"], "a round cylinder"
+    h = size["z"] / 2
+    centre = [p["x"], p["y"], p["z"]]
+    return (
+        [c_ - h * a for c_, a in zip(centre, axis)],
+        [c_ + h * a for c_, a in zip(centre, axis)],
+        size["x"],
+    )
+
+
+def test_the_shafts_are_cylinders_from_tip_to_port_and_on(recording):
+    """Each instrument shaft is two translucent cylinders of its diameter:
+    from its tip to its port (the ``/tips`` fields at the same time), then
+    on outside, its length in all (the ``bodies_mm`` metadata: the robot
+    file's ``[bodies]``)."""
+    _, metadata, _, messages = recording
+    bodies = json.loads(metadata["parasils.scenario"]["bodies_mm"])
+    length_m = bodies["instrument_length"] / 1000
+    diameter_m = bodies["instrument_diameter"] / 1000
+    tips = {m.log_time: json.loads(m.data) for m in messages["/tips"]}
+    checked = 0
+    for m in messages["/scene"]:
+        entities = {e["id"]: e for e in json.loads(m.data)["entities"]}
+        if "left_instrument" not in entities:
+            continue  # the forbidden regions' scene
+        t = tips[m.log_time]
+        for side in ("left", "right"):
+            inside, outside = entities[f"{side}_instrument"]["cylinders"]
+            tip, port, d_in = cylinder_ends(inside)
+            start, end, d_out = cylinder_ends(outside)
+            want_tip = [t[f"{side}_tip_{a}_mm"] / 1000 for a in "xyz"]
+            want_port = [t[f"{side}_port_{a}_mm"] / 1000 for a in "xyz"]
+            assert max(abs(a - b) for a, b in zip(tip, want_tip)) < 1e-12
+            assert max(abs(a - b) for a, b in zip(port, want_port)) < 1e-12
+            assert max(abs(a - b) for a, b in zip(start, port)) < 1e-12
+            assert d_in == d_out and abs(d_in - diameter_m) < 1e-15
+            assert inside["color"]["a"] < 1 and outside["color"]["a"] < 1
+            length = sum((a - b) ** 2 for a, b in zip(end, tip)) ** 0.5
+            assert abs(length - length_m) < 1e-12
+        checked += 1
+    assert checked > 0
+
+
 @pytest.mark.skipif(
     not CSV_PATH, reason="set PARASILS_CSV to the same run written as CSV"
 )

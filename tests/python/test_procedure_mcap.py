@@ -4,7 +4,8 @@ Reads the file named by ``PARASILS_PROCEDURE_MCAP`` (written by ``parasils
 simulate --procedure procedures/sils-demo.toml -o FILE.mcap``): ``/motion``
 validates against its own schema and names the motions in order, ``/scene``
 against Foxglove's official ``SceneUpdate``, the endoscope is drawn to its
-tip at the simulated depth, and the tips' paths are sent piece by piece.
+tip at the simulated depth (a cylinder from its tip to its port, then one
+outside), and the tips' paths are sent piece by piece.
 """
 
 import json
@@ -14,7 +15,7 @@ from collections import defaultdict
 import pytest
 from mcap.reader import make_reader
 
-from test_mcap import official_schema, validator
+from test_mcap import cylinder_ends, official_schema, validator
 
 PATH = os.environ.get("PARASILS_PROCEDURE_MCAP")
 
@@ -62,11 +63,18 @@ def test_the_scene_is_foxglove_s_and_draws_the_procedure(recording):
         official.validate(scene)
         entities = {e["id"]: e for e in scene["entities"]}
         assert "tip_targets" not in entities
-        # The endoscope from above P down to its tip at the simulated depth.
-        line = entities["endoscope"]["lines"][0]["points"][-1]
+        # The endoscope from its tip at the simulated depth up to its port,
+        # then on outside: the first cylinder that long, the second
+        # starting where it ends.
+        inside, outside = entities["endoscope"]["cylinders"]
+        start, port, _ = cylinder_ends(inside)
+        after, _, _ = cylinder_ends(outside)
         m = depth_at[t]
         tip = [m[f"endoscope_tip_{a}_mm"] / 1000.0 for a in "xyz"]
-        assert all(abs(p - q) < 1e-12 for p, q in zip((line["x"], line["y"], line["z"]), tip))
+        assert all(abs(p - q) < 1e-12 for p, q in zip(start, tip))
+        assert all(abs(p - q) < 1e-12 for p, q in zip(after, port))
+        length = sum((p - q) ** 2 for p, q in zip(port, start)) ** 0.5
+        assert abs(length - m["endoscope_depth_mm"] / 1000.0) < 1e-12
         paths = [k for k in entities if k.startswith("tip_paths_")]
         assert len(paths) == 1
         pieces.append(int(paths[0].rsplit("_", 1)[1]))

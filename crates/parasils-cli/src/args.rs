@@ -546,6 +546,13 @@ pub struct ReachArgs {
     /// The robot.
     #[command(flatten)]
     pub robot: RobotArg,
+    /// Forbidden regions: an anatomy file (spheres, boxes, capsules, STL or
+    /// OBJ meshes in the fixed frame, mm). A cell where the in-body part of
+    /// a shaft or of the endoscope comes closer to a region than the
+    /// clearance stop threshold (0.5 mm by default) is infeasible, its
+    /// limiting constraint no_go.<region name>.
+    #[arg(long, value_name = "FILE.toml")]
+    pub anatomy: Option<PathBuf>,
     /// Write the map to FILE: .csv (one row per cell; `-` for standard
     /// output), .png or .svg (a picture). Without it, print a summary.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
@@ -553,10 +560,12 @@ pub struct ReachArgs {
 }
 
 impl ReachArgs {
-    /// The scenario: the paper's, with the pose, tips and robot given.
+    /// The scenario: the paper's, with the pose, tips, robot and anatomy
+    /// given.
     pub fn scenario(&self) -> Result<Scenario> {
         resolve(self.place.fill(Input {
             robot: self.robot.source(),
+            anatomy: self.anatomy.clone(),
             ..Input::default()
         }))
     }

@@ -140,3 +140,59 @@ fn a_bad_anatomy_file_is_refused_naming_the_file_the_region_and_the_key() {
     );
     assert_eq!(names(dir.path()), ["bad.toml"]);
 }
+
+#[test]
+fn the_reach_map_names_the_region_that_limits_a_cell() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    // The ball of the test above, around the paper's left tip, which the
+    // map holds still: every cell the kinematics allow is limited by it.
+    write(
+        dir.path(),
+        "ball.toml",
+        "[[region]]\nname = \"ball\"\nshape = \"sphere\"\ncentre_mm = [50, -50, -630]\nradius_mm = 8\n",
+    );
+    let grid = [
+        "reach",
+        "--step",
+        "5",
+        "--psi-range",
+        "-10,20",
+        "--theta-range",
+        "-10,30",
+        "--no-line",
+        "-o",
+        "-",
+    ];
+    let with = parasils(&[&grid[..], &["--anatomy", "ball.toml"]].concat())
+        .dir(dir.path())
+        .run()
+        .ok();
+    let without = parasils(&grid).dir(dir.path()).run().ok();
+    let limiting = |text: &str| -> Vec<String> {
+        text.lines()
+            .skip(1)
+            .map(|l| l.split(',').nth(7).expect("limiting").to_owned())
+            .collect()
+    };
+    let (with, without) = (limiting(&with), limiting(&without));
+    assert_eq!(with.len(), 7 * 9);
+    let mut limited = 0;
+    for (a, b) in with.iter().zip(&without) {
+        if b == "ok" {
+            assert_eq!(a, "no_go.ball");
+            limited += 1;
+        } else {
+            assert_eq!(a, b);
+        }
+    }
+    assert!(limited > 10, "{limited}");
+    // The summary names it too.
+    let summary = parasils(&["reach", "--step", "5", "--anatomy", "ball.toml"])
+        .dir(dir.path())
+        .run()
+        .ok();
+    assert!(
+        summary.contains("the start itself is infeasible: no_go.ball"),
+        "{summary}"
+    );
+}

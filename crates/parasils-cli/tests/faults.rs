@@ -258,7 +258,7 @@ fn an_output_above_the_cap_needs_force() {
         .error_line_with(1);
     assert_eq!(
         text,
-        "parasils: error: run.csv would take about 321.0 kB (46 samples), \
+        "parasils: error: run.csv would take about 326.9 kB (46 samples), \
          more than the 100.0 kB cap: give --force to write it anyway\n"
     );
     assert_eq!(std::fs::read(&target).expect("target"), PREVIOUS);

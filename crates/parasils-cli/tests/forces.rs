@@ -60,12 +60,12 @@ fn the_twelve_actuators_balance_power_on_the_paper_turn() {
     .run()
     .ok();
     let t = Table::parse(&text);
-    // The 65 columns of every run (53, the four clearance columns, the eight camera columns),
-    // then the forces.
-    assert_eq!(t.header().len(), 65 + 14);
-    assert_eq!(t.header()[65..77], FORCES.map(String::from));
+    // The 74 columns of every run (53, the four clearance columns, the
+    // eight camera columns, the nine ports), then the forces.
+    assert_eq!(t.header().len(), 74 + 14);
+    assert_eq!(t.header()[74..86], FORCES.map(String::from));
     assert_eq!(
-        t.header()[77..],
+        t.header()[86..],
         ["left_tip_deflection_mm", "right_tip_deflection_mm"]
     );
     let forces = FORCES.map(|n| t.col(n));
@@ -106,8 +106,8 @@ fn loads_apply_to_a_procedure() {
     .run()
     .ok();
     let t = Table::parse(&text);
-    assert_eq!(t.header().len(), 65 + 12 + 14);
-    assert_eq!(t.header()[77..89], FORCES.map(String::from));
+    assert_eq!(t.header().len(), 74 + 12 + 14);
+    assert_eq!(t.header()[86..98], FORCES.map(String::from));
     assert!(t.col("left_qs3_force_n").iter().all(|v| *v == 0.0));
     assert!(t.col("left_tip_deflection_mm").iter().all(|v| *v == 0.0));
     assert!(t.col("right_tip_deflection_mm").iter().all(|v| *v > 0.0));

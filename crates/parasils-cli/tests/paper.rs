@@ -259,8 +259,8 @@ fn the_paper_s_csv_at_named_instants() {
 #[test]
 fn the_paper_s_csv_as_a_whole() {
     let table = paper_file();
-    // 65 columns, no `command` (a run without commands).
-    assert_eq!(table.header().len(), 65, "{:?}", table.header());
+    // 74 columns, no `command` (a run without commands).
+    assert_eq!(table.header().len(), 74, "{:?}", table.header());
     assert!(!table.has("command"));
     // 4501 samples, t_k = k / 1000 exactly.
     let time = table.col("t_s");

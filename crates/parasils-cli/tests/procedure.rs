@@ -25,12 +25,12 @@ fn the_demo_runs_and_its_csv_has_the_procedure_columns() {
     out.ok();
     let table = Table::read(&dir.path().join("demo.csv"));
     let header = table.header();
-    assert_eq!(header.len(), 65 + 12);
+    assert_eq!(header.len(), 74 + 12);
     assert_eq!(
-        header[65..68],
+        header[74..77],
         ["motion", "motion_type", "endoscope_depth_mm"]
     );
-    assert_eq!(header[76], "endoscope_tip_z_mm");
+    assert_eq!(header[85], "endoscope_tip_z_mm");
     // The motions' types in order, as the file gives them.
     let mut types: Vec<(&str, &str)> = table
         .text("motion")

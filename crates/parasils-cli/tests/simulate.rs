@@ -334,7 +334,7 @@ fn retargets_and_a_stop() {
         .run()
         .ok();
     let t = Table::parse(&out);
-    assert_eq!(t.header().len(), 66);
+    assert_eq!(t.header().len(), 75);
     assert_eq!(t.header().last().map(String::as_str), Some("command"));
     // The index as an integer, grown by one at each command's sample.
     assert_eq!(t.text("command")[0], "0");

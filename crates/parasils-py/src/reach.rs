@@ -10,7 +10,10 @@ use pyo3::types::{PyDict, PyList, PyTuple};
 
 use crate::batch::{ArrayArg, Rows};
 use crate::errors;
-use parasils_kin::RobotGeometry;
+use parasils_sim::{Anatomy, AnatomyError, Robot};
+use pyo3::exceptions::PyOSError;
+use std::path::Path;
+use std::sync::Arc;
 
 /// The Python exception of a map that cannot be made.
 fn reach_error(py: Python<'_>, error: &ReachError) -> PyErr {
@@ -93,15 +96,26 @@ impl Grid {
     }
 }
 
+/// The anatomy file `path`, read: an `OSError` when it does not read, a
+/// `ValueError` naming the region and key when it is wrong.
+fn anatomy_of(path: &Path) -> PyResult<Arc<Anatomy>> {
+    Anatomy::load(path).map(Arc::new).map_err(|e| match e {
+        AnatomyError::Read { .. } => PyOSError::new_err(e.to_string()),
+        e => PyValueError::new_err(e.to_string()),
+    })
+}
+
 /// `robot.reach_map(...)`: see the method's docs in `robot.rs`.
 pub(crate) fn reach_map<'py>(
     py: Python<'py>,
-    geometry: &RobotGeometry<f64>,
+    robot: &Robot,
     pose: ArrayArg<'py>,
     tips: Option<ArrayArg<'py>>,
     grid_deg: Grid,
     line: bool,
+    anatomy: Option<&Path>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let anatomy = anatomy.map(anatomy_of).transpose()?;
     let pose_rows = Rows::new(&pose, "pose", 6)?;
     if crate::batch::batch_size(&[("pose", &pose_rows)])?.is_some() {
         return Err(PyValueError::new_err("pose must have shape (6,)"));
@@ -131,7 +145,10 @@ pub(crate) fn reach_map<'py>(
         ],
         tip_left_mm,
         tip_right_mm,
-        robot: *geometry,
+        robot: robot.geometry,
+        supervisor: robot.supervisor,
+        bodies: robot.bodies,
+        anatomy,
         ..paper
     };
     let options = ReachOptions {
@@ -177,9 +194,10 @@ pub(crate) fn reach_map<'py>(
         "margin",
         grid(py, shape, cells.iter().map(|c| c.margin).collect())?,
     )?;
-    let names: Vec<&str> = Constraint::all()
+    let names: Vec<String> = map
+        .constraints()
         .into_iter()
-        .map(Constraint::code)
+        .map(|c| map.code(c).into_owned())
         .collect();
     dict.set_item("codes", PyTuple::new(py, names)?)?;
     let points = &map.boundary.points;

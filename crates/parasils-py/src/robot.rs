@@ -227,10 +227,16 @@ impl Robot {
     /// "boundary_limiting" (K,) their constraint just outside; "boundary", a
     /// list of index arrays into "boundary_points", one per polyline (a
     /// closed one repeats its first point); "module1_assumed".
+    /// anatomy: an anatomy file of forbidden regions (as `parasils reach
+    /// --anatomy`): a cell where the in-body part of a shaft or of the
+    /// endoscope comes closer to a region than the clearance stop threshold
+    /// (0.5 mm unless this robot's file gives one) is limited by
+    /// "no_go.<region name>", one code per region after the others.
     ///
-    /// Raises ValueError for a bad grid, KinematicsError for a bad robot or
+    /// Raises ValueError for a bad grid or anatomy file, OSError for an
+    /// anatomy file that does not read, KinematicsError for a bad robot or
     /// a non-finite pose or tip.
-    #[pyo3(signature = (pose, tips = None, psi_range = None, theta_range = None, step = None, *, psi_range_deg = (-45.0, 45.0), theta_range_deg = (-45.0, 45.0), step_deg = 0.5, line = true))]
+    #[pyo3(signature = (pose, tips = None, psi_range = None, theta_range = None, step = None, *, psi_range_deg = (-45.0, 45.0), theta_range_deg = (-45.0, 45.0), step_deg = 0.5, line = true, anatomy = None))]
     #[allow(clippy::too_many_arguments)]
     fn reach_map<'py>(
         &self,
@@ -244,13 +250,14 @@ impl Robot {
         theta_range_deg: (f64, f64),
         step_deg: f64,
         line: bool,
+        anatomy: Option<std::path::PathBuf>,
     ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
         let grid = crate::reach::Grid::of(
             py,
             (psi_range, theta_range, step),
             (psi_range_deg, theta_range_deg, step_deg),
         )?;
-        crate::reach::reach_map(py, self.geometry(), pose, tips, grid, line)
+        crate::reach::reach_map(py, self.model(), pose, tips, grid, line, anatomy.as_deref())
     }
 
     /// Motion type 4 as a path: from `pose`, psi and theta turn by `dpsi`

@@ -99,3 +99,36 @@ def test_the_old_names_in_rad_warn_and_give_the_same_map():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         robot.reach_map(P0, step_deg=15.0, line=False)
+
+
+def test_a_forbidden_region_limits_the_cells_it_reaches_with_its_name(tmp_path):
+    # A ball whose surface is 2 mm from the paper's left tip, which the map
+    # holds still: every cell the kinematics allow is limited by it
+    # (the distance itself is checked cell by cell in the reach crate's
+    # tests); a ball far from everything changes nothing.
+    ball = tmp_path / "ball.toml"
+    ball.write_text(
+        '[[region]]\nname = "ball"\nshape = "sphere"\ncentre_mm = [50, -50, -630]\nradius_mm = 8\n'
+    )
+    far = tmp_path / "far.toml"
+    far.write_text(
+        '[[region]]\nname = "far"\nshape = "sphere"\ncentre_mm = [0, 0, 500]\nradius_mm = 1\n'
+    )
+    robot = parasils.Robot()
+    grid = dict(psi_range_deg=(-10.0, 20.0), theta_range_deg=(-10.0, 30.0), step_deg=5.0, line=False)
+    free = robot.reach_map(P0, **grid)
+    m = robot.reach_map(P0, anatomy=ball, **grid)
+    assert m["codes"][-1] == "no_go.ball" and m["codes"][:-1] == free["codes"]
+    names = np.array(m["codes"])[m["limiting"]]
+    assert np.all(names[free["feasible"]] == "no_go.ball")
+    assert np.array_equal(m["limiting"][~free["feasible"]], free["limiting"][~free["feasible"]])
+    assert not m["feasible"].any() and free["feasible"].sum() > 10
+    # Normalised by the shaft's radius: (gap - 0.5 mm) / 2.5 mm, the gap
+    # -0.5 mm at the start (the surface 2 mm from the tip, the shaft 2.5).
+    assert m["margin"][2, 2] == pytest.approx((-0.5 - 0.5) / 2.5, abs=1e-9)
+    unchanged = robot.reach_map(P0, anatomy=str(far), **grid)
+    assert unchanged["codes"][-1] == "no_go.far"
+    for key in ("feasible", "limiting", "margin"):
+        assert np.array_equal(unchanged[key], free[key]), key
+    with pytest.raises(OSError):
+        robot.reach_map(P0, anatomy=tmp_path / "missing.toml", **grid)

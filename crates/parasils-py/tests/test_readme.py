@@ -30,5 +30,5 @@ def test_the_readme_python_example_runs(tmp_path):
     np.testing.assert_allclose(ns["pose"], ns["p0"], atol=1e-9)
     assert ns["qs"].shape == (1_000_000, 3)
     assert ns["ok"].shape == (1_000_000,)
-    assert ns["df"].shape == (4501, 65)
+    assert ns["df"].shape == (4501, 74)
     assert (tmp_path / "paper.mcap").stat().st_size > 0

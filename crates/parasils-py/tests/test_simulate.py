@@ -64,9 +64,37 @@ def test_table_equals_the_cli_csv_to_the_last_bit(run_cli, tmp_path, kwargs, arg
 
 def test_paper_table(run_cli):
     table = parasils.simulate()
-    assert len(table) == 65 and all(len(v) == 4501 for v in table.values())
+    assert len(table) == 74 and all(len(v) == 4501 for v in table.values())
     assert table["t_s"][0] == 0.0 and table["t_s"][-1] == 4.5
     assert tuple(table) == parasils.COLUMNS
+
+
+def rotation(psi, theta, phi):
+    """R = R_X(psi) R_Y(theta) R_Z(phi), written out."""
+    (sx, cx), (sy, cy), (sz, cz) = [(np.sin(a), np.cos(a)) for a in (psi, theta, phi)]
+    rx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
+    ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
+    rz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
+    return rx @ ry @ rz
+
+
+def test_the_ports_are_p_plus_r_times_their_offsets():
+    # The modules' RCMs at (-10, 0, 0) and (10, 0, 0) mm in the platform
+    # frame (the paper's), the endoscope's port at P itself.
+    table = parasils.simulate(rate_hz=100.0)
+    assert parasils.COLUMNS[-9:] == tuple(
+        f"{body}_port_{a}_mm" for body in ("left", "right", "endoscope") for a in "xyz"
+    )
+    offsets = {"left": [-10.0, 0.0, 0.0], "right": [10.0, 0.0, 0.0], "endoscope": [0.0, 0.0, 0.0]}
+    for k in range(0, 451, 50):
+        p = np.array([table[f"{a}_mm"][k] for a in "xyz"])
+        r = rotation(*(np.radians(table[f"{a}_deg"][k]) for a in ("psi", "theta", "phi")))
+        for body, offset in offsets.items():
+            got = [table[f"{body}_port_{a}_mm"][k] for a in "xyz"]
+            np.testing.assert_allclose(got, p + r @ offset, rtol=0, atol=1e-9)
+    # The turn moves the instruments' ports, never the endoscope's.
+    assert np.ptp(table["left_port_x_mm"]) > 0.5
+    assert np.ptp(table["endoscope_port_z_mm"]) == 0.0
 
 
 def test_robot_object_equals_robot_file(run_cli, tmp_path):

@@ -1,6 +1,8 @@
 //! The check of one orientation: the controller's own per-cycle call, its
-//! typed error turned into a stable [`Constraint`] code, and the normalised
-//! margin.
+//! typed error turned into a stable [`Constraint`] code, the bodies'
+//! clearance and forbidden regions, and the normalised margin.
+
+use std::borrow::Cow;
 
 use parasils::kin::{
     Bodies, BodyGeometry, ClearancePair, ControlStep, Controller, Error, InstrumentSingularity,
@@ -9,12 +11,15 @@ use parasils::kin::{
 
 use parasils_sim::{Scenario, SimulationError};
 
+use crate::no_go::NoGoCheck;
+
 /// The constraint that makes an orientation infeasible, or [`Constraint::Ok`].
 ///
 /// [`Constraint::code`] is its stable name, as the CSV's `limiting` column
 /// and Python's codes write it: `ok`, `left.qs2.limit`,
 /// `right.out_of_reach`, `module1.q4.stroke`, `module1.q2.serial_singular`,
-/// `module1.parallel_singular`, `clearance.left_right`, ...
+/// `module1.parallel_singular`, `clearance.left_right`, ..., and
+/// `no_go.<region name>` ([`Constraint::code_in`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Constraint {
     /// Feasible: every module solved within every limit and threshold.
@@ -49,6 +54,13 @@ pub enum Constraint {
     Clearance(ClearancePair),
     /// Any other error of the kinematics (a non-finite number): `error`.
     Other,
+    /// The in-body part of a shaft or of the endoscope closer to a
+    /// forbidden region than the stop threshold (the scenario's anatomy,
+    /// `--anatomy`; the robot file's `clearance_stop_mm`, 0.5 mm by
+    /// default), as a run there would fail: the region's index in the
+    /// anatomy file, its code `no_go.<region name>`
+    /// ([`Constraint::code_in`]; [`Constraint::code`] alone says `no_go`).
+    NoGo(u16),
 }
 
 const MODULE1: [[&str; 6]; 3] = [
@@ -102,7 +114,8 @@ impl Constraint {
     /// legs, serial margins, strokes, parallel margin; then the left module,
     /// then the right one; then the clearance of the three pairs, checked
     /// once the kinematics solve), [`Constraint::Ok`] first and
-    /// [`Constraint::Other`] last.
+    /// [`Constraint::Other`] last. The forbidden regions, which depend on
+    /// the anatomy, follow in [`Constraint::with_regions`].
     pub fn all() -> Vec<Constraint> {
         let mut out = vec![Constraint::Ok];
         for make in [
@@ -125,6 +138,16 @@ impl Constraint {
         }
         out.extend(ClearancePair::ALL.map(Constraint::Clearance));
         out.push(Constraint::Other);
+        out
+    }
+
+    /// [`Constraint::all`], then [`Constraint::NoGo`] of each of `regions`
+    /// forbidden regions, in the anatomy file's order (the order of
+    /// [`Constraint::index`]).
+    pub fn with_regions(regions: usize) -> Vec<Constraint> {
+        let mut out = Constraint::all();
+        let count = u16::try_from(regions).unwrap_or(u16::MAX);
+        out.extend((0..count).map(Constraint::NoGo));
         out
     }
 
@@ -153,10 +176,12 @@ impl Constraint {
             Constraint::Clearance(ClearancePair::LeftEndoscope) => 33,
             Constraint::Clearance(ClearancePair::RightEndoscope) => 34,
             Constraint::Other => 35,
+            Constraint::NoGo(i) => 36 + usize::from(i),
         }
     }
 
-    /// The stable code.
+    /// The stable code; `no_go` for any forbidden region, whose own code,
+    /// `no_go.<region name>`, is [`Constraint::code_in`]'s.
     pub fn code(self) -> &'static str {
         let side = |s: Side| match s {
             Side::Left => 0,
@@ -179,12 +204,35 @@ impl Constraint {
             Constraint::Clearance(ClearancePair::LeftEndoscope) => "clearance.left_endoscope",
             Constraint::Clearance(ClearancePair::RightEndoscope) => "clearance.right_endoscope",
             Constraint::Other => "error",
+            Constraint::NoGo(_) => "no_go",
+        }
+    }
+
+    /// The code with the forbidden regions' names, `regions` (the anatomy
+    /// file's, in order: [`ReachMap::regions`](crate::ReachMap::regions)):
+    /// `no_go.<name>` for [`Constraint::NoGo`], [`Constraint::code`] for
+    /// the others (and for a region index beyond `regions`).
+    pub fn code_in(self, regions: &[String]) -> Cow<'static, str> {
+        match self {
+            Constraint::NoGo(i) => match regions.get(usize::from(i)) {
+                Some(name) => Cow::Owned(format!("no_go.{name}")),
+                None => Cow::Borrowed(self.code()),
+            },
+            _ => Cow::Borrowed(self.code()),
         }
     }
 
     /// The constraint of a code ([`Constraint::code`]'s inverse).
     pub fn from_code(code: &str) -> Option<Constraint> {
         Constraint::all().into_iter().find(|c| c.code() == code)
+    }
+
+    /// The constraint of a code among `regions`' as well
+    /// ([`Constraint::code_in`]'s inverse).
+    pub fn from_code_in(code: &str, regions: &[String]) -> Option<Constraint> {
+        Constraint::with_regions(regions.len())
+            .into_iter()
+            .find(|c| c.code_in(regions) == code)
     }
 
     /// The constraint an error of the controller names.
@@ -213,8 +261,13 @@ impl Constraint {
 }
 
 impl core::fmt::Display for Constraint {
+    /// The code; a forbidden region, whose name the constraint does not
+    /// hold, as `no_go[<index>]`.
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.pad(self.code())
+        match self {
+            Constraint::NoGo(i) => f.pad(&format!("no_go[{i}]")),
+            _ => f.pad(self.code()),
+        }
     }
 }
 
@@ -247,13 +300,16 @@ fn relative(range: &Interval<f64>, value: f64) -> Option<f64> {
     (width.is_finite() && width > 0.0).then(|| range.margin(value) / width)
 }
 
-/// The clearance a [`Checker`] checks: the bodies, the endoscope's depth
-/// and the stop threshold, mm.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct ClearanceCheck {
+/// The bodies a [`Checker`] measures: their sizes and the endoscope's
+/// depth, mm; the clearance stop threshold when the robot file gives
+/// clearance thresholds; the forbidden regions when the scenario has an
+/// anatomy.
+#[derive(Debug, Clone)]
+struct BodyCheck {
     bodies: BodyGeometry<f64>,
     depth_mm: f64,
-    stop_mm: f64,
+    clearance_stop_mm: Option<f64>,
+    no_go: Option<NoGoCheck>,
 }
 
 /// One orientation's check, as the controller runs it every cycle.
@@ -264,14 +320,18 @@ struct ClearanceCheck {
 /// clearance thresholds (`[supervisor]`'s `clearance_warn_mm` or
 /// `clearance_stop_mm`), the bodies: an orientation where a gap between the
 /// shafts and the endoscope is below the stop threshold is infeasible
-/// ([`Constraint::Clearance`]), as a planned run there would fail.
+/// ([`Constraint::Clearance`]), as a planned run there would fail. With an
+/// anatomy (`Scenario::anatomy`), likewise an orientation where the in-body
+/// part of a shaft or of the endoscope comes closer to a forbidden region
+/// than the stop threshold ([`Constraint::NoGo`]). The bodies are built
+/// once per orientation for both.
 #[derive(Debug, Clone)]
 pub struct Checker {
     controller: Controller<f64>,
     tracker: MarginTracker<f64>,
     tips: TipTargets<f64>,
     start: Pose<f64>,
-    clearance: Option<ClearanceCheck>,
+    bodies: Option<BodyCheck>,
 }
 
 impl Checker {
@@ -297,21 +357,31 @@ impl Checker {
                 return Err(fail(Error::NonFinite { what, value }));
             }
         }
-        let clearance = scenario
-            .supervisor
-            .clearance()
-            .map(|[_, stop_mm]| ClearanceCheck {
-                bodies: scenario.bodies,
-                depth_mm: scenario.endoscope_depth_mm,
-                stop_mm,
-            });
+        let clearance_stop_mm = scenario.supervisor.clearance().map(|[_, stop_mm]| stop_mm);
+        let no_go = NoGoCheck::of(scenario);
+        let bodies = (clearance_stop_mm.is_some() || no_go.is_some()).then_some(BodyCheck {
+            bodies: scenario.bodies,
+            depth_mm: scenario.endoscope_depth_mm,
+            clearance_stop_mm,
+            no_go,
+        });
         Ok(Self {
             controller,
             tracker: MarginTracker::new(),
             tips,
             start,
-            clearance,
+            bodies,
         })
+    }
+
+    /// The forbidden regions' names, in the anatomy file's order (empty
+    /// without an anatomy): [`Constraint::NoGo`]`(i)` is the `i`-th.
+    pub fn regions(&self) -> Vec<String> {
+        self.bodies
+            .as_ref()
+            .and_then(|b| b.no_go.as_ref())
+            .map(NoGoCheck::names)
+            .unwrap_or_default()
     }
 
     /// The start pose, mm and rad.
@@ -354,7 +424,7 @@ impl Checker {
         match self.step(dpsi, dtheta) {
             Ok(step) => self
                 .gaps(&step)
-                .is_ok_and(|gaps| gaps.iter().all(|g| g.1 >= 0.0)),
+                .is_some_and(|gaps| gaps.iter().all(|g| g.1 >= 0.0)),
             Err(_) => false,
         }
     }
@@ -363,15 +433,15 @@ impl Checker {
     pub fn check(&mut self, dpsi: f64, dtheta: f64) -> Verdict {
         match self.step(dpsi, dtheta) {
             Ok(step) => match self.gaps(&step) {
-                Ok(gaps) => match gaps.iter().find(|g| !(g.1 >= 0.0)) {
-                    Some(&(pair, margin)) => Verdict {
-                        limiting: Constraint::Clearance(pair),
+                Some(gaps) => match gaps.iter().find(|g| !(g.1 >= 0.0)) {
+                    Some(&(limiting, margin)) => Verdict {
+                        limiting,
                         margin,
-                        nearest: Constraint::Clearance(pair),
+                        nearest: limiting,
                     },
                     None => self.margin_of(&step, &gaps),
                 },
-                Err(_) => Verdict {
+                None => Verdict {
                     limiting: Constraint::Other,
                     margin: f64::NAN,
                     nearest: Constraint::Other,
@@ -403,14 +473,17 @@ impl Checker {
         }
     }
 
-    /// Each pair's normalised clearance margin at `step` (in the order of
-    /// [`ClearancePair::ALL`]): the gap's distance above the stop threshold
-    /// over the two bodies' radii (0 on the threshold, negative below, 1
-    /// when the gap exceeds the threshold by both radii); none when the
-    /// clearance is not checked. An error for a body's non-finite end.
-    fn gaps(&self, step: &ControlStep<f64>) -> Result<Vec<(ClearancePair, f64)>, Error> {
-        let Some(check) = &self.clearance else {
-            return Ok(Vec::new());
+    /// The normalised margins of the bodies at `step`: each pair's
+    /// clearance when the robot file gives clearance thresholds (in the
+    /// order of [`ClearancePair::ALL`]: the gap's distance above the stop
+    /// threshold over the two bodies' radii, 0 on the threshold, negative
+    /// below, 1 when the gap exceeds the threshold by both radii), then
+    /// each forbidden region's when the scenario has an anatomy (in the
+    /// file's order; see `NoGoCheck::margins`); none when neither is
+    /// checked. `None` for a body's non-finite end or a failed query.
+    fn gaps(&self, step: &ControlStep<f64>) -> Option<Vec<(Constraint, f64)>> {
+        let Some(check) = &self.bodies else {
+            return Some(Vec::new());
         };
         let bodies = Bodies::at(
             &check.bodies,
@@ -420,26 +493,38 @@ impl Checker {
             &self.controller.right,
             &step.right.q,
             check.depth_mm,
-        )?;
-        let gaps = bodies.clearance()?;
-        let radii = |pair| match pair {
-            ClearancePair::LeftRight => bodies.left.radius + bodies.right.radius,
-            ClearancePair::LeftEndoscope => bodies.left.radius + bodies.endoscope.radius,
-            ClearancePair::RightEndoscope => bodies.right.radius + bodies.endoscope.radius,
-        };
-        Ok(ClearancePair::ALL
-            .into_iter()
-            .map(|pair| {
+        )
+        .ok()?;
+        let mut out = Vec::new();
+        if let Some(stop_mm) = check.clearance_stop_mm {
+            let gaps = bodies.clearance().ok()?;
+            let radii = |pair| match pair {
+                ClearancePair::LeftRight => bodies.left.radius + bodies.right.radius,
+                ClearancePair::LeftEndoscope => bodies.left.radius + bodies.endoscope.radius,
+                ClearancePair::RightEndoscope => bodies.right.radius + bodies.endoscope.radius,
+            };
+            out.extend(ClearancePair::ALL.into_iter().map(|pair| {
                 let scale = radii(pair);
                 let scale = if scale > 0.0 { scale } else { 1.0 };
-                (pair, (gaps.get(pair).gap - check.stop_mm) / scale)
-            })
-            .collect())
+                (
+                    Constraint::Clearance(pair),
+                    (gaps.get(pair).gap - stop_mm) / scale,
+                )
+            }));
+        }
+        if let Some(no_go) = &check.no_go {
+            let margins = no_go.margins(&bodies, step, check.depth_mm)?;
+            out.extend(margins.into_iter().map(|(region, margin)| {
+                let index = u16::try_from(region).unwrap_or(u16::MAX);
+                (Constraint::NoGo(index), margin)
+            }));
+        }
+        Some(out)
     }
 
-    /// The smallest normalised margin of a successful step, the clearance
+    /// The smallest normalised margin of a successful step, the bodies'
     /// margins `gaps` included.
-    fn margin_of(&self, step: &ControlStep<f64>, gaps: &[(ClearancePair, f64)]) -> Verdict {
+    fn margin_of(&self, step: &ControlStep<f64>, gaps: &[(Constraint, f64)]) -> Verdict {
         let mut best = (f64::INFINITY, Constraint::Ok);
         let mut consider = |value: Option<f64>, c: Constraint| {
             if let Some(v) = value
@@ -492,8 +577,8 @@ impl Checker {
                 Constraint::Qs3Singular(side),
             );
         }
-        for &(pair, margin) in gaps {
-            consider(Some(margin), Constraint::Clearance(pair));
+        for &(constraint, margin) in gaps {
+            consider(Some(margin), constraint);
         }
         Verdict {
             limiting: Constraint::Ok,
@@ -579,5 +664,25 @@ mod tests {
             Constraint::OutOfReach(Side::Right).code(),
             "right.out_of_reach"
         );
+    }
+
+    #[test]
+    fn the_regions_follow_in_the_files_order_with_their_names() {
+        let names = ["liver".to_string(), "aorta".to_string()];
+        let all = Constraint::with_regions(names.len());
+        assert_eq!(all.len(), Constraint::all().len() + 2);
+        for (i, c) in all.iter().enumerate() {
+            assert_eq!(c.index(), i, "{c}");
+            assert_eq!(
+                Constraint::from_code_in(&c.code_in(&names), &names),
+                Some(*c)
+            );
+        }
+        assert_eq!(Constraint::NoGo(1).code_in(&names), "no_go.aorta");
+        assert_eq!(Constraint::NoGo(1).code(), "no_go");
+        assert_eq!(Constraint::NoGo(5).code_in(&names), "no_go");
+        assert_eq!(Constraint::NoGo(0).to_string(), "no_go[0]");
+        assert_eq!(Constraint::Other.index(), 35);
+        assert_eq!(Constraint::from_code("no_go"), None);
     }
 }

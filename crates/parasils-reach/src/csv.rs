@@ -43,7 +43,7 @@ pub fn write<W: Write>(map: &ReachMap, out: &mut W) -> std::io::Result<()> {
             flag(cell.feasible),
             flag(cell.reachable),
             line,
-            cell.limiting.code()
+            map.code(cell.limiting)
         )?;
         out.write_all(buf.format(cell.margin).as_bytes())?;
         out.write_all(b"\n")?;

@@ -40,6 +40,7 @@ impl ReachMap {
             start_deg: [scenario.start_mm_deg[3], scenario.start_mm_deg[4]],
             module1_assumed: scenario.robot.module1.assumed,
             module1_provenance: scenario.robot.module1.provenance().to_string(),
+            regions: base.regions(),
         };
         // The cells, a row per task.
         map.cells = parallel_map(rows, threads, &base, |r, checker| {

@@ -14,9 +14,11 @@
 //! For each cell, [`Cell`] holds:
 //! - `feasible`: the controller's step succeeds;
 //! - `limiting`: the first constraint it found violated, as a stable code
-//!   ([`Constraint::code`]: `ok`, `left.qs2.limit`, `right.out_of_reach`,
+//!   ([`ReachMap::code`]: `ok`, `left.qs2.limit`, `right.out_of_reach`,
 //!   `module1.q4.stroke`, `module1.q2.serial_singular`,
-//!   `module1.parallel_singular`, ...);
+//!   `module1.parallel_singular`, ..., `clearance.left_right` with the
+//!   robot file's clearance thresholds, `no_go.<region name>` with an
+//!   anatomy, below);
 //! - `margin`: the normalised margin, below;
 //! - `reachable`: in the 4-connected region of feasible cells that holds
 //!   the start (the views reachable by some continuous turn, at the grid's
@@ -24,6 +26,15 @@
 //! - `line`: the straight reorientation from the start (what `simulate`
 //!   does) feasible all the way, checked at points no more than a quarter
 //!   of the step apart (see *Lines*).
+//!
+//! With the robot file's clearance thresholds, the shafts and the endoscope
+//! (the robot file's `[bodies]`, the endoscope at the scenario's depth) are
+//! built at each cell's joints and a gap between two of them below the stop
+//! threshold limits the cell (`clearance.<pair>`); with an anatomy
+//! (`Scenario::anatomy`, `parasils reach --anatomy FILE.toml`), the same
+//! bodies' in-body parts are measured against each forbidden region, and a
+//! gap below the stop threshold (`clearance_stop_mm`, 0.5 mm by default)
+//! limits it (`no_go.<region name>`), as a run there would fail.
 //!
 //! The boundary between feasible and infeasible cells is refined by
 //! bisection along each grid edge that crosses it, to [`TOLERANCE_RAD`]
@@ -39,6 +50,8 @@
 //! | joint limit (`qs1`, `qs2`, `qs3`), actuator stroke | distance to the nearer end / width of the range (0.5 in the middle, 0 on a bound) |
 //! | `|cos qs2|`, module 1's serial and parallel margins | margin - threshold (they run from 0 to 1: the scale is 1) |
 //! | `qs3` near the RCM | `(qs3 - threshold)` / width of `qs3`'s range (1 mm if unbounded) |
+//! | clearance of a pair | `(gap - stop threshold)` / the two bodies' radii |
+//! | forbidden region | `(gap - stop threshold)` / the radius of the body closest to it |
 //!
 //! A feasible cell's margin is the smallest over every constraint of the
 //! three modules (positive, 0 on the boundary); an infeasible cell's is the
@@ -89,7 +102,8 @@
 //!
 //! | module | concept |
 //! |---|---|
-//! | `check` | the per-cell check: [`Checker`] (the controller's own step at rest), [`Constraint`] (what failed, as a stable code), [`Verdict`] (feasible, limiting, normalised margin) |
+//! | `no_go` | the forbidden regions of the scenario's anatomy measured against the bodies' in-body parts |
+//! | `check` | the per-cell check: [`Checker`] (the controller's own step at rest, the bodies' clearance and forbidden regions), [`Constraint`] (what failed, as a stable code), [`Verdict`] (feasible, limiting, normalised margin) |
 //! | `map` | the map's data: [`ReachOptions`], [`Axis`], [`Cell`], [`Boundary`], [`ReachMap`], [`ReachError`] |
 //! | `threads` | rows, rays and edges shared among threads, each with a fresh controller |
 //! | `boundary` | the boundary refined by bisection ([`bisect`]) and joined by marching squares |
@@ -110,6 +124,7 @@ pub mod csv;
 mod grid;
 mod line;
 mod map;
+mod no_go;
 #[cfg(feature = "plot")]
 pub mod plot;
 pub mod summary;

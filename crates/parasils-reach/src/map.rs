@@ -190,6 +190,23 @@ pub struct ReachMap {
     /// Where module 1's geometry comes from, as the summary says it:
     /// assumed, calibrated (with its RMS residual and poses), or measured.
     pub module1_provenance: String,
+    /// The forbidden regions' names, in the anatomy file's order (empty
+    /// without an anatomy): [`Constraint::NoGo`]`(i)` is the `i`-th.
+    pub regions: Vec<String>,
+}
+
+impl ReachMap {
+    /// `constraint`'s code, a forbidden region's with its name
+    /// (`no_go.<name>`): [`Constraint::code_in`] with [`ReachMap::regions`].
+    pub fn code(&self, constraint: Constraint) -> std::borrow::Cow<'static, str> {
+        constraint.code_in(&self.regions)
+    }
+
+    /// Every constraint a cell of this map may name, in the order of
+    /// [`Constraint::index`]: [`Constraint::with_regions`] of its regions.
+    pub fn constraints(&self) -> Vec<Constraint> {
+        Constraint::with_regions(self.regions.len())
+    }
 }
 
 /// A point of the boundary, refined along one grid edge.

@@ -256,7 +256,7 @@ fn draw_legend<DB: DrawingBackend>(
     y += 26;
     for (k, c) in met.iter().enumerate() {
         area.draw(&swatch(y, OUTSIDE[k % OUTSIDE.len()]))?;
-        area.draw(&Text::new(c.code(), (48, y + 1), text.clone()))?;
+        area.draw(&Text::new(map.code(*c), (48, y + 1), text.clone()))?;
         y += 22;
     }
     y += 14;

@@ -104,7 +104,7 @@ impl ReachSummary {
                 let _ = writeln!(
                     s,
                     "the start itself is infeasible: {}",
-                    start.limiting.code()
+                    map.code(start.limiting)
                 );
             }
             Some([p, t]) => {
@@ -120,7 +120,8 @@ impl ReachSummary {
         }
         for (name, axis) in [("dpsi", &self.psi_axis), ("dtheta", &self.theta_axis)] {
             if let Some(a) = axis {
-                let why = |c: Option<Constraint>| c.map_or("end of the grid", Constraint::code);
+                let why =
+                    |c: Option<Constraint>| c.map_or("end of the grid".into(), |c| map.code(c));
                 let _ = writeln!(
                     s,
                     "{name} alone: {} deg ({}) to {} deg ({})",
@@ -137,7 +138,7 @@ impl ReachSummary {
                 "limiting constraints on the reachable region's boundary:"
             );
             for (c, n) in &self.boundary_constraints {
-                let _ = writeln!(s, "  {:<28} {n} points", c.code());
+                let _ = writeln!(s, "  {:<28} {n} points", map.code(*c));
             }
         }
         if map.module1_assumed || map.module1_provenance.starts_with("calibrated") {

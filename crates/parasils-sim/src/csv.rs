@@ -26,7 +26,7 @@ impl<W: Write> core::fmt::Debug for CsvSink<W> {
 }
 
 impl<W: Write> CsvSink<W> {
-    /// Writes the header row of the 65 columns of [`columns::CSV`] (a run
+    /// Writes the header row of the 74 columns of [`columns::CSV`] (a run
     /// without commands) and returns the sink.
     ///
     /// # Errors
@@ -152,10 +152,10 @@ mod tests {
         assert!(
             lines
                 .next()
-                .is_some_and(|h| h.ends_with(",camera_aim_error_deg,camera_roll_deg,command"))
+                .is_some_and(|h| h.ends_with(",endoscope_port_y_mm,endoscope_port_z_mm,command"))
         );
         assert!(lines.next().is_some_and(|row| row.ends_with(",0.0,2")));
         let paper = CsvSink::for_scenario(Vec::new(), &Scenario::paper()).expect("header");
-        assert_eq!(paper.columns().len(), 65);
+        assert_eq!(paper.columns().len(), 74);
     }
 }

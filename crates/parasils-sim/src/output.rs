@@ -119,23 +119,24 @@ impl OutputError {
     }
 }
 
-/// Bytes per CSV row in [`estimate_bytes`]. The paper's run writes 1085 bytes
-/// per row on average and 1147 at most (65 columns of shortest round-trip
-/// numbers, the eight camera columns included); before those eight it was
-/// 966 and 1025, and before the four clearance columns 889 and 945 (969 at
-/// most at 20 kHz with the `command` column). 1280 bounds them all with
-/// room to spare.
-pub const CSV_BYTES_PER_ROW: u64 = 1280;
+/// Bytes per CSV row in [`estimate_bytes`]. The paper's run writes 1214 bytes
+/// per row on average and 1275 at most (74 columns of shortest round-trip
+/// numbers, the nine port columns included); before those nine it was 1085
+/// and 1147, before the eight camera columns 966 and 1025, and before the
+/// four clearance columns 889 and 945 (969 at most at 20 kHz with the
+/// `command` column). 1408 bounds them all with room to spare.
+pub const CSV_BYTES_PER_ROW: u64 = 1408;
 
-/// Bytes per MCAP sample in [`estimate_bytes`]. The paper's run writes 761
+/// Bytes per MCAP sample in [`estimate_bytes`]. The paper's run writes 838
 /// bytes per sample, compressed chunks and their index, the `/tf`,
-/// `/scene` and camera messages included (660 before the `/camera` channel
-/// and the camera's image topics, 627 before the four clearance columns).
-/// 896 bounds them with room to spare.
-pub const MCAP_BYTES_PER_SAMPLE: u64 = 896;
+/// `/scene` and camera messages included (761 before the shafts were drawn
+/// as cylinders, 660 before the `/camera` channel and the camera's image
+/// topics, 627 before the four clearance columns). 1024 bounds them with
+/// room to spare.
+pub const MCAP_BYTES_PER_SAMPLE: u64 = 1024;
 
 /// Bytes of a file's fixed part in [`estimate_bytes`]: the CSV header
-/// (728 bytes), the MCAP header, schemas, scenario, summary and footer
+/// (1097 bytes), the MCAP header, schemas, scenario, summary and footer
 /// (about 110 kB).
 const FIXED_BYTES: u64 = 256 * 1024;
 

@@ -76,8 +76,8 @@ fn two_retargets_and_a_stop_stay_continuous_within_limits_with_the_tips_still() 
     let (records, text) = run(&sim);
     assert_eq!(records.len(), sim.sample_count());
     let (header, rows) = parse(&text);
-    assert_eq!(header.len(), 66);
-    assert_eq!(header[65], "command");
+    assert_eq!(header.len(), 75);
+    assert_eq!(header[74], "command");
     let col = |name: &str| {
         let i = header
             .iter()
@@ -314,11 +314,11 @@ fn the_mcap_file_has_every_command_on_motion() {
 }
 
 #[test]
-fn the_paper_csv_has_its_65_columns_and_no_command() {
+fn the_paper_csv_has_its_74_columns_and_no_command() {
     let sim = Simulation::new(Scenario::paper()).expect("valid");
     let (records, text) = run(&sim);
     let header = text.lines().next().expect("header");
-    assert_eq!(header.split(',').count(), 65);
+    assert_eq!(header.split(',').count(), 74);
     assert!(!header.contains("command"));
     assert_eq!(records.len(), 4501);
     assert!(

@@ -176,7 +176,7 @@ fn the_demo_procedure_under_tip_loads_balances_power() {
     // (the positioning) are left out: a record has no `Pdot`.
     let checked = check_balance(&sim, &records, 1e-7);
     assert!(checked > 9000, "{checked} of {}", records.len());
-    assert_eq!(columns::csv_columns_of(sim.scenario()).len(), 65 + 12 + 14);
+    assert_eq!(columns::csv_columns_of(sim.scenario()).len(), 74 + 12 + 14);
 }
 
 #[test]

@@ -1,11 +1,12 @@
 //! The ports, where the shafts and the endoscope cross the skin: their
-//! positions in the records against `P + R rcm` computed here from the
-//! Euler angles, each motion's largest displacement in the check, and the
-//! robot file's `port_motion_stop_mm`, exceeded and not.
+//! positions in the records and in the CSV's columns against `P + R rcm`
+//! computed here from the Euler angles, each motion's largest displacement
+//! in the check, and the robot file's `port_motion_stop_mm`, exceeded and
+//! not.
 
 use nalgebra::{Matrix3, Vector3};
 use parasils_sim::robot_file::{parse_robot, robot_to_toml_string};
-use parasils_sim::{Record, Scenario, Simulation, SimulationError, procedure};
+use parasils_sim::{CsvSink, Record, Scenario, Simulation, SimulationError, Sink, procedure};
 
 /// `R = R_X(psi) R_Y(theta) R_Z(phi)`, written out.
 fn rotation(psi: f64, theta: f64, phi: f64) -> Matrix3<f64> {
@@ -70,6 +71,65 @@ fn the_ports_are_where_the_rcms_and_p_are() {
             "{moved}"
         );
     }
+}
+
+#[test]
+fn the_csv_s_port_columns_are_p_plus_r_times_the_offsets_of_its_own_pose() {
+    // The demo procedure: the platform moves (`P` lowered 40 mm) and turns,
+    // so every port moves, the endoscope's with `P`.
+    let sim = Simulation::new(demo()).expect("valid");
+    let mut sink = CsvSink::for_scenario(Vec::new(), sim.scenario()).expect("header");
+    for r in sim.samples() {
+        sink.push(&r.expect("runs")).expect("row");
+    }
+    let text = String::from_utf8(sink.finish().expect("flush")).expect("utf8");
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().expect("header").split(',').collect();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().expect("a number")).collect())
+        .collect();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .unwrap_or_else(|| panic!("no column {name}"))
+    };
+    let offsets = [
+        ("left", Vector3::new(-10.0, 0.0, 0.0)),
+        ("right", Vector3::new(10.0, 0.0, 0.0)),
+        ("endoscope", Vector3::zeros()),
+    ];
+    let mut moved = [0.0_f64; 3];
+    for row in rows.iter().step_by(997).chain(rows.last()) {
+        let at = |name: &str| row[col(name)];
+        let p = Vector3::new(at("x_mm"), at("y_mm"), at("z_mm"));
+        let rot = rotation(
+            at("psi_deg").to_radians(),
+            at("theta_deg").to_radians(),
+            at("phi_deg").to_radians(),
+        );
+        for (k, (body, offset)) in offsets.iter().enumerate() {
+            let got = Vector3::new(
+                at(&format!("{body}_port_x_mm")),
+                at(&format!("{body}_port_y_mm")),
+                at(&format!("{body}_port_z_mm")),
+            );
+            let want = p + rot * offset;
+            assert!(
+                (got - want).norm() < 1e-9,
+                "t = {} s, {body}: {got} vs {want}",
+                at("t_s")
+            );
+            let first = Vector3::new(
+                rows[0][col(&format!("{body}_port_x_mm"))],
+                rows[0][col(&format!("{body}_port_y_mm"))],
+                rows[0][col(&format!("{body}_port_z_mm"))],
+            );
+            moved[k] = moved[k].max((got - first).norm());
+        }
+    }
+    assert!(rows.len() > 5000, "{}", rows.len());
+    assert!(moved.iter().all(|m| *m > 10.0), "{moved:?}");
 }
 
 #[test]

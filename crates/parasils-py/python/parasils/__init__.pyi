@@ -65,6 +65,7 @@ class Robot:
         theta_range_deg: Tuple[float, float] = (-45.0, 45.0),
         step_deg: float = 0.5,
         line: bool = True,
+        anatomy: Optional[Union[str, os.PathLike]] = None,
     ) -> Dict[str, Any]:
         """The reach map from `pose` (mm, rad) with both tips (2, 3) held, on
         the grid psi_range_deg x theta_range_deg by step_deg (deg, as

@@ -10,7 +10,7 @@
 //!
 //! One column is not in [`ALL`]: [`COMMAND`], the index of the active
 //! command, which only runs with commands (retargets, a stop) have. Their
-//! CSV is [`CSV_WITH_COMMAND`], the 65 columns of [`CSV`] and `command` last,
+//! CSV is [`CSV_WITH_COMMAND`], the 74 columns of [`CSV`] and `command` last,
 //! and their MCAP file has it on `/motion`; a run without commands writes
 //! exactly what it wrote before commands existed ([`csv_columns`] picks).
 //!

@@ -227,20 +227,20 @@ pub const LEFT: InstrumentColumns = instrument_columns!(left, "left", Channel::L
 /// The right instrument module's columns.
 pub const RIGHT: InstrumentColumns = instrument_columns!(right, "right", Channel::Right);
 
-/// The ports, where each shaft crosses the skin, mm, fixed frame (MCAP
-/// `/tips` only, like the tips by forward kinematics): `left_port_x_mm`,
-/// `_y_`, `_z_`, then `right_port_`, then `endoscope_port_` (the modules'
-/// RCMs `P + R rcm` and the endoscope's insertion point `P`).
+/// The ports, where each shaft crosses the skin, mm, fixed frame (the last
+/// nine of [`CSV`](crate::columns::CSV), and MCAP `/tips`): `left_port_x_mm`, `_y_`, `_z_`,
+/// then `right_port_`, then `endoscope_port_` (the modules' RCMs
+/// `P + R rcm` and the endoscope's insertion point `P`).
 pub const PORTS: [Column; 9] = [
-    mcap_only("left_port_x_mm", MM, Channel::Tips, |r| r.ports[0].x),
-    mcap_only("left_port_y_mm", MM, Channel::Tips, |r| r.ports[0].y),
-    mcap_only("left_port_z_mm", MM, Channel::Tips, |r| r.ports[0].z),
-    mcap_only("right_port_x_mm", MM, Channel::Tips, |r| r.ports[1].x),
-    mcap_only("right_port_y_mm", MM, Channel::Tips, |r| r.ports[1].y),
-    mcap_only("right_port_z_mm", MM, Channel::Tips, |r| r.ports[1].z),
-    mcap_only("endoscope_port_x_mm", MM, Channel::Tips, |r| r.ports[2].x),
-    mcap_only("endoscope_port_y_mm", MM, Channel::Tips, |r| r.ports[2].y),
-    mcap_only("endoscope_port_z_mm", MM, Channel::Tips, |r| r.ports[2].z),
+    col("left_port_x_mm", MM, Channel::Tips, |r| r.ports[0].x),
+    col("left_port_y_mm", MM, Channel::Tips, |r| r.ports[0].y),
+    col("left_port_z_mm", MM, Channel::Tips, |r| r.ports[0].z),
+    col("right_port_x_mm", MM, Channel::Tips, |r| r.ports[1].x),
+    col("right_port_y_mm", MM, Channel::Tips, |r| r.ports[1].y),
+    col("right_port_z_mm", MM, Channel::Tips, |r| r.ports[1].z),
+    col("endoscope_port_x_mm", MM, Channel::Tips, |r| r.ports[2].x),
+    col("endoscope_port_y_mm", MM, Channel::Tips, |r| r.ports[2].y),
+    col("endoscope_port_z_mm", MM, Channel::Tips, |r| r.ports[2].z),
 ];
 
 /// Every column, in order: the CSV's columns are those with `csv` set, in

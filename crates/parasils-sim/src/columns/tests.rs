@@ -43,10 +43,15 @@ fn names_are_unique_and_end_with_their_unit() {
 }
 
 #[test]
-fn the_csv_is_the_first_65_columns() {
-    assert_eq!(CSV_COUNT, 65);
+fn the_csv_is_every_column_but_the_recomputed_tips() {
+    assert_eq!(CSV_COUNT, 74);
+    // The first 65 of the table, the six MCAP-only tips, then the ports.
     assert!(ALL[..65].iter().all(|c| c.csv));
-    assert!(ALL[65..].iter().all(|c| !c.csv));
+    assert!(ALL[65..71].iter().all(|c| !c.csv));
+    assert!(ALL[71..].iter().all(|c| c.csv));
+    let names = |c: &[Column]| c.iter().map(|c| c.name).collect::<Vec<_>>();
+    assert_eq!(names(&CSV[..65]), names(&ALL[..65]));
+    assert_eq!(names(&CSV[65..]), names(&ALL[71..]));
     assert_eq!(CSV_NAMES[0], "t_s");
     assert_eq!(CSV_NAMES[31], "left_qs1_deg");
     assert_eq!(CSV_NAMES[52], "right_tip_err_mm");
@@ -60,7 +65,7 @@ fn the_csv_is_the_first_65_columns() {
         ]
     );
     assert_eq!(
-        CSV_NAMES[57..],
+        CSV_NAMES[57..65],
         [
             "left_tip_u",
             "left_tip_v",
@@ -72,18 +77,33 @@ fn the_csv_is_the_first_65_columns() {
             "camera_roll_deg"
         ]
     );
+    assert_eq!(
+        CSV_NAMES[65..],
+        [
+            "left_port_x_mm",
+            "left_port_y_mm",
+            "left_port_z_mm",
+            "right_port_x_mm",
+            "right_port_y_mm",
+            "right_port_z_mm",
+            "endoscope_port_x_mm",
+            "endoscope_port_y_mm",
+            "endoscope_port_z_mm"
+        ]
+    );
     assert_eq!(csv_index(&LEFT.q[0]), Some(31));
+    assert_eq!(csv_index(&PORTS[4]), Some(69));
     assert_eq!(csv_index(&LEFT.tip[0]), None);
 }
 
 #[test]
 fn the_command_column_comes_last_and_only_with_commands() {
-    assert_eq!(csv_columns(false).len(), 65);
-    assert_eq!(csv_columns(true).len(), 66);
-    assert_eq!(CSV_WITH_COMMAND_NAMES[..65], CSV_NAMES);
-    assert_eq!(CSV_WITH_COMMAND_NAMES[65], "command");
-    assert!(csv_columns(true)[65].integer);
-    assert!(csv_columns(true)[..65].iter().all(|c| !c.integer));
+    assert_eq!(csv_columns(false).len(), 74);
+    assert_eq!(csv_columns(true).len(), 75);
+    assert_eq!(CSV_WITH_COMMAND_NAMES[..74], CSV_NAMES);
+    assert_eq!(CSV_WITH_COMMAND_NAMES[74], "command");
+    assert!(csv_columns(true)[74].integer);
+    assert!(csv_columns(true)[..74].iter().all(|c| !c.integer));
     assert!(ALL.iter().all(|c| c.name != COMMAND.name));
     assert_eq!(csv_index(&COMMAND), None);
     let r = Record {
@@ -98,7 +118,7 @@ fn channels_hold_the_documented_fields() {
     let count = |ch: Channel| ALL.iter().filter(|c| c.channel == Some(ch)).count();
     assert_eq!(Channel::ALL.map(count), [10, 18, 9, 9, 17, 8, 8]);
     assert_eq!(PORTS[4].channel, Some(Channel::Tips));
-    assert!(PORTS.iter().all(|c| !c.csv));
+    assert!(PORTS.iter().all(|c| c.csv));
     assert_eq!(CAMERA_ROLL_DEG.channel, Some(Channel::Camera));
     assert_eq!(T_S.channel, None);
     assert_eq!(LEFT.q_acc[2].channel, Some(Channel::Left));
@@ -180,9 +200,11 @@ fn values_are_in_the_columns_units() {
     );
     assert_eq!(CAMERA_AIM_ERROR_DEG.value(&r), 45.0);
     assert_eq!(CAMERA_ROLL_DEG.value(&r), -90.0);
+    r.ports[1] = nalgebra::Vector3::new(10.0, -2.5, -500.0);
+    assert_eq!(PORTS[5].value(&r), -500.0);
     let row = csv_row(&r);
     assert_eq!(
-        (row[4], row[31], row[33], row[28]),
-        (90.0, 180.0, 120.0, 7.0)
+        (row[4], row[31], row[33], row[28], row[68], row[70]),
+        (90.0, 180.0, 120.0, 7.0, 10.0, -500.0)
     );
 }

@@ -38,17 +38,17 @@ pub(super) enum Inner {
     Online(OnlineRun),
 }
 
-/// The three surface gaps of `step` (the shafts at its joints, the endoscope
-/// at `depth` mm), from the scenario's bodies, and the depth below the
-/// ports (mm, `-z'` of the platform frame) of the smallest gap's closest
-/// points.
-pub(super) fn clearance_of(
+/// The three bodies at `step` (the shafts at its joints, the endoscope at
+/// `depth` mm), from the scenario's sizes: built once per sample, and
+/// measured against each other ([`clearance_of`]) and against the
+/// forbidden regions ([`no_go_of`]).
+pub(super) fn bodies_of(
     sim: &Simulation,
     controller: &Controller<f64>,
     step: &ControlStep<f64>,
     depth: f64,
-) -> Result<(ClearanceRecord, ClearancePair, f64), parasils::kin::Error> {
-    let gaps = Bodies::at(
+) -> Result<Bodies<f64>, parasils::kin::Error> {
+    Bodies::at(
         &sim.scenario.bodies,
         &step.frame,
         &controller.left,
@@ -56,8 +56,17 @@ pub(super) fn clearance_of(
         &controller.right,
         &step.right.q,
         depth,
-    )?
-    .clearance()?;
+    )
+}
+
+/// The three surface gaps between `bodies` (those of `step`), and the
+/// depth below the ports (mm, `-z'` of the platform frame) of the smallest
+/// gap's closest points.
+pub(super) fn clearance_of(
+    bodies: &Bodies<f64>,
+    step: &ControlStep<f64>,
+) -> Result<(ClearanceRecord, ClearancePair, f64), parasils::kin::Error> {
+    let gaps = bodies.clearance()?;
     let (pair, _) = gaps.min();
     let axes = &gaps.get(pair).axes;
     let middle = (axes.point_a + axes.point_b) * 0.5;
@@ -73,18 +82,18 @@ pub(super) fn clearance_of(
     ))
 }
 
-/// `record` with its clearance ([`clearance_of`]); a failure is the
-/// sample's kinematics error, and a gap below the robot file's clearance
-/// stop threshold (when it gives one) is [`SimulationError::Clearance`].
+/// `record` with the clearance of `bodies`, the sample's
+/// ([`clearance_of`]); a failure is the sample's kinematics error, and a
+/// gap below the robot file's clearance stop threshold (when it gives one)
+/// is [`SimulationError::Clearance`].
 pub(super) fn with_clearance(
     sim: &Simulation,
-    controller: &Controller<f64>,
+    bodies: &Bodies<f64>,
     step: &ControlStep<f64>,
-    depth: f64,
     mut record: Record,
 ) -> Result<Record, SimulationError> {
     let (t, sample) = (record.t, Some(record.index));
-    let (clearance, pair, depth_mm) = clearance_of(sim, controller, step, depth)
+    let (clearance, pair, depth_mm) = clearance_of(bodies, step)
         .map_err(|error| SimulationError::Kinematics { t, sample, error })?;
     record.clearance = clearance;
     if let Some([_, stop_mm]) = sim.scenario.supervisor.clearance() {
@@ -103,12 +112,12 @@ pub(super) fn with_clearance(
     Ok(record)
 }
 
-/// The gaps of `step`'s in-body parts (the shafts at its joints, the
+/// The gaps of the in-body parts of `bodies` (those of `step`, the
 /// endoscope at `depth` mm) to the scenario's forbidden regions; `None`
 /// without an anatomy.
 pub(super) fn no_go_of(
     sim: &Simulation,
-    controller: &Controller<f64>,
+    bodies: &Bodies<f64>,
     step: &ControlStep<f64>,
     depth: f64,
     t: f64,
@@ -117,17 +126,7 @@ pub(super) fn no_go_of(
     let Some(anatomy) = &sim.scenario.anatomy else {
         return Ok(None);
     };
-    let bodies = Bodies::at(
-        &sim.scenario.bodies,
-        &step.frame,
-        &controller.left,
-        &step.left.q,
-        &controller.right,
-        &step.right.q,
-        depth,
-    )
-    .map_err(|error| kinematics(error, t, k))?;
-    let inside = InBody::of(&bodies, step.left.q.qs3, step.right.q.qs3, depth);
+    let inside = InBody::of(bodies, step.left.q.qs3, step.right.q.qs3, depth);
     anatomy
         .clearance(&inside)
         .map(Some)
@@ -144,13 +143,13 @@ pub(super) fn no_go_of(
 /// is [`SimulationError::NoGo`], naming the region and the body.
 pub(super) fn with_no_go(
     sim: &Simulation,
-    controller: &Controller<f64>,
+    bodies: &Bodies<f64>,
     step: &ControlStep<f64>,
     depth: f64,
     mut record: Record,
 ) -> Result<(Record, Option<NoGoClearance>), SimulationError> {
     let (t, k) = (record.t, record.index);
-    let no_go = no_go_of(sim, controller, step, depth, t, k)?;
+    let no_go = no_go_of(sim, bodies, step, depth, t, k)?;
     let smallest = no_go.as_ref().and_then(NoGoClearance::min);
     if let (Some(anatomy), Some(min)) = (&sim.scenario.anatomy, smallest) {
         record.no_go_clearance_mm = min.gap_mm;
@@ -343,23 +342,12 @@ impl ProcedureRun {
             let mut record = sim.record(k, t, &sample.platform, &out, &targets, context);
             record.forces =
                 forces(&sim.scenario, &self.controller, &out, t, k).map_err(in_motion)?;
-            let record = with_clearance(
-                sim,
-                &self.controller,
-                &out,
-                sample.endoscope.position,
-                record,
-            )
-            .map_err(in_motion)?;
+            let depth = sample.endoscope.position;
+            let bodies = bodies_of(sim, &self.controller, &out, depth).map_err(fail)?;
+            let record = with_clearance(sim, &bodies, &out, record).map_err(in_motion)?;
             check_ports(sim, &mut self.port_start, m, &record).map_err(in_motion)?;
-            let (record, no_go) = with_no_go(
-                sim,
-                &self.controller,
-                &out,
-                sample.endoscope.position,
-                record,
-            )
-            .map_err(in_motion)?;
+            let (record, no_go) =
+                with_no_go(sim, &bodies, &out, depth, record).map_err(in_motion)?;
             Ok((record, margins, no_go))
         })();
         match result {
@@ -480,18 +468,12 @@ impl OnlineRun {
         // the margins, so a run of commands holds instead of failing
         // mid-run.
         let mut record = record;
-        record.clearance = clearance_of(
-            sim,
-            self.controller.controller(),
-            &cycle.step,
-            sim.scenario.endoscope_depth_mm,
-        )
-        .map_err(|error| SimulationError::Kinematics {
-            t,
-            sample: Some(k),
-            error,
-        })?
-        .0;
+        let depth = sim.scenario.endoscope_depth_mm;
+        let bodies = bodies_of(sim, self.controller.controller(), &cycle.step, depth)
+            .map_err(|error| kinematics(error, t, k))?;
+        record.clearance = clearance_of(&bodies, &cycle.step)
+            .map_err(|error| kinematics(error, t, k))?
+            .0;
         record.forces = forces(
             &sim.scenario,
             self.controller.controller(),
@@ -500,14 +482,7 @@ impl OnlineRun {
             k,
         )?;
         // Recorded, not enforced, like the gaps between the bodies.
-        let no_go = no_go_of(
-            sim,
-            self.controller.controller(),
-            &cycle.step,
-            sim.scenario.endoscope_depth_mm,
-            t,
-            k,
-        )?;
+        let no_go = no_go_of(sim, &bodies, &cycle.step, depth, t, k)?;
         if let Some(min) = no_go.as_ref().and_then(NoGoClearance::min) {
             record.no_go_clearance_mm = min.gap_mm;
         }

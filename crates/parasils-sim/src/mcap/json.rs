@@ -117,6 +117,31 @@ impl<'a> Json<'a> {
             .raw("}")
     }
 
+    /// A `foxglove.CylinderPrimitive` of `diameter` from `a` to `b` (the
+    /// unit of the three): centred between them, its own `z` along `b - a`
+    /// (any orientation with that `z`; `a = b` gives a flat disc).
+    pub(crate) fn cylinder(
+        &mut self,
+        a: &Vector3<f64>,
+        b: &Vector3<f64>,
+        diameter: f64,
+        color: [f64; 4],
+    ) -> &mut Self {
+        let axis = b - a;
+        let q = UnitQuaternion::rotation_between(&Vector3::z(), &axis).unwrap_or_else(|| {
+            UnitQuaternion::from_axis_angle(&Vector3::x_axis(), core::f64::consts::PI)
+        });
+        self.raw("{\"pose\":{\"position\":")
+            .vec3(&((a + b) * 0.5))
+            .raw(",\"orientation\":")
+            .quat(&q)
+            .raw("},\"size\":")
+            .vec3(&Vector3::new(diameter, diameter, axis.norm()))
+            .raw(",\"bottom_scale\":1,\"top_scale\":1,\"color\":")
+            .color(color)
+            .raw("}")
+    }
+
     /// The identity pose.
     pub(crate) fn identity_pose(&mut self) -> &mut Self {
         self.raw(

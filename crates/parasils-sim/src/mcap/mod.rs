@@ -18,7 +18,7 @@
 //! | `/module1` | `q1_mm..q6_mm`, `q1_rate_mm_s..q6_rate_mm_s`, `q1_acc_mm_s2..q6_acc_mm_s2` |
 //! | `/left` | `left_qs1_deg left_qs2_deg left_qs3_mm`, their `_rate_` and `_acc_` |
 //! | `/right` | the same for `right_` |
-//! | `/tips` | `left_tip_err_mm right_tip_err_mm left_tip_x_mm left_tip_y_mm left_tip_z_mm right_tip_x_mm right_tip_y_mm right_tip_z_mm` |
+//! | `/tips` | `left_tip_err_mm right_tip_err_mm left_tip_x_mm left_tip_y_mm left_tip_z_mm right_tip_x_mm right_tip_y_mm right_tip_z_mm`, the ports `left_port_x_mm` .. `endoscope_port_z_mm` |
 //! | `/margins` | `module1_serial_margin module1_parallel_margin left_cos_qs2 right_cos_qs2`, the clearance columns |
 //! | `/camera` | `left_tip_u left_tip_v right_tip_u right_tip_v left_tip_in_view right_tip_in_view camera_aim_error_deg camera_roll_deg` |
 //!
@@ -42,9 +42,11 @@
 //!   along the image's `u`, `y` down the image, `z` along the view);
 //! - `/scene`, `foxglove.SceneUpdate`, in the `world` frame: module 1's six
 //!   guides (over their strokes), sliders and legs (slider `B_j` to node
-//!   `A_i`), the platform triangle and its spokes to `P`, the endoscope along
-//!   `-z'` from `P` (a nominal length: its insertion is not simulated), both
-//!   instrument shafts (RCM to tip), the target tips and the camera's view
+//!   `A_i`), the platform triangle and its spokes to `P`, the endoscope and
+//!   both instrument shafts as translucent cylinders of their diameters
+//!   (the robot file's `[bodies]`, in the `bodies_mm` metadata), each from
+//!   its tip to its port (inside the patient) and from its port to its end
+//!   (outside), the ports and tips, the target tips and the camera's view
 //!   frustum (`camera_frustum`: lines from the eye to the image's corners). With an anatomy,
 //!   one more `/scene` message at the first record draws every forbidden
 //!   region (entities `no_go_0`, `no_go_1`, ..., semi-transparent red, kept
@@ -71,8 +73,9 @@
 //! # Metadata
 //! A metadata record `parasils.scenario`, written first: the [`Scenario`](crate::Scenario) in
 //! library units ([`Scenario::library_units`](crate::Scenario::library_units): mm, rad, s) as JSON, the
-//! [`SceneGeometry`] as JSON (mm), the resolved tips, whether module 1's
-//! geometry is assumed, the channels' units. A record `parasils.run`, written
+//! [`SceneGeometry`] as JSON (mm), the resolved tips, the bodies' sizes
+//! (`bodies_mm`: the robot file's `[bodies]`, as the scene draws them),
+//! whether module 1's geometry is assumed, the channels' units. A record `parasils.run`, written
 //! by [`McapSink::finish`]: the number of records and the first and last
 //! times, and in a run with commands, `commands`: a JSON list of the
 //! commands as they took effect, `{"command": 1, "kind": "retarget",

@@ -120,20 +120,7 @@ pub(crate) fn write_regions(
             radius_mm,
         } = &region.shape
         {
-            let (a, b) = (m(*start_mm), m(*end_mm));
-            let axis = b - a;
-            // The cylinder's own z along the axis.
-            let q = UnitQuaternion::rotation_between(&Vector3::z(), &axis).unwrap_or_else(|| {
-                UnitQuaternion::from_axis_angle(&Vector3::x_axis(), core::f64::consts::PI)
-            });
-            let d = 2.0 * radius_mm * M;
-            j.raw("{\"pose\":")
-                .pose(&((a + b) * 0.5), &q)
-                .raw(",\"size\":")
-                .vec3(&Vector3::new(d, d, axis.norm()))
-                .raw(",\"bottom_scale\":1,\"top_scale\":1,\"color\":")
-                .color(NO_GO)
-                .raw("}");
+            j.cylinder(&m(*start_mm), &m(*end_mm), 2.0 * radius_mm * M, NO_GO);
         }
         j.raw("],\"lines\":[],\"triangles\":[");
         if let Shape::Mesh { mesh, .. } = &region.shape {

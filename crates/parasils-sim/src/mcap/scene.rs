@@ -5,13 +5,17 @@
 //! The platform's frame comes from the kinematics
 //! ([`PlatformFrame`]: `R` and `P`, and `R c + P` for the points fixed on
 //! the platform); the tips are the record's, recomputed by the kinematics'
-//! forward kinematics.
+//! forward kinematics; the shafts and the endoscope are the kinematics'
+//! bodies ([`Bodies`], with the robot file's `[bodies]` sizes), drawn as
+//! translucent cylinders of their diameters, split where they cross the
+//! skin ([`InBody`]: the part inside the patient, then the part outside).
 
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 use parasils::kin::{
-    Camera, Instrument, InstrumentGeometry, Joints, PlatformFrame, PlatformState, Pose,
-    RobotGeometry, Side,
+    Bodies, BodyGeometry, Camera, Capsule, Error, Instrument, InstrumentGeometry, Joints,
+    PlatformFrame, PlatformState, Pose, RobotGeometry, Side,
 };
+use parasils_anatomy::{Body, InBody};
 use serde::Serialize;
 
 use super::camera::{CAMERA_FRAME, frame_axes, frustum};
@@ -23,12 +27,6 @@ use crate::record::Record;
 pub const TF_TOPIC: &str = "/tf";
 /// The topic of the `foxglove.SceneUpdate` messages.
 pub const SCENE_TOPIC: &str = "/scene";
-
-/// The display length of the endoscope along `-z'` below `P`, mm: its
-/// insertion is not simulated.
-const ENDOSCOPE_BELOW_MM: f64 = 120.0;
-/// The display length of the endoscope along `+z'` above `P`, mm.
-const ENDOSCOPE_ABOVE_MM: f64 = 80.0;
 
 /// How far along the view the 3D scene draws the camera's frustum, mm.
 const FRUSTUM_MM: f64 = 80.0;
@@ -69,6 +67,10 @@ pub struct SceneGeometry {
     /// The endoscope's camera, for its frame, its frustum and its image.
     #[serde(skip)]
     pub(crate) camera: Camera<f64>,
+    /// The shafts' and the endoscope's sizes, mm: the assumed ones
+    /// ([`BodyGeometry::assumed`]) until [`SceneGeometry::with_bodies`].
+    #[serde(skip)]
+    bodies: BodyGeometry<f64>,
 }
 
 impl SceneGeometry {
@@ -95,7 +97,24 @@ impl SceneGeometry {
             betas_rad: modules.map(|m| m.beta),
             instruments: [Instrument::new(robot.left)?, Instrument::new(robot.right)?],
             camera: robot.endoscope.camera,
+            bodies: BodyGeometry::assumed(),
         })
+    }
+
+    /// The same, the shafts and the endoscope drawn at `bodies`' sizes (a
+    /// robot file's `[bodies]`).
+    ///
+    /// # Errors
+    /// [`Error::InvalidParameter`] naming a size that is negative or not
+    /// finite ([`BodyGeometry::validate`]).
+    pub fn with_bodies(self, bodies: BodyGeometry<f64>) -> Result<Self, Error> {
+        bodies.validate()?;
+        Ok(Self { bodies, ..self })
+    }
+
+    /// The shafts' and the endoscope's sizes the scene draws, mm.
+    pub fn bodies(&self) -> &BodyGeometry<f64> {
+        &self.bodies
     }
 
     /// The last frame of a spherical module relative to its RCM frame, from
@@ -190,6 +209,39 @@ struct Line<'p> {
     points: &'p [Vector3<f64>],
 }
 
+/// One body (a shaft, the endoscope) as two cylinders, in metres, world
+/// frame: from its tip to its port (inside the patient) and from its port
+/// to its end (outside), each of the body's diameter.
+struct Shaft {
+    /// Tip, port, end.
+    points: [Vector3<f64>; 3],
+    /// m.
+    diameter: f64,
+    /// Inside, outside.
+    colors: [[f64; 4]; 2],
+}
+
+impl Shaft {
+    /// `capsule`'s axis split where `body` crosses the skin, `inserted` mm
+    /// from its tip ([`InBody::from_tip`]: nothing inside for 0 or less,
+    /// all of it beyond its length), in metres.
+    fn of(body: Body, capsule: &Capsule<f64>, inserted: f64, color: [f64; 4]) -> Self {
+        let (tip, end) = (capsule.axis.start, capsule.axis.end);
+        let port = InBody::from_tip(body, capsule, inserted).map_or(tip, |b| b.port);
+        let [r, g, b, _] = color;
+        Self {
+            points: [tip * M, port * M, end * M],
+            diameter: 2.0 * capsule.radius * M,
+            colors: [[r, g, b, IN_BODY_ALPHA], [r, g, b, OUT_OF_BODY_ALPHA]],
+        }
+    }
+}
+
+/// The opacity of a body's part inside the patient.
+const IN_BODY_ALPHA: f64 = 0.6;
+/// The opacity of a body's part outside the patient.
+const OUT_OF_BODY_ALPHA: f64 = 0.3;
+
 /// Spheres of one size and colour, in metres, world frame.
 struct Spheres<'p> {
     /// m.
@@ -230,6 +282,8 @@ struct Entity<'p> {
     id: &'p str,
     lines: Vec<Line<'p>>,
     spheres: Vec<Spheres<'p>>,
+    /// A body as its two cylinders.
+    shaft: Option<Shaft>,
     /// One filled triangle list: `(color, points)`.
     triangles: Option<([f64; 4], &'p [Vector3<f64>])>,
     /// Metadata key/values.
@@ -285,7 +339,14 @@ impl Json<'_> {
                     .raw("}");
             }
         }
-        self.raw("],\"cylinders\":[],\"lines\":[");
+        self.raw("],\"cylinders\":[");
+        if let Some(shaft) = &e.shaft {
+            let [tip, port, end] = &shaft.points;
+            self.cylinder(tip, port, shaft.diameter, shaft.colors[0])
+                .raw(",")
+                .cylinder(port, end, shaft.diameter, shaft.colors[1]);
+        }
+        self.raw("],\"lines\":[");
         for (k, line) in e.lines.iter().enumerate() {
             if k > 0 {
                 self.raw(",");
@@ -327,13 +388,16 @@ impl Json<'_> {
 /// Writes the `/scene` message of `record` (logged at `ns`) into `out`, all
 /// in the `world` frame, metres: module 1's six guides (over their strokes),
 /// sliders and legs (slider `B_j` to node `A_i`), the platform triangle and
-/// its spokes to `P`, the endoscope along `-z'` from `P` (a nominal length),
-/// both instrument shafts (RCM to tip), the target tips, and the camera's
-/// view frustum (lines from the eye at the endoscope's tip to the image's
-/// corners, [`FRUSTUM_MM`] along the view).
+/// its spokes to `P`, the endoscope and both instrument shafts as the
+/// kinematics' bodies (`g`'s sizes; each two translucent cylinders of its
+/// diameter, from its tip to its port, then from its port to its end: the
+/// endoscope from its tip at the record's depth up along `+z'`, a shaft
+/// from its tip back along the tool axis through its RCM), the ports and
+/// the tips, the target tips, and the camera's view frustum (lines from the
+/// eye at the endoscope's tip to the image's corners, [`FRUSTUM_MM`] along
+/// the view).
 ///
-/// In a procedure, the endoscope is drawn at its true depth (from above `P`
-/// down to its tip), the targets are left out (each motion has its own), and
+/// In a procedure, the targets are left out (each motion has its own), and
 /// a kept entity per scene adds the piece of the three tips' paths since the
 /// previous scene, so that the paths build up without being sent again.
 pub(crate) fn write_scene(
@@ -346,7 +410,7 @@ pub(crate) fn write_scene(
     ryu: &mut ryu::Buffer,
 ) -> Result<(), McapError> {
     let frame = frame_of(record);
-    let (r, p) = (&frame.rotation, frame.position);
+    let p = frame.position;
     let world = |v: Vector3<f64>| v * M;
     let mut guides = [Vector3::zeros(); 12];
     let mut legs = [Vector3::zeros(); 12];
@@ -372,20 +436,41 @@ pub(crate) fn write_scene(
         world(p),
         nodes_m[2],
     ];
-    let z = r.column(2).into_owned();
-    let endoscope = [
-        world(p + ENDOSCOPE_ABOVE_MM * z),
-        match procedure {
-            Some(_) => world(record.endoscope_tip),
-            None => world(p - ENDOSCOPE_BELOW_MM * z),
+    let q_of = |q: [f64; 3]| Joints::new(q[0], q[1], q[2]);
+    let (q_left, q_right) = (q_of(record.left.q), q_of(record.right.q));
+    let bodies = Bodies::at(
+        &g.bodies,
+        &frame,
+        &g.instruments[0],
+        &q_left,
+        &g.instruments[1],
+        &q_right,
+        record.endoscope_depth,
+    )
+    .map_err(|error| match error {
+        Error::NonFinite { what, value } => McapError::NonFinite {
+            topic: SCENE_TOPIC,
+            field: what,
+            t: record.t,
+            value,
         },
+        error => McapError::Geometry(error),
+    })?;
+    let shafts = [
+        Shaft::of(Body::Left, &bodies.left, q_left.qs3, LEFT),
+        Shaft::of(Body::Right, &bodies.right, q_right.qs3, RIGHT),
+        Shaft::of(
+            Body::Endoscope,
+            &bodies.endoscope,
+            record.endoscope_depth,
+            ENDOSCOPE,
+        ),
     ];
     let rcms_world = [
         world(frame.to_fixed(&g.rcm(0))),
         world(frame.to_fixed(&g.rcm(1))),
     ];
     let tips = [world(record.left.tip), world(record.right.tip)];
-    let shafts = [[rcms_world[0], tips[0]], [rcms_world[1], tips[1]]];
     let targets = targets.map(world);
     let view = frustum(&g.camera, &frame, record.endoscope_depth, FRUSTUM_MM).map(world);
     let module1_note: &'static [(&str, &str)] = if g.module1_assumed {
@@ -400,6 +485,11 @@ pub(crate) fn write_scene(
             [0, 1, 2].map(|k| [world(s.path_from[k]), now[k]]),
         )
     });
+    let [left_shaft, right_shaft, endoscope] = shafts;
+    let parts: &'static [(&str, &str)] = &[(
+        "cylinders",
+        "inside the patient (tip to port), then outside (port to the end), at the [bodies] diameter",
+    )];
     let mut entities = vec![
         Entity {
             id: "module1_guides",
@@ -429,17 +519,14 @@ pub(crate) fn write_scene(
         },
         Entity {
             id: "endoscope",
-            lines: vec![line(LINE_STRIP, 0.006, ENDOSCOPE, &endoscope[..])],
-            metadata: if procedure.is_some() {
-                &[("length", "to its tip at the simulated insertion depth")]
-            } else {
-                &[("length", "nominal: the insertion is not simulated")]
-            },
+            shaft: Some(endoscope),
+            metadata: parts,
             ..Entity::default()
         },
         Entity {
             id: "left_instrument",
-            lines: vec![line(LINE_STRIP, 0.004, LEFT, &shafts[0][..])],
+            shaft: Some(left_shaft),
+            metadata: parts,
             spheres: vec![
                 spheres(0.008, LEFT, &rcms_world[..1]),
                 spheres(0.006, LEFT, &tips[..1]),
@@ -448,7 +535,8 @@ pub(crate) fn write_scene(
         },
         Entity {
             id: "right_instrument",
-            lines: vec![line(LINE_STRIP, 0.004, RIGHT, &shafts[1][..])],
+            shaft: Some(right_shaft),
+            metadata: parts,
             spheres: vec![
                 spheres(0.008, RIGHT, &rcms_world[1..]),
                 spheres(0.006, RIGHT, &tips[1..]),

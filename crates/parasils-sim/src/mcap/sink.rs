@@ -154,6 +154,11 @@ fn scenario_metadata(
             [tips.right.x, tips.right.y, tips.right.z],
         ])?,
     );
+    // The shafts' and the endoscope's sizes the scene draws them at.
+    meta.insert(
+        "bodies_mm".to_owned(),
+        serde_json::to_string(&scenario.bodies)?,
+    );
     meta.insert(
         "module1_geometry".to_owned(),
         match scenario.robot.module1.provenance() {
@@ -224,7 +229,9 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
             .chunk_size(Some(options.chunk_size))
             .create(writer)?;
 
-        let geometry = SceneGeometry::from_robot(&scenario.robot).map_err(McapError::Geometry)?;
+        let geometry = SceneGeometry::from_robot(&scenario.robot)
+            .and_then(|g| g.with_bodies(scenario.bodies))
+            .map_err(McapError::Geometry)?;
         writer.write_metadata(&scenario_metadata(scenario, &geometry, period)?)?;
 
         let no_meta = BTreeMap::new();

@@ -139,6 +139,9 @@ fn reads_back_with_counts_schemas_times_and_metadata() {
     let geo: serde_json::Value = serde_json::from_str(&sc_meta["geometry"]).expect("json");
     assert_eq!(geo["link_lengths_mm"][0], 350.0);
     assert!(sc_meta["module1_geometry"].starts_with("assumed"));
+    let bodies: serde_json::Value = serde_json::from_str(&sc_meta["bodies_mm"]).expect("json");
+    assert_eq!(bodies["instrument_diameter"], 5.0);
+    assert_eq!(bodies["endoscope_length"], 400.0);
     let run = &by_name[RUN_METADATA].metadata;
     assert_eq!(run["samples"], "451");
     assert_eq!(run["t_last_s"], "4.5");
@@ -380,4 +383,94 @@ fn the_calibration_and_the_camera_frame_put_each_tip_at_its_annotated_pixel() {
     // At 20 Hz every record is at least one scene period after the last.
     assert_eq!(checked, 91);
     assert_eq!(seen, 2, "both tips drawn at some record");
+}
+
+/// The two ends of a `foxglove.CylinderPrimitive`: its centre minus and
+/// plus half its height along its own `z` (the quaternion's third column,
+/// written out), and its diameter.
+fn cylinder_ends(c: &serde_json::Value) -> (Vector3<f64>, Vector3<f64>, f64) {
+    let centre = Vector3::from_vec(xyz(&c["pose"]["position"], &["x", "y", "z"]));
+    let q = xyz(&c["pose"]["orientation"], &["x", "y", "z", "w"]);
+    let (x, y, z, w) = (q[0], q[1], q[2], q[3]);
+    let axis = Vector3::new(
+        2.0 * (x * z + w * y),
+        2.0 * (y * z - w * x),
+        1.0 - 2.0 * (x * x + y * y),
+    );
+    let size = xyz(&c["size"], &["x", "y", "z"]);
+    assert_eq!(size[0], size[1], "a round cylinder");
+    let half = axis * (size[2] / 2.0);
+    (centre - half, centre + half, size[0])
+}
+
+#[test]
+fn the_shafts_and_the_endoscope_are_cylinders_of_their_bodies_split_at_the_ports() {
+    let mut sc = scenario(20.0);
+    sc.endoscope_depth_mm = 30.0;
+    sc.bodies.instrument_diameter = 6.0;
+    sc.bodies.endoscope_length = 350.0;
+    let (bytes, _) = write(&sc, McapOptions::default());
+    let mut tips: HashMap<u64, serde_json::Value> = HashMap::new();
+    let mut platform: HashMap<u64, serde_json::Value> = HashMap::new();
+    let mut scenes = Vec::new();
+    for m in mcap::MessageStream::new(&bytes).expect("stream") {
+        let m = m.expect("message");
+        let v: serde_json::Value = serde_json::from_slice(&m.data).expect("JSON");
+        match m.channel.topic.as_str() {
+            "/tips" => drop(tips.insert(m.log_time, v)),
+            "/platform" => drop(platform.insert(m.log_time, v)),
+            SCENE_TOPIC if v["entities"][0]["id"] != "no_go_0" => scenes.push((m.log_time, v)),
+            _ => {}
+        }
+    }
+    assert!(scenes.len() > 50, "{}", scenes.len());
+    let mm = |v: &serde_json::Value, name: &str| v[name].as_f64().expect("number") * 1e-3;
+    let close = |a: &Vector3<f64>, b: &Vector3<f64>| (a - b).norm() < 1e-12;
+    for (ns, scene) in &scenes {
+        let (t, p) = (&tips[ns], &platform[ns]);
+        let entities: HashMap<&str, &serde_json::Value> = scene["entities"]
+            .as_array()
+            .expect("entities")
+            .iter()
+            .map(|e| (e["id"].as_str().expect("id"), e))
+            .collect();
+        for side in ["left", "right"] {
+            let e = entities[format!("{side}_instrument").as_str()];
+            assert_eq!(e["lines"].as_array().map(Vec::len), Some(0));
+            let c = e["cylinders"].as_array().expect("cylinders");
+            assert_eq!(c.len(), 2);
+            let (tip, port, d_in) = cylinder_ends(&c[0]);
+            let (from, end, d_out) = cylinder_ends(&c[1]);
+            // The tip and the port of the `/tips` channel (forward
+            // kinematics, `P + R rcm`), the shaft 400 mm long.
+            let field = |what: &str| {
+                Vector3::new(
+                    mm(t, &format!("{side}_{what}_x_mm")),
+                    mm(t, &format!("{side}_{what}_y_mm")),
+                    mm(t, &format!("{side}_{what}_z_mm")),
+                )
+            };
+            assert!(close(&tip, &field("tip")), "{side} tip at {ns} ns");
+            assert!(close(&port, &field("port")), "{side} port at {ns} ns");
+            assert!(close(&from, &port));
+            assert!(((end - tip).norm() - 0.4).abs() < 1e-12);
+            assert!((d_in - 0.006).abs() < 1e-15 && (d_out - 0.006).abs() < 1e-15);
+            assert!(c[0]["color"]["a"].as_f64() < Some(1.0));
+            assert!(c[1]["color"]["a"].as_f64() < c[0]["color"]["a"].as_f64());
+        }
+        // The endoscope: 30 mm inside, from its tip below `P` up to `P`,
+        // then 320 mm outside, 10 mm across.
+        let c = entities["endoscope"]["cylinders"]
+            .as_array()
+            .expect("cylinders");
+        let (tip, port, d) = cylinder_ends(&c[0]);
+        let (_, end, _) = cylinder_ends(&c[1]);
+        let centre = Vector3::new(mm(p, "x_mm"), mm(p, "y_mm"), mm(p, "z_mm"));
+        assert!(close(&port, &centre), "{port} vs P {centre}");
+        assert!(((tip - port).norm() - 0.03).abs() < 1e-12);
+        assert!(((end - port).norm() - 0.32).abs() < 1e-12);
+        assert!((d - 0.01).abs() < 1e-15);
+        // Straight: tip, P and end on one line.
+        assert!((tip - port).cross(&(end - port)).norm() < 1e-12);
+    }
 }
