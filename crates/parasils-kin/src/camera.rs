@@ -138,10 +138,11 @@ impl<T: Real> ImagePoint<T> {
 /// its image.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Projection<T: Real> {
-    /// `R^T`, the last row turned for a straight scope (its camera's `x`,
-    /// `y`, `z` axes in the fixed frame, as rows).
-    rows: Matrix3<T>,
-    /// An oblique scope's axes in the platform frame, as rows.
+    /// `R`, platform to fixed.
+    rotation: Matrix3<T>,
+    /// The camera's axes in the platform frame, as rows (an oblique
+    /// scope's; `None` for a straight one, whose axes are `X'`, `Y'`,
+    /// `-Z'`).
     tilt: Option<Matrix3<T>>,
     /// The camera's position, mm, fixed frame.
     eye: Vector3<T>,
@@ -155,15 +156,18 @@ impl<T: Real> Projection<T> {
     /// the point in the camera's axes, `u = x / z / tan(hfov / 2)` and
     /// `v = y / z / (tan(hfov / 2) / aspect)`.
     pub fn project(&self, point: &Vector3<T>) -> ImagePoint<T> {
-        let w = self.rows * (point - self.eye);
-        let c = match &self.tilt {
-            Some(tilt) => tilt * w,
-            None => w,
+        let w = self.rotation.tr_mul(&(point - self.eye));
+        let (x, y, z) = match &self.tilt {
+            Some(tilt) => {
+                let c = tilt * w;
+                (c.x, c.y, c.z)
+            }
+            None => (w.x, w.y, -w.z),
         };
         ImagePoint {
-            u: c.x / c.z / self.tan,
-            v: c.y / c.z / self.tan_up,
-            in_front: c.z > T::zero(),
+            u: x / z / self.tan,
+            v: y / z / self.tan_up,
+            in_front: z > T::zero(),
         }
     }
 
@@ -315,25 +319,17 @@ impl<T: Real> Camera<T> {
     }
 
     /// The map from the fixed frame to the image of the camera at `depth`
-    /// (mm) on the platform `frame`: the camera's axes in the fixed frame,
-    /// the eye, and `tan(hfov / 2)` (one sine and cosine); each point then
-    /// costs a 3x3 product (two for an oblique scope) and four divisions.
+    /// (mm) on the platform `frame`: the platform's rotation, the camera's
+    /// axes, the eye, and `tan(hfov / 2)` (one sine and cosine), so that
+    /// each point then costs a 3x3 product (two for an oblique scope) and
+    /// four divisions.
     pub fn projection(&self, frame: &PlatformFrame<T>, depth: T) -> Projection<T> {
         let (s, c) = (self.horizontal_fov / T::lit(2.0)).sincos();
         let tan = s / c;
-        let r = &frame.rotation;
-        let mut rows = r.transpose();
-        // A straight scope's axes X', Y', -Z': R^T with its last row turned.
-        let tilt = if self.oblique == T::zero() {
-            rows.row_mut(2).neg_mut();
-            None
-        } else {
-            Some(self.axes().transpose())
-        };
         Projection {
-            rows,
-            tilt,
-            eye: frame.position - r.column(2) * depth,
+            rotation: frame.rotation,
+            tilt: (self.oblique != T::zero()).then(|| self.axes().transpose()),
+            eye: Self::eye(frame, depth),
             tan,
             tan_up: tan / self.aspect_ratio,
         }
