@@ -175,7 +175,7 @@ impl Anatomy {
     /// Every region's smallest gap to the in-body parts `bodies` (`None`
     /// for a body with nothing inside); the first error of [`Anatomy::gap`].
     pub fn clearance(&self, bodies: &[Option<InBody>]) -> Result<NoGoClearance, AnatomyError> {
-        self.clearance_warm(bodies, &mut WarmStart::new())
+        self.gaps(bodies, None)
     }
 
     /// [`Anatomy::clearance`], each mesh's walk starting from the triangle
@@ -188,17 +188,28 @@ impl Anatomy {
         warm: &mut WarmStart,
     ) -> Result<NoGoClearance, AnatomyError> {
         warm.nearest.resize(self.regions.len(), [None; 3]);
+        self.gaps(bodies, Some(warm))
+    }
+
+    fn gaps(
+        &self,
+        bodies: &[Option<InBody>],
+        mut warm: Option<&mut WarmStart>,
+    ) -> Result<NoGoClearance, AnatomyError> {
         let mut out = Vec::with_capacity(self.regions.len());
-        for ((index_of_region, region), hints) in
-            self.regions.iter().enumerate().zip(&mut warm.nearest)
-        {
+        for (index_of_region, region) in self.regions.iter().enumerate() {
             let mut best = RegionGap {
                 region: index_of_region,
                 body: None,
                 gap_mm: f64::INFINITY,
             };
             for body in bodies.iter().flatten() {
-                let gap = Self::gap_from(region, body, &mut hints[index(body.body)])?;
+                let mut cold = None;
+                let hint = warm
+                    .as_deref_mut()
+                    .and_then(|w| w.nearest.get_mut(index_of_region))
+                    .map_or(&mut cold, |hints| &mut hints[index(body.body)]);
+                let gap = Self::gap_from(region, body, hint)?;
                 if best.body.is_none() || gap < best.gap_mm {
                     best = RegionGap {
                         region: index_of_region,
