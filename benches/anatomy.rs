@@ -6,6 +6,12 @@
 //! under the tips) and 100 mm below (`far`). The primitives alone for
 //! comparison (a sphere, a rotated box). `f64`.
 //!
+//! Each mesh case twice: from nothing (`Anatomy::clearance`, every cycle a
+//! walk from the hierarchy's root) and warm (`Anatomy::clearance_warm`, the
+//! loop's `WarmStart` carried from one cycle to the next: the bench
+//! alternates the instants `t = 0.999 s` and `t = 1 s`, so each cycle starts
+//! from the triangles nearest 1 ms before).
+//!
 //! `cargo bench -p parasils --bench anatomy`; results in `BENCHMARKS.md`.
 
 mod common;
@@ -14,21 +20,35 @@ use core::hint::black_box;
 
 use criterion::Criterion;
 use parasils::kin::{Bodies, BodyGeometry};
-use parasils_anatomy::{Anatomy, InBody, Mesh, Region, Shape};
+use parasils_anatomy::{Anatomy, InBody, Mesh, Region, Shape, WarmStart};
 
 use common::paper_step_inputs;
 
 /// The three in-body segments at `t = 1 s` of the paper's motion, the
 /// endoscope 50 mm in.
 fn in_body() -> [Option<InBody>; 3] {
+    in_body_at()[1]
+}
+
+/// The three in-body segments at `t = 0.999 s` and `t = 1 s`.
+fn in_body_at() -> [[Option<InBody>; 3]; 2] {
     let common::StepInputs {
         controller,
         mut tracker,
         tips,
         states,
     } = paper_step_inputs::<f64>();
+    states.map(|state| at(&controller, &state, &tips, &mut tracker))
+}
+
+fn at(
+    controller: &parasils::kin::Controller<f64>,
+    state: &parasils::kin::PlatformState<f64>,
+    tips: &parasils::kin::TipTargets<f64>,
+    tracker: &mut parasils::kin::MarginTracker<f64>,
+) -> [Option<InBody>; 3] {
     let step = controller
-        .step(&states[1], &tips, &mut tracker)
+        .step(state, tips, tracker)
         .expect("the paper's step is regular");
     let depth = 50.0;
     let bodies = Bodies::at(
@@ -61,14 +81,23 @@ fn organ(below_mm: f64, bodies: &[Option<InBody>; 3]) -> Anatomy {
         solid: mesh.is_closed(),
         mesh,
     };
+    // Once per anatomy file, not per cycle: parry's hierarchy and the
+    // cylinders of its nodes. Printed, not measured by criterion.
+    let started = std::time::Instant::now();
+    let region = Region::new("organ".into(), shape).expect("parry builds it");
+    eprintln!(
+        "anatomy/mesh_1e5: region built in {:.0} ms",
+        started.elapsed().as_secs_f64() * 1e3
+    );
     Anatomy {
         file: "bench.toml".into(),
-        regions: vec![Region::new("organ".into(), shape).expect("parry builds it")],
+        regions: vec![region],
     }
 }
 
 fn bench_mesh(c: &mut Criterion) {
-    let bodies = in_body();
+    let cycles = in_body_at();
+    let bodies = cycles[1];
     for (case, below) in [("near", 10.0), ("far", 100.0)] {
         let anatomy = organ(below, &bodies);
         let gap = anatomy
@@ -80,6 +109,17 @@ fn bench_mesh(c: &mut Criterion) {
         c.bench_function(&format!("anatomy/mesh_1e5_three_segments/{case}"), |b| {
             b.iter(|| black_box(&anatomy).clearance(black_box(&bodies)))
         });
+        let mut warm = WarmStart::new();
+        let mut cycle = 0;
+        c.bench_function(
+            &format!("anatomy/mesh_1e5_three_segments/{case}_warm"),
+            |b| {
+                b.iter(|| {
+                    cycle ^= 1;
+                    black_box(&anatomy).clearance_warm(black_box(&cycles[cycle]), &mut warm)
+                })
+            },
+        );
     }
 }
 

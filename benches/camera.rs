@@ -1,7 +1,8 @@
 //! The camera's per-cycle work: aiming the view at a point in closed form
 //! (`Camera::look_at`) and where both tips fall in the image
-//! (`Camera::project`), in `f64` and `f32`, beside one control step of the
-//! same robot, measured in the same run as a yardstick.
+//! (`Camera::project` twice, and one `Camera::projection` for both, as a
+//! cycle places its points), in `f64` and `f32`, beside one control step of
+//! the same robot, measured in the same run as a yardstick.
 //!
 //! `cargo bench -p parasils --bench camera`; results in `BENCHMARKS.md`.
 
@@ -43,6 +44,13 @@ fn bench<T: Real>(c: &mut Criterion, name: &str) {
                 camera.project(f, depth, &tips.left),
                 camera.project(f, depth, &tips.right),
             )
+        })
+    });
+    c.bench_function(&format!("camera/look_at_and_projection/{name}"), |b| {
+        b.iter(|| {
+            let aim = camera.look_at(black_box(&pose), depth, black_box(&target));
+            let image = camera.projection(black_box(&frame), depth);
+            (aim, image.project(&tips.left), image.project(&tips.right))
         })
     });
     let controller = Controller::<T>::paper();

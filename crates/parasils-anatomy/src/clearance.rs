@@ -3,7 +3,10 @@
 //!
 //! # What the gap is
 //! - **Apart**: the distance between the body's surface (its in-body
-//!   capsule) and the region's, as parry's `query::distance` gives it.
+//!   capsule) and the region's, as parry's `query::distance` gives it (for
+//!   a mesh, the distance of the body's axis to its nearest triangle, found
+//!   by walking parry's hierarchy with bounds of the axis' own, minus the
+//!   radius).
 //! - **Overlapping**: parry's distance is 0 for shapes that touch or
 //!   intersect, so the gap is then minus the penetration depth of parry's
 //!   `query::contact` (the distance the body must move to leave the region,
@@ -11,7 +14,10 @@
 //!   contact query gives none.
 //! - **Inside a closed mesh**: a body wholly inside an organ does not touch
 //!   its surface, so its distance is positive; for a closed mesh (a solid)
-//!   the tip is tested against the mesh's pseudo-normals, and a body inside
+//!   the axis' point nearest the surface is tested against the mesh's
+//!   pseudo-normals at the nearest triangle (parry's test, there: the axis
+//!   does not cross the surface, so it is all inside or all outside), and a
+//!   body inside
 //!   gets minus (the distance of its axis to the surface plus its radius):
 //!   at least how far it must move to leave. An open mesh is a surface and
 //!   has no inside.
@@ -20,15 +26,13 @@
 //! is not checked; a region no body reaches has no gap (`+inf`).
 
 use parry3d_f64::math::{Pose3, Vector};
-use parry3d_f64::partitioning::BvhNode;
-use parry3d_f64::query::{self, PointQuery};
-use parry3d_f64::shape::{self, Shape as ParryShape, TriMesh};
-
-use parasils_kin::{Segment, segment_distance};
+use parry3d_f64::query;
+use parry3d_f64::shape::{self, Shape as ParryShape};
 
 use crate::body::{Body, InBody};
 use crate::error::AnatomyError;
 use crate::file::Anatomy;
+use crate::nearest::{Axis, inside, nearest};
 use crate::region::{Collider, Region};
 
 /// The smallest gap to one region over the bodies, and which body.
@@ -66,96 +70,38 @@ fn shape_of(collider: &Collider) -> &dyn ParryShape {
         Collider::Ball(s) => s,
         Collider::Cuboid(s) => s,
         Collider::Capsule(s) => s,
-        Collider::Mesh(s) => s.as_ref(),
+        Collider::Mesh(s) => &s.mesh,
     }
 }
 
-/// The point of the segment `a`-`b` closest to `p`.
-fn closest_on_segment(p: Vector, a: Vector, b: Vector) -> Vector {
-    let d = b - a;
-    let len2 = d.length_squared();
-    let s = if len2 > 0.0 {
-        ((p - a).dot(d) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    a + d * s
+/// The triangle of each region's mesh nearest each body at the last
+/// cycle: what a loop carries from one cycle to the next, so that each mesh
+/// distance starts from the triangle that was nearest (see
+/// [`Anatomy::clearance_warm`]). Between two cycles a gap moves by at most
+/// the bodies' speed times the period, so the triangle nearest at the last
+/// cycle is nearest now or close to it, and the walk of the mesh's
+/// hierarchy starts with a distance near the answer. Any value (a new one,
+/// one kept from another anatomy or from an instant far away) gives the
+/// same gaps; a close one gives them sooner.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct WarmStart {
+    /// Per region, per body (`Body::ALL`'s order): the triangle's index.
+    nearest: Vec<[Option<u32>; 3]>,
 }
 
-/// A lower bound of the distance between the segment `a`-`b` and the box
-/// `mins`-`maxs`: their separation along the direction `n` from the
-/// segment's point `q` closest to the box's centre `c` to `c`. Every point
-/// `x` of the segment has `(x - q).n <= 0` (`q` is the closest), so the
-/// segment lies below `q.n` along `n` and the box above `c.n - sum h_i
-/// |n_i|` (`h` its half-extents): the gap between is `|c - q| - sum h_i
-/// |n_i|`. For the thin boxes of a mesh's surface this is much tighter
-/// than the box's circumscribed sphere. With the gap between the two
-/// axis-aligned boxes, the larger of the two bounds.
-fn segment_box_bound(a: Vector, b: Vector, mins: Vector, maxs: Vector) -> f64 {
-    let (c, h) = ((mins + maxs) * 0.5, (maxs - mins) * 0.5);
-    let q = closest_on_segment(c, a, b);
-    let to_c = c - q;
-    let dist = to_c.length();
-    let along = if dist > 0.0 {
-        let n = to_c / dist;
-        dist - (h * n.abs()).element_sum()
-    } else {
-        0.0
-    };
-    let boxes = (mins - a.max(b)).max(a.min(b) - maxs).max(Vector::ZERO);
-    along.max(boxes.length())
+impl WarmStart {
+    /// A start from nothing (the same as [`WarmStart::default`]).
+    pub fn new() -> Self {
+        Self::default()
+    }
 }
 
-/// The distance between `capsule` and the mesh's surface (0 on contact);
-/// `None` when no triangle gives a finite distance.
-///
-/// parry's own shape-to-mesh distance bounds each BVH node by the
-/// capsule's axis-aligned box, which for a long, slanted shaft covers much
-/// of an organ, so it visits thousands of triangles. Here parry's BVH is
-/// searched (`Bvh::find_best`) with a bound of the shaft's own
-/// ([`segment_box_bound`] minus the radius), and each triangle left is
-/// measured in closed form ([`segment_triangle`]).
-fn mesh_distance(mesh: &TriMesh, capsule: &shape::Capsule) -> Option<f64> {
-    let (a, b, r) = (capsule.segment.a, capsule.segment.b, capsule.radius);
-    mesh.bvh()
-        .find_best(
-            f64::MAX,
-            |node: &BvhNode, _| segment_box_bound(a, b, node.mins(), node.maxs()) - r,
-            |id, _| segment_triangle(a, b, &mesh.triangle(id)).map(|d| (d - r).max(0.0)),
-        )
-        .map(|(_, d)| d)
-}
-
-/// The distance between the segment `a`-`b` and `triangle`: 0 where the
-/// segment crosses it (parry's ray cast), else the smallest of the ends'
-/// distances to the triangle (parry's point projection) and of the
-/// segment's distances to the three edges (`parasils_kin`'s closed-form
-/// segment kernel): the closest points of a segment and a triangle that do
-/// not meet are an end against the triangle or the segment against an
-/// edge. `None` for a coordinate that is not finite.
-fn segment_triangle(a: Vector, b: Vector, triangle: &shape::Triangle) -> Option<f64> {
-    use parry3d_f64::query::{Ray, RayCast};
-    if triangle
-        .cast_local_ray(&Ray::new(a, b - a), 1.0, true)
-        .is_some()
-    {
-        return Some(0.0);
+fn index(body: Body) -> usize {
+    match body {
+        Body::Left => 0,
+        Body::Right => 1,
+        Body::Endoscope => 2,
     }
-    let to_nalgebra = |v: Vector| nalgebra::Vector3::new(v.x, v.y, v.z);
-    let axis = Segment::new(to_nalgebra(a), to_nalgebra(b));
-    let mut best = f64::INFINITY;
-    for p in [a, b] {
-        best = best.min((p - triangle.project_local_point(p, true).point).length());
-    }
-    for (p, q) in [
-        (triangle.a, triangle.b),
-        (triangle.b, triangle.c),
-        (triangle.c, triangle.a),
-    ] {
-        let edge = Segment::new(to_nalgebra(p), to_nalgebra(q));
-        best = best.min(segment_distance(&axis, &edge).ok()?.distance);
-    }
-    best.is_finite().then_some(best)
 }
 
 fn vector(v: &nalgebra::Vector3<f64>) -> Vector {
@@ -169,6 +115,17 @@ impl Anatomy {
     /// [`AnatomyError::Query`] when the body's ends or radius are not
     /// finite, or parry gives no finite distance.
     pub fn gap(region: &Region, body: &InBody) -> Result<f64, AnatomyError> {
+        Self::gap_from(region, body, &mut None)
+    }
+
+    /// [`Anatomy::gap`], a mesh's walk starting from the triangle `hint`
+    /// and leaving there the triangle nearest now (the same gap whatever
+    /// the hint).
+    fn gap_from(
+        region: &Region,
+        body: &InBody,
+        hint: &mut Option<u32>,
+    ) -> Result<f64, AnatomyError> {
         let fail = |what| AnatomyError::Query {
             region: region.name.clone(),
             body: body.body,
@@ -182,11 +139,19 @@ impl Anatomy {
         {
             return Err(fail("the body's axis or radius is not finite"));
         }
-        let capsule = shape::Capsule::new(vector(&body.tip), vector(&body.port), body.radius);
+        let (tip, port, r) = (vector(&body.tip), vector(&body.port), body.radius);
+        let capsule = shape::Capsule::new(tip, port, r);
         let target = shape_of(&region.collider);
         let d = match &region.collider {
-            Collider::Mesh(mesh) => {
-                mesh_distance(mesh, &capsule).ok_or_else(|| fail("the distance is not finite"))?
+            Collider::Mesh(m) => {
+                let near = nearest(&m.mesh, &m.hierarchy, &Axis::new(tip, port), r, *hint)
+                    .ok_or_else(|| fail("the distance is not finite"))?;
+                *hint = Some(near.triangle);
+                let d = near.distance - r;
+                if d > 0.0 && inside(&m.mesh, &near) == Some(true) {
+                    return Ok(-(d + 2.0 * r));
+                }
+                d
             }
             _ => {
                 query::distance(&Pose3::IDENTITY, &capsule, &region.pose, target)
@@ -198,12 +163,6 @@ impl Anatomy {
             return Err(fail("the distance is not finite"));
         }
         if d > 0.0 {
-            if let Collider::Mesh(mesh) = &region.collider
-                && mesh.pseudo_normals().is_some()
-                && mesh.contains_local_point(vector(&body.tip))
-            {
-                return Ok(-(d + 2.0 * body.radius));
-            }
             return Ok(d);
         }
         let depth = query::contact(&Pose3::IDENTITY, &capsule, &region.pose, target, 0.0)
@@ -216,18 +175,44 @@ impl Anatomy {
     /// Every region's smallest gap to the in-body parts `bodies` (`None`
     /// for a body with nothing inside); the first error of [`Anatomy::gap`].
     pub fn clearance(&self, bodies: &[Option<InBody>]) -> Result<NoGoClearance, AnatomyError> {
+        self.gaps(bodies, None)
+    }
+
+    /// [`Anatomy::clearance`], each mesh's walk starting from the triangle
+    /// `warm` kept as nearest at the last cycle, and `warm` left with the
+    /// triangles nearest now: the same gaps, found sooner when the bodies
+    /// have moved little.
+    pub fn clearance_warm(
+        &self,
+        bodies: &[Option<InBody>],
+        warm: &mut WarmStart,
+    ) -> Result<NoGoClearance, AnatomyError> {
+        warm.nearest.resize(self.regions.len(), [None; 3]);
+        self.gaps(bodies, Some(warm))
+    }
+
+    fn gaps(
+        &self,
+        bodies: &[Option<InBody>],
+        mut warm: Option<&mut WarmStart>,
+    ) -> Result<NoGoClearance, AnatomyError> {
         let mut out = Vec::with_capacity(self.regions.len());
-        for (index, region) in self.regions.iter().enumerate() {
+        for (index_of_region, region) in self.regions.iter().enumerate() {
             let mut best = RegionGap {
-                region: index,
+                region: index_of_region,
                 body: None,
                 gap_mm: f64::INFINITY,
             };
             for body in bodies.iter().flatten() {
-                let gap = Self::gap(region, body)?;
+                let mut cold = None;
+                let hint = warm
+                    .as_deref_mut()
+                    .and_then(|w| w.nearest.get_mut(index_of_region))
+                    .map_or(&mut cold, |hints| &mut hints[index(body.body)]);
+                let gap = Self::gap_from(region, body, hint)?;
                 if best.body.is_none() || gap < best.gap_mm {
                     best = RegionGap {
-                        region: index,
+                        region: index_of_region,
                         body: Some(body.body),
                         gap_mm: gap,
                     };

@@ -8,6 +8,7 @@ use parry3d_f64::shape::{Ball, Capsule, Cuboid, TriMesh, TriMeshFlags};
 
 use crate::error::MeshProblem;
 use crate::mesh::Mesh;
+use crate::nearest::Hierarchy;
 
 /// A region's shape, fixed frame, mm.
 #[derive(Debug, Clone, PartialEq)]
@@ -77,7 +78,14 @@ pub(crate) enum Collider {
     Ball(Ball),
     Cuboid(Cuboid),
     Capsule(Capsule),
-    Mesh(Box<TriMesh>),
+    Mesh(Box<MeshCollider>),
+}
+
+/// A mesh region's collider: parry's mesh and its hierarchy's cylinders.
+#[derive(Debug, Clone)]
+pub(crate) struct MeshCollider {
+    pub(crate) mesh: TriMesh,
+    pub(crate) hierarchy: Hierarchy,
 }
 
 /// One forbidden region.
@@ -144,7 +152,14 @@ impl Region {
                 };
                 let trimesh = TriMesh::with_flags(vertices, mesh.triangles().to_vec(), flags)
                     .map_err(|e| MeshProblem::Rejected(e.to_string()))?;
-                (Collider::Mesh(Box::new(trimesh)), Pose3::IDENTITY)
+                let hierarchy = Hierarchy::new(&trimesh);
+                (
+                    Collider::Mesh(Box::new(MeshCollider {
+                        mesh: trimesh,
+                        hierarchy,
+                    })),
+                    Pose3::IDENTITY,
+                )
             }
         };
         Ok(Self {
@@ -158,7 +173,7 @@ impl Region {
     /// The number of triangles of a mesh region (0 for the primitives).
     pub fn triangle_count(&self) -> usize {
         match &self.collider {
-            Collider::Mesh(m) => m.num_triangles(),
+            Collider::Mesh(m) => m.mesh.num_triangles(),
             _ => 0,
         }
     }

@@ -134,6 +134,49 @@ impl<T: Real> ImagePoint<T> {
     }
 }
 
+/// The camera at one cycle ([`Camera::projection`]): where points fall in
+/// its image.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Projection<T: Real> {
+    /// `R`, platform to fixed.
+    rotation: Matrix3<T>,
+    /// The camera's axes in the platform frame, as rows (an oblique
+    /// scope's; `None` for a straight one, whose axes are `X'`, `Y'`,
+    /// `-Z'`).
+    tilt: Option<Matrix3<T>>,
+    /// The camera's position, mm, fixed frame.
+    eye: Vector3<T>,
+    /// `tan(hfov / 2)`, and over the aspect ratio.
+    tan: T,
+    tan_up: T,
+}
+
+impl<T: Real> Projection<T> {
+    /// Where `point` (mm, fixed frame) falls in the image: with `(x, y, z)`
+    /// the point in the camera's axes, `u = x / z / tan(hfov / 2)` and
+    /// `v = y / z / (tan(hfov / 2) / aspect)`.
+    pub fn project(&self, point: &Vector3<T>) -> ImagePoint<T> {
+        let w = self.rotation.tr_mul(&(point - self.eye));
+        let (x, y, z) = match &self.tilt {
+            Some(tilt) => {
+                let c = tilt * w;
+                (c.x, c.y, c.z)
+            }
+            None => (w.x, w.y, -w.z),
+        };
+        ImagePoint {
+            u: x / z / self.tan,
+            v: y / z / self.tan_up,
+            in_front: z > T::zero(),
+        }
+    }
+
+    /// The camera's position, the endoscope's tip (mm, fixed frame).
+    pub fn eye(&self) -> Vector3<T> {
+        self.eye
+    }
+}
+
 fn finite<T: Real>(what: &'static str, v: T) -> Result<T, CameraError> {
     if v.finite() {
         Ok(v)
@@ -145,10 +188,16 @@ fn finite<T: Real>(what: &'static str, v: T) -> Result<T, CameraError> {
     }
 }
 
-/// The nearest to `reference` of the angles `x + 2 pi k`.
+/// The nearest to `reference` of the angles `x + 2 pi k`. Within 3 rad of
+/// it (under half a turn, so `k = 0` for sure) `x` itself, without the
+/// division and rounding.
 fn nearest<T: Real>(x: T, reference: T) -> T {
+    let gap = reference - x;
+    if gap.abs() < T::lit(3.0) {
+        return x;
+    }
     let turn = T::two_pi();
-    let k = ((reference - x) / turn).round();
+    let k = (gap / turn).round();
     x + k * turn
 }
 
@@ -262,17 +311,27 @@ impl<T: Real> Camera<T> {
     }
 
     /// Where `point` (mm, fixed frame) falls in the image of the camera at
-    /// `depth` (mm) on the platform `frame`.
+    /// `depth` (mm) on the platform `frame`: [`Camera::projection`]'s
+    /// [`Projection::project`]. To place several points at one cycle, build
+    /// the projection once.
     pub fn project(&self, frame: &PlatformFrame<T>, depth: T, point: &Vector3<T>) -> ImagePoint<T> {
-        let w = frame.rotation.transpose() * (point - Self::eye(frame, depth));
-        let c = self.axes().transpose() * w;
-        let (x, y, z) = (c.x, c.y, c.z);
-        let (s, co) = (self.horizontal_fov / T::lit(2.0)).sincos();
-        let tan = s / co;
-        ImagePoint {
-            u: x / z / tan,
-            v: y / z / (tan / self.aspect_ratio),
-            in_front: z > T::zero(),
+        self.projection(frame, depth).project(point)
+    }
+
+    /// The map from the fixed frame to the image of the camera at `depth`
+    /// (mm) on the platform `frame`: the platform's rotation, the camera's
+    /// axes, the eye, and `tan(hfov / 2)` (one sine and cosine), so that
+    /// each point then costs a 3x3 product (two for an oblique scope) and
+    /// four divisions.
+    pub fn projection(&self, frame: &PlatformFrame<T>, depth: T) -> Projection<T> {
+        let (s, c) = (self.horizontal_fov / T::lit(2.0)).sincos();
+        let tan = s / c;
+        Projection {
+            rotation: frame.rotation,
+            tilt: (self.oblique != T::zero()).then(|| self.axes().transpose()),
+            eye: Self::eye(frame, depth),
+            tan,
+            tan_up: tan / self.aspect_ratio,
         }
     }
 
@@ -313,6 +372,30 @@ impl<T: Real> Camera<T> {
         b.dot(&carried.cross(&u1)).atan2(carried.dot(&u1)) + T::zero()
     }
 
+    /// The first of `look_at`'s inputs that is not finite, as an error.
+    fn find_non_finite(
+        &self,
+        pose: &Pose<T>,
+        depth: T,
+        target: &Vector3<T>,
+    ) -> Result<(), CameraError> {
+        for (what, v) in [
+            ("pose.x", pose.x),
+            ("pose.y", pose.y),
+            ("pose.z", pose.z),
+            ("pose.psi", pose.psi),
+            ("pose.theta", pose.theta),
+            ("pose.phi", pose.phi),
+            ("depth", depth),
+            ("target.x", target.x),
+            ("target.y", target.y),
+            ("target.z", target.z),
+        ] {
+            finite(what, v)?;
+        }
+        Ok(())
+    }
+
     /// The `[psi, theta]` (rad) that put `target` (mm, fixed frame) on the
     /// view axis of the camera at `depth` (mm), `P` and `phi` of `pose`
     /// held: of the two solutions, the one nearest `pose`'s angles (each
@@ -331,26 +414,34 @@ impl<T: Real> Camera<T> {
         target: &Vector3<T>,
     ) -> Result<[T; 2], CameraError> {
         self.validate()?;
-        for (what, v) in [
-            ("pose.x", pose.x),
-            ("pose.y", pose.y),
-            ("pose.z", pose.z),
-            ("pose.psi", pose.psi),
-            ("pose.theta", pose.theta),
-            ("pose.phi", pose.phi),
-            ("depth", depth),
-            ("target.x", target.x),
-            ("target.y", target.y),
-            ("target.z", target.z),
-        ] {
-            finite(what, v)?;
+        // `x * 0` is 0 for every finite `x` and NaN otherwise: one sum says
+        // whether all ten are finite; the names are looked for only then.
+        let zero = T::zero();
+        let all = pose.x * zero
+            + pose.y * zero
+            + pose.z * zero
+            + pose.psi * zero
+            + pose.theta * zero
+            + pose.phi * zero
+            + depth * zero
+            + target.x * zero
+            + target.y * zero
+            + target.z * zero;
+        if !(all == zero) {
+            self.find_non_finite(pose, depth, target)?;
         }
+
         let r = target - pose.position();
         let rho = r.norm();
-        // a = R_Z(phi) view: the view in the frame turned by psi, theta only.
+        // a = R_Z(phi) view: the view in the frame turned by psi, theta
+        // only (a straight scope's view, -Z', is unmoved by phi).
         let d = self.view();
-        let (sp, cp) = pose.phi.sincos();
-        let a = Vector3::new(cp * d.x - sp * d.y, sp * d.x + cp * d.y, d.z);
+        let a = if self.oblique == T::zero() {
+            d
+        } else {
+            let (sp, cp) = pose.phi.sincos();
+            Vector3::new(cp * d.x - sp * d.y, sp * d.x + cp * d.y, d.z)
+        };
         // |lambda a - depth e3| = rho, lambda > 0.
         let disc = depth * depth * (a.z * a.z - T::one()) + rho * rho;
         let behind = CameraError::Behind {
@@ -385,10 +476,12 @@ impl<T: Real> Camera<T> {
         let (cb, sb) = (r.y / m, r.z / m);
         let (spread, base) = (cs.acos(), r.z.atan2(r.y));
         let solve = |psi: T, s: T, c: T| {
-            // c = R_X(-psi) r; theta turns (b_z, b_x) onto (c_z, c_x).
+            // c = R_X(-psi) r; theta turns (b_z, b_x) onto (c_z, c_x):
+            // theta = atan2(y, x), so cos theta = x / hypot(x, y).
             let (cx, cz) = (r.x, -s * r.y + c * r.z);
-            let theta = (cx * b.z - cz * b.x).atan2(cz * b.z + cx * b.x);
-            [nearest(psi, pose.psi), nearest(theta, pose.theta)]
+            let (y, x) = (cx * b.z - cz * b.x, cz * b.z + cx * b.x);
+            let angles = [nearest(psi, pose.psi), nearest(y.atan2(x), pose.theta)];
+            (angles, [x, y])
         };
         let one = solve(base + spread, sb * cs + cb * ss, cb * cs - sb * ss);
         let two = solve(base - spread, sb * cs - cb * ss, cb * cs + sb * ss);
@@ -396,12 +489,15 @@ impl<T: Real> Camera<T> {
             let (dp, dt) = (s[0] - pose.psi, s[1] - pose.theta);
             dp * dp + dt * dt
         };
-        let best = if distance(&two) < distance(&one) {
+        let (best, [x, y]) = if distance(&two.0) < distance(&one.0) {
             two
         } else {
             one
         };
-        if !(best[1].cos().abs() > T::EPSILON.sqrt()) {
+        // |cos theta| > sqrt(EPSILON), squared, without the cosine
+        // (atan2(0, 0) = 0: cos theta = 1).
+        let (xx, yy) = (x * x, y * y);
+        if !(xx > T::EPSILON * (xx + yy) || (x == T::zero() && y == T::zero())) {
             return Err(CameraError::Gimbal);
         }
         Ok(best)

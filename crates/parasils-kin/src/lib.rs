@@ -116,7 +116,7 @@ pub mod real;
 mod side;
 pub mod statics;
 
-pub use camera::{Camera, CameraError, ImagePoint};
+pub use camera::{Camera, CameraError, ImagePoint, Projection};
 pub use clearance::{
     AxisAccelerations, AxisState, Bodies, BodyGeometry, Capsule, CapsuleGap, Certificate,
     Clearance, ClearancePair, ClosestPoints, Probe, Segment, certify, gap_lower_bound, rate_over,
