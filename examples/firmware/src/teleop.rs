@@ -496,7 +496,9 @@ pub fn run(out: &mut Out) -> bool {
     report_segments(out, calibration, &segments);
     let step_stack = caller_sp.saturating_sub(lowest);
     out.str("teleop.stack_bytes: ").u64(step_stack as u64);
-    out.str(" (measured below the teleoperation step's caller)")
+    out.str(" (measured below the teleoperation step's caller; whole firmware: ");
+    out.u64(stack::top().saturating_sub(lowest) as u64)
+        .str(")")
         .nl();
     ok
 }
