@@ -25,6 +25,10 @@
 //! command, and the stack used, and exits through semihosting with a failure
 //! code on any mismatch.
 //!
+//! After this stream, a second phase ([`teleop`]) runs the teleoperation
+//! core through the console's synthetic stream of [`teleop_scenario`], with
+//! its own checks, references and costs; the firmware passes when both do.
+//!
 //! **No panics.** The panic handler calls a function that exists nowhere, so
 //! the firmware links only if the optimiser has removed every panicking branch
 //! of the whole program, control step included. The control step's inputs go
