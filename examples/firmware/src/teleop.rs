@@ -163,6 +163,8 @@ struct Track {
     first_hold: Option<usize>,
     holds: usize,
     unheld: usize,
+    /// How far short of its stop threshold the push rests, mm.
+    short: f64,
     /// The lowest `margin - stop threshold` over every margin and cycle,
     /// in the margin's unit, and which.
     lowest: (f64, usize, usize),
@@ -286,6 +288,7 @@ fn check_cycle(
     }
     if k + 1 == DISABLE {
         let short = f64::from(c.margins[HELD_MARGIN]) - f64::from(sup.stop[HELD_MARGIN]);
+        track.short = short;
         if !(short <= HELD_SHORT_MAX_MM) {
             ok = mismatch(out, k, "the push did not come to rest at its limit");
         }
@@ -442,6 +445,7 @@ pub fn run(out: &mut Out) -> bool {
         first_hold: None,
         holds: 0,
         unheld: 0,
+        short: f64::NAN,
         lowest: (f64::INFINITY, 0, 0),
         following: 0,
         states: [OperatingState::Fault; 8],
@@ -568,8 +572,8 @@ fn report(
         .str(" cycles (f64: ");
     out.u64(reference::HOLDS as u64).str("), ");
     out.u64(track.unheld as u64)
-        .str(" of the window held at nothing (crept on, above the threshold)")
-        .nl();
+        .str(" of the window held at nothing (crept on, above the threshold); rests ");
+    out.fixed(track.short * 1e6, 1).str(" nm short of it").nl();
     if first.abs_diff(reference::FIRST_HOLD) > FIRST_HOLD_SLACK {
         ok = false;
         out.str("MISMATCH (teleop): the first hold is not f64's")
