@@ -183,7 +183,13 @@ impl<T: Real> Teleop<T> {
                     *x = dip(along[0].0.0[k], along[1].0.0[k], along[2].0.0[k]);
                 }
                 let gaps = match (along[0].1, along[1].1, along[2].1) {
-                    (Some(a), Some(b), Some(c)) => Some([0, 1, 2].map(|k| dip(a[k], b[k], c[k]))),
+                    // Zipped, not indexed: no bounds check is left to panic.
+                    (Some(mut a), Some(b), Some(c)) => {
+                        for ((x, y), z) in a.iter_mut().zip(b).zip(c) {
+                            *x = dip(*x, y, z);
+                        }
+                        Some(a)
+                    }
                     _ => None,
                 };
                 self.admissible(&lowest, gaps)?;
