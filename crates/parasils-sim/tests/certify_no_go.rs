@@ -40,10 +40,14 @@ fn parts_at(sim: &Simulation, motion: &PlannedMotion, t: f64) -> [Option<InBody>
     )
 }
 
+/// Per motion, per region, per body: the smallest gap (mm) and its time (s
+/// from the motion's start).
+type Truth = Vec<Vec<[(f64, f64); 3]>>;
+
 /// Each motion's smallest gap per region and body (`[region][body]`, `+inf`
 /// while the body is outside) at `factor` evaluations per period, and the
 /// time of each (s from the motion's start).
-fn dense_minimum(sim: &Simulation, factor: usize) -> Vec<Vec<[(f64, f64); 3]>> {
+fn dense_minimum(sim: &Simulation, factor: usize) -> Truth {
     let plan = sim.timeline().expect("a planned run");
     let anatomy = sim.scenario().anatomy.clone().expect("an anatomy");
     let rate = sim.scenario().rate_hz;
@@ -72,10 +76,7 @@ fn dense_minimum(sim: &Simulation, factor: usize) -> Vec<Vec<[(f64, f64); 3]>> {
 /// Certified never above the dense truth, and within the tolerance of it
 /// wherever the refinement converged; the sampled minimum never below it.
 /// Returns the certificates and the truth.
-fn certified_brackets_the_truth(
-    sim: &Simulation,
-    factor: usize,
-) -> (Vec<MotionClearance>, Vec<Vec<[(f64, f64); 3]>>) {
+fn certified_brackets_the_truth(sim: &Simulation, factor: usize) -> (Vec<MotionClearance>, Truth) {
     let certified = sim.certify_clearance().expect("certifies");
     let truth = dense_minimum(sim, factor);
     let regions = &sim.scenario().anatomy.as_ref().expect("an anatomy").regions;
