@@ -41,7 +41,7 @@ fn the_demo_clears_the_shipped_anatomy_and_the_check_prints_each_region() {
     ])
     .run()
     .ok();
-    let header = "no-go clearance per motion, smallest sampled gap to each forbidden region, mm: organ vessel kidney spine\n";
+    let header = "no-go clearance per motion, smallest sampled gap / certified minimum between samples to each forbidden region, mm: organ vessel kidney spine\n";
     let at = stdout.find(header).expect("the no-go table");
     let rows: Vec<Vec<&str>> = stdout[at + header.len()..]
         .lines()
@@ -49,12 +49,19 @@ fn the_demo_clears_the_shipped_anatomy_and_the_check_prints_each_region() {
         .map(|l| l.split_whitespace().collect())
         .collect();
     for (k, row) in rows.iter().enumerate() {
-        assert_eq!(row.len(), 5, "{row:?}");
+        // The motion, then `sampled / certified` per region.
+        assert_eq!(row.len(), 13, "{row:?}");
         assert_eq!(row[0], k.to_string());
-        for gap in &row[1..] {
-            let gap: f64 = gap.parse().expect("a number");
-            // Every region well clear of the stop threshold (0.5 mm).
-            assert!(gap > 10.0, "motion {k}: {row:?}");
+        for cell in row[1..].chunks(3) {
+            assert_eq!(cell[1], "/", "{row:?}");
+            let sampled: f64 = cell[0].parse().expect("a number");
+            let certified: f64 = cell[2].parse().expect("a number");
+            // Every region well clear of the stop threshold (0.5 mm), the
+            // certificate never above the samples.
+            assert!(
+                certified > 10.0 && certified <= sampled,
+                "motion {k}: {row:?}"
+            );
         }
     }
 }

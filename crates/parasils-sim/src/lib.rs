@@ -119,6 +119,7 @@ pub mod timing;
 
 pub use columns::{Channel, Column, InstrumentColumns};
 pub use csv::CsvSink;
+pub use engine::RegionCertificate;
 pub use engine::procedure::{
     CameraCheck, MotionCheck, PlannedMotion, ProcedureCheck, ProcedurePlan, Warning,
 };
@@ -133,6 +134,7 @@ pub use motion::{
     MotionSpec,
 };
 pub use output::{Flushed, Format, OutputError, OutputFile};
+pub use parasils_anatomy::Body;
 pub use parasils_anatomy::{Anatomy, AnatomyError};
 #[cfg(feature = "plot")]
 pub use plot::PlotSink;

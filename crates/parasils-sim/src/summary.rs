@@ -351,7 +351,9 @@ impl fmt::Display for ForceUsage<'_> {
 /// when it starts), the smallest sampled clearance of each pair of bodies
 /// per motion (with its certified lower bound, when given), each port's
 /// largest displacement per motion, what the camera saw in the motions that
-/// follow the tips, then every supervisor warning with its motion and times.
+/// follow the tips, each motion's smallest sampled gap to each forbidden
+/// region (with its certified lower bound, when given), then every
+/// supervisor warning with its motion and times.
 struct MotionTable<'a>(&'a ProcedureCheck, Option<&'a [MotionClearance]>);
 
 impl fmt::Display for MotionTable<'_> {
@@ -448,21 +450,34 @@ impl fmt::Display for MotionTable<'_> {
             }
         }
         if !self.0.no_go_regions.is_empty() {
-            writeln!(
-                f,
-                "no-go clearance per motion, smallest sampled gap to each forbidden region, mm: {}",
-                self.0.no_go_regions.join(" ")
-            )?;
-            for m in &self.0.motions {
+            let what = if self.1.is_some() {
+                "smallest sampled gap / certified minimum between samples to each forbidden region"
+            } else {
+                "smallest sampled gap to each forbidden region"
+            };
+            let names = self.0.no_go_regions.join(" ");
+            writeln!(f, "no-go clearance per motion, {what}, mm: {names}")?;
+            let shown = |gap: f64| {
+                if gap.is_finite() {
+                    Fixed(gap, 3).to_string()
+                } else {
+                    String::from("outside")
+                }
+            };
+            for (i, m) in self.0.motions.iter().enumerate() {
                 write!(f, "{:>6}", m.name.index)?;
+                let certified = self.1.and_then(|c| c.get(i));
                 for (k, name) in self.0.no_go_regions.iter().enumerate() {
-                    let gap = m.no_go_mm.get(k).copied().unwrap_or(f64::INFINITY);
-                    let width = name.len().max(10);
-                    if gap.is_finite() {
-                        write!(f, " {:>width$}", Fixed(gap, 3).to_string())?;
-                    } else {
-                        write!(f, " {:>width$}", "outside")?;
-                    }
+                    let gap = shown(m.no_go_mm.get(k).copied().unwrap_or(f64::INFINITY));
+                    let cell = match certified {
+                        Some(c) => format!("{gap} / {}", shown(c.no_go_certified_mm(k))),
+                        None => gap,
+                    };
+                    let width = name.len().max(if certified.is_some() { 20 } else { 10 });
+                    write!(f, " {cell:>width$}")?;
+                }
+                if certified.is_some_and(|c| c.no_go.iter().any(|r| !r.converged)) {
+                    write!(f, "  (refinement capped: the bound is loose)")?;
                 }
                 writeln!(f)?;
             }

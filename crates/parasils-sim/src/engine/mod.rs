@@ -43,7 +43,7 @@ mod records;
 mod schedule;
 mod simulation;
 
-pub use certify::{CERTIFY_MAX_DEPTH, CERTIFY_TOLERANCE_MM, MotionClearance};
+pub use certify::{CERTIFY_MAX_DEPTH, CERTIFY_TOLERANCE_MM, MotionClearance, RegionCertificate};
 pub use error::{CommandError, CommandName, RunError, SimulationError};
 pub use records::Records;
 pub use schedule::Scheduled;
