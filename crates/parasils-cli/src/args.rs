@@ -55,6 +55,11 @@ pub enum Command {
     /// within tolerances (Monte Carlo over perturbed robots, with the
     /// first-order sensitivity of each parameter family).
     Tolerance(ToleranceArgs),
+    /// Teleoperation: the surgeon's console driving the robot cycle by
+    /// cycle, from a recorded session (--input FILE.csv) or live SpaceMouse
+    /// devices (--device auto); the same output and summary as simulate,
+    /// with each device's inputs and the operating state.
+    Teleop(crate::teleop::TeleopArgs),
 }
 
 /// `--robot`, shared by `simulate`, `ik` and `fk`.
@@ -382,7 +387,7 @@ pub struct FkArgs {
 
 /// `input` resolved, its errors in the command line's words (flags, not
 /// field names).
-fn resolve(input: Input) -> Result<Scenario> {
+pub(crate) fn resolve(input: Input) -> Result<Scenario> {
     input.resolve().map_err(|e| match e {
         InputError::WithProcedure(field) => anyhow!(
             "{} cannot be given with --procedure: a procedure has its own start, robot and motions",

@@ -1,5 +1,6 @@
 //! A teleoperation run's columns, after the run's others (CSV and Python
-//! only; the MCAP file has the same channels as `simulate`'s): each
+//! only; the MCAP file has the same channels as `simulate`'s): the tips,
+//! each
 //! device's six axes and buttons as held at the cycle, the command given,
 //! the operating state, the limit a held cycle holds at, the fault, and the
 //! module each hand drives; and the teleoperation block of the summary
@@ -20,12 +21,12 @@ use parasils::kin::{ClearancePair, Side};
 use parasils::supervisor::Margin;
 use parasils::teleop::{Command, Fault, HoldAt, OperatingState};
 
-use crate::columns::{CSV, CSV_COUNT, Column, join};
+use crate::columns::{CSV, CSV_COUNT, Column, LEFT, RIGHT, join};
 use crate::record::Record;
 use crate::sink::Sink;
 
 /// The number of teleoperation columns.
-pub const TELEOP_COUNT: usize = 27;
+pub const TELEOP_COUNT: usize = 33;
 
 const fn axis(name: &'static str, get: fn(&Record) -> f64) -> Column {
     Column {
@@ -93,36 +94,63 @@ fn side_code(side: Side) -> f64 {
     }
 }
 
-/// The teleoperation columns, in order (see the module's table for the
-/// codes).
+const fn in_csv(c: Column) -> Column {
+    Column { csv: true, ..c }
+}
+
+/// The teleoperation columns, in order: the tips (by forward kinematics
+/// from the joints, mm, fixed frame, as a procedure writes them), then each
+/// device's axes and buttons, then the codes of the module's table.
 pub const TELEOP: [Column; TELEOP_COUNT] = [
+    in_csv(LEFT.tip[0]),
+    in_csv(LEFT.tip[1]),
+    in_csv(LEFT.tip[2]),
+    in_csv(RIGHT.tip[0]),
+    in_csv(RIGHT.tip[1]),
+    in_csv(RIGHT.tip[2]),
     axis("left_tx", |r| r.teleop.axes[0][0]),
     axis("left_ty", |r| r.teleop.axes[0][1]),
     axis("left_tz", |r| r.teleop.axes[0][2]),
     axis("left_rx", |r| r.teleop.axes[0][3]),
     axis("left_ry", |r| r.teleop.axes[0][4]),
     axis("left_rz", |r| r.teleop.axes[0][5]),
-    code("left_buttons", "bit mask", |r| f64::from(r.teleop.buttons[0])),
+    code("left_buttons", "bit mask", |r| {
+        f64::from(r.teleop.buttons[0])
+    }),
     axis("right_tx", |r| r.teleop.axes[1][0]),
     axis("right_ty", |r| r.teleop.axes[1][1]),
     axis("right_tz", |r| r.teleop.axes[1][2]),
     axis("right_rx", |r| r.teleop.axes[1][3]),
     axis("right_ry", |r| r.teleop.axes[1][4]),
     axis("right_rz", |r| r.teleop.axes[1][5]),
-    code("right_buttons", "bit mask", |r| f64::from(r.teleop.buttons[1])),
+    code("right_buttons", "bit mask", |r| {
+        f64::from(r.teleop.buttons[1])
+    }),
     axis("camera_tx", |r| r.teleop.axes[2][0]),
     axis("camera_ty", |r| r.teleop.axes[2][1]),
     axis("camera_tz", |r| r.teleop.axes[2][2]),
     axis("camera_rx", |r| r.teleop.axes[2][3]),
     axis("camera_ry", |r| r.teleop.axes[2][4]),
     axis("camera_rz", |r| r.teleop.axes[2][5]),
-    code("camera_buttons", "bit mask", |r| f64::from(r.teleop.buttons[2])),
-    code("teleop_command", "code", |r| f64::from(command_code(r.teleop.command))),
-    code("teleop_state", "code", |r| f64::from(state_code(r.teleop.state))),
-    code("teleop_hold", "code", |r| f64::from(hold_code(r.teleop.hold))),
-    code("teleop_fault", "code", |r| f64::from(fault_code(r.teleop.fault))),
+    code("camera_buttons", "bit mask", |r| {
+        f64::from(r.teleop.buttons[2])
+    }),
+    code("teleop_command", "code", |r| {
+        f64::from(command_code(r.teleop.command))
+    }),
+    code("teleop_state", "code", |r| {
+        f64::from(state_code(r.teleop.state))
+    }),
+    code("teleop_hold", "code", |r| {
+        f64::from(hold_code(r.teleop.hold))
+    }),
+    code("teleop_fault", "code", |r| {
+        f64::from(fault_code(r.teleop.fault))
+    }),
     code("left_hand_module", "code", |r| side_code(r.teleop.hands[0])),
-    code("right_hand_module", "code", |r| side_code(r.teleop.hands[1])),
+    code("right_hand_module", "code", |r| {
+        side_code(r.teleop.hands[1])
+    }),
 ];
 
 /// A teleoperation run's CSV columns: `simulate`'s ([`CSV`]), then

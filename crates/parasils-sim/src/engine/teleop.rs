@@ -174,7 +174,11 @@ impl TeleopRun {
         let context = Context {
             endoscope_depth: depth,
             endoscope_tip: Vector3::zeros(),
-            ..Context::command(0, crate::scenario::CommandKind::Reorient, Default::default())
+            ..Context::command(
+                0,
+                crate::scenario::CommandKind::Reorient,
+                Default::default(),
+            )
         };
         let mut record = self
             .sim
@@ -190,7 +194,10 @@ impl TeleopRun {
         record.forces = forces(&self.sim.scenario, controller, &cycle.step, t, k)?;
         // Recorded, not failed on, as in an online run.
         let no_go = no_go_of(&self.sim, &bodies, &cycle.step, depth, t, k)?;
-        if let Some(min) = no_go.as_ref().and_then(parasils_anatomy::NoGoClearance::min) {
+        if let Some(min) = no_go
+            .as_ref()
+            .and_then(parasils_anatomy::NoGoClearance::min)
+        {
             record.no_go_clearance_mm = min.gap_mm;
         }
         record.warnings = self.sim.supervisor.check(&cycle.margins).warnings;
@@ -285,7 +292,9 @@ impl Replay {
         sink: &mut S,
     ) -> Result<(), crate::RunError<S::Error>> {
         let count = self.cycle_count();
-        let Self { mut run, recording, .. } = self;
+        let Self {
+            mut run, recording, ..
+        } = self;
         let mut player = recording.player();
         let mut pending = std::collections::VecDeque::new();
         for _ in 0..count {
