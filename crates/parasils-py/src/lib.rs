@@ -41,6 +41,7 @@ pub mod path;
 pub mod reach;
 pub mod robot;
 pub mod simulate;
+pub mod teleop;
 pub mod tolerance;
 
 /// Kinematics and motion of PARA-SILSROB from Python (the compiled part of
@@ -56,6 +57,7 @@ fn _parasils(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<robot::Robot>()?;
     m.add_class::<tolerance::ToleranceStudy>()?;
     m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(teleop::teleop, m)?)?;
     m.add_function(wrap_pyfunction!(batch::batch_threads, m)?)?;
     m.add_function(wrap_pyfunction!(calibrate::_calibrate, m)?)?;
     m.add_function(wrap_pyfunction!(clearance::segment_distance_mm, m)?)?;
