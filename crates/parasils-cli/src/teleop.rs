@@ -10,9 +10,10 @@
 //! non-zero exit; a failed run leaves no file (it is written to a temporary
 //! file renamed at the end).
 
+use core::time::Duration;
 use std::io::Write;
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};

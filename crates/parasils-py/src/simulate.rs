@@ -40,7 +40,10 @@ enum Failure {
 }
 
 /// `Some([f64; N])` from a sequence or array of shape `(N,)`.
-pub(crate) fn fixed<const N: usize>(value: Option<ArrayArg<'_>>, name: &str) -> PyResult<Option<[f64; N]>> {
+pub(crate) fn fixed<const N: usize>(
+    value: Option<ArrayArg<'_>>,
+    name: &str,
+) -> PyResult<Option<[f64; N]>> {
     let Some(array) = value else {
         return Ok(None);
     };
