@@ -12,80 +12,20 @@
 
 use core::time::Duration;
 use std::io::Write;
-use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use clap::{Args, ValueEnum};
 use parasils::teleop::{Command, TeleopParams};
 use parasils_device::{Held, Recording, SpaceMouse};
 use parasils_io::Fixed;
 use parasils_sim::output::{self, OutputFile};
 use parasils_sim::summary::Summary;
 use parasils_sim::teleop::CSV_WITH_TELEOP;
-use parasils_sim::{Input, Replay, SETTLE_S, Scenario, Sink, Tee, TeleopRun, TeleopSummary};
+use parasils_sim::{Replay, SETTLE_S, Sink, Tee, TeleopRun, TeleopSummary};
 
-use crate::args::{FormatArg, PlaceArgs, RobotArg, resolve};
+use crate::args::TeleopArgs;
 use crate::interrupt;
 use crate::stdout;
-
-/// Where the live inputs come from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum DeviceArg {
-    /// The SpaceMouse devices attached: the first two for the left and the
-    /// right hand, a third (if any) for the camera.
-    Auto,
-}
-
-/// Arguments of `parasils teleop`.
-#[derive(Debug, Args)]
-pub struct TeleopArgs {
-    /// A recorded session to replay: CSV with the columns t_s, device, tx,
-    /// ty, tz, rx, ry, rz, buttons, command (one row per input event; an
-    /// input holds until the device's next row).
-    #[arg(
-        long,
-        value_name = "FILE.csv",
-        conflicts_with = "device",
-        required_unless_present = "device"
-    )]
-    pub input: Option<PathBuf>,
-    /// Read live devices instead, at the control rate, until Ctrl-C.
-    #[arg(long, value_enum)]
-    pub device: Option<DeviceArg>,
-    /// Cycles per second, Hz [default: 1000].
-    #[arg(long, value_name = "HZ")]
-    pub rate: Option<f64>,
-    /// How long the replay runs on after the recording's last row, s
-    /// [default: 1].
-    #[arg(long, value_name = "S")]
-    pub settle: Option<f64>,
-    /// The start pose and the tips.
-    #[command(flatten)]
-    pub place: PlaceArgs,
-    /// The robot.
-    #[command(flatten)]
-    pub robot: RobotArg,
-    /// Write the cycles to FILE: .csv or .mcap. Without it, print the
-    /// summary.
-    #[arg(short = 'o', long = "output", value_name = "FILE")]
-    pub output: Option<PathBuf>,
-    /// The output's format, when the extension does not say it.
-    #[arg(long, value_enum)]
-    pub format: Option<FormatArg>,
-}
-
-impl TeleopArgs {
-    /// The scenario: the paper's start, tips and robot unless given, at the
-    /// rate given.
-    pub fn scenario(&self) -> Result<Scenario> {
-        resolve(self.place.fill(Input {
-            robot: self.robot.source(),
-            rate_hz: self.rate,
-            ..Input::default()
-        }))
-    }
-}
 
 /// `parasils teleop`.
 pub fn teleop(args: &TeleopArgs) -> Result<()> {

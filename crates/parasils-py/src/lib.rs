@@ -9,6 +9,8 @@
 //!
 //! - [`robot`]: `parasils.Robot`, the solvers on one sample or a batch of
 //!   NumPy rows, looped in Rust without the GIL;
+//! - [`teleop`]: `parasils.teleop`, a recorded teleoperation session
+//!   replayed by the simulation library, returning the CLI's table;
 //! - [`simulate`]: `parasils.simulate`, the simulation library's run
 //!   returning the CSV's table as NumPy columns (the package's Python
 //!   wrapper gives it its signature, with the paper's defaults from
