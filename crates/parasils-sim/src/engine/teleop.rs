@@ -18,8 +18,9 @@ use parasils_device::{Held, Recording};
 
 use crate::record::{Record, TeleopRecord};
 use crate::scenario::Scenario;
+use crate::sink::Sink;
 
-use super::error::SimulationError;
+use super::error::{RunError, SimulationError};
 use super::records::{bodies_of, clearance_of, forces, no_go_of};
 use super::simulation::{Context, Simulation};
 
@@ -285,12 +286,9 @@ impl Replay {
     /// first failure.
     ///
     /// # Errors
-    /// [`crate::RunError::Simulation`] when a cycle fails,
-    /// [`crate::RunError::Sink`] when the sink does.
-    pub fn run<S: crate::Sink + ?Sized>(
-        self,
-        sink: &mut S,
-    ) -> Result<(), crate::RunError<S::Error>> {
+    /// [`RunError::Simulation`] when a cycle fails, [`RunError::Sink`]
+    /// when the sink does.
+    pub fn run<S: Sink + ?Sized>(self, sink: &mut S) -> Result<(), RunError<S::Error>> {
         let count = self.cycle_count();
         let Self {
             mut run, recording, ..
@@ -303,7 +301,7 @@ impl Replay {
             // theirs at consecutive cycles, in the recording's order.
             pending.extend(player.advance(t));
             let record = run.step(player.held(), pending.pop_front())?;
-            sink.push(&record).map_err(crate::RunError::Sink)?;
+            sink.push(&record).map_err(RunError::Sink)?;
         }
         Ok(())
     }
