@@ -55,6 +55,11 @@ pub enum Command {
     /// within tolerances (Monte Carlo over perturbed robots, with the
     /// first-order sensitivity of each parameter family).
     Tolerance(ToleranceArgs),
+    /// Teleoperation: the surgeon's console driving the robot cycle by
+    /// cycle, from a recorded session (--input FILE.csv) or live SpaceMouse
+    /// devices (--device auto); the same output and summary as simulate,
+    /// with each device's inputs and the operating state.
+    Teleop(TeleopArgs),
 }
 
 /// `--robot`, shared by `simulate`, `ik` and `fk`.
@@ -691,5 +696,63 @@ impl ToleranceArgs {
             robot: self.robot.source(),
             ..Input::default()
         })
+    }
+}
+
+/// Where the live inputs come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum DeviceArg {
+    /// The SpaceMouse devices attached: the first two for the left and the
+    /// right hand, a third (if any) for the camera.
+    Auto,
+}
+
+/// Arguments of `parasils teleop`.
+#[derive(Debug, Args)]
+pub struct TeleopArgs {
+    /// A recorded session to replay: CSV with the columns t_s, device, tx,
+    /// ty, tz, rx, ry, rz, buttons, command (one row per input event; an
+    /// input holds until the device's next row).
+    #[arg(
+        long,
+        value_name = "FILE.csv",
+        conflicts_with = "device",
+        required_unless_present = "device"
+    )]
+    pub input: Option<PathBuf>,
+    /// Read live devices instead, at the control rate, until Ctrl-C.
+    #[arg(long, value_enum)]
+    pub device: Option<DeviceArg>,
+    /// Cycles per second, Hz [default: 1000].
+    #[arg(long, value_name = "HZ")]
+    pub rate: Option<f64>,
+    /// How long the replay runs on after the recording's last row, s
+    /// [default: 1].
+    #[arg(long, value_name = "S")]
+    pub settle: Option<f64>,
+    /// The start pose and the tips.
+    #[command(flatten)]
+    pub place: PlaceArgs,
+    /// The robot.
+    #[command(flatten)]
+    pub robot: RobotArg,
+    /// Write the cycles to FILE: .csv or .mcap. Without it, print the
+    /// summary.
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: Option<PathBuf>,
+    /// The output's format, when the extension does not say it.
+    #[arg(long, value_enum)]
+    pub format: Option<FormatArg>,
+}
+
+impl TeleopArgs {
+    /// The scenario: the paper's start, tips and robot unless given, at the
+    /// rate given.
+    pub fn scenario(&self) -> Result<Scenario> {
+        resolve(self.place.fill(Input {
+            robot: self.robot.source(),
+            rate_hz: self.rate,
+            ..Input::default()
+        }))
     }
 }

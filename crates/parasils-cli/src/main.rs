@@ -4,7 +4,7 @@
 //! and the kinematics; this binary parses the arguments and prints.
 //!
 //! Modules: `args` (the arguments, the shared flags defined once),
-//! `simulate`, `reach`, `pose`, `calibrate` and `tolerance` (the commands), `stdout` (standard output that
+//! `simulate`, `reach`, `pose`, `calibrate`, `tolerance` and `teleop` (the commands), `stdout` (standard output that
 //! notices a closed pipe), `interrupt` (SIGINT and SIGTERM end a run
 //! through its error path).
 
@@ -15,6 +15,7 @@ mod pose;
 mod reach;
 mod simulate;
 mod stdout;
+mod teleop;
 mod tolerance;
 
 use std::io::Write;
@@ -54,6 +55,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Calibrate(args) => calibrate::calibrate_command(&args),
         Command::Fk(args) => pose::fk(&args),
         Command::Tolerance(args) => tolerance::tolerance(&args),
+        Command::Teleop(args) => teleop::teleop(&args),
         Command::Robot => {
             let text =
                 parasils_sim::robot_file::to_toml_string(&parasils::kin::RobotGeometry::paper())?;

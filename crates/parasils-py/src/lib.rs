@@ -9,6 +9,8 @@
 //!
 //! - [`robot`]: `parasils.Robot`, the solvers on one sample or a batch of
 //!   NumPy rows, looped in Rust without the GIL;
+//! - [`teleop`]: `parasils.teleop`, a recorded teleoperation session
+//!   replayed by the simulation library, returning the CLI's table;
 //! - [`simulate`]: `parasils.simulate`, the simulation library's run
 //!   returning the CSV's table as NumPy columns (the package's Python
 //!   wrapper gives it its signature, with the paper's defaults from
@@ -41,6 +43,7 @@ pub mod path;
 pub mod reach;
 pub mod robot;
 pub mod simulate;
+pub mod teleop;
 pub mod tolerance;
 
 /// Kinematics and motion of PARA-SILSROB from Python (the compiled part of
@@ -56,6 +59,7 @@ fn _parasils(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<robot::Robot>()?;
     m.add_class::<tolerance::ToleranceStudy>()?;
     m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(teleop::teleop, m)?)?;
     m.add_function(wrap_pyfunction!(batch::batch_threads, m)?)?;
     m.add_function(wrap_pyfunction!(calibrate::_calibrate, m)?)?;
     m.add_function(wrap_pyfunction!(clearance::segment_distance_mm, m)?)?;

@@ -40,7 +40,10 @@ enum Failure {
 }
 
 /// `Some([f64; N])` from a sequence or array of shape `(N,)`.
-fn fixed<const N: usize>(value: Option<ArrayArg<'_>>, name: &str) -> PyResult<Option<[f64; N]>> {
+pub(crate) fn fixed<const N: usize>(
+    value: Option<ArrayArg<'_>>,
+    name: &str,
+) -> PyResult<Option<[f64; N]>> {
     let Some(array) = value else {
         return Ok(None);
     };
@@ -82,7 +85,7 @@ fn output_error(py: Python<'_>, error: &OutputError, path: &std::path::Path) -> 
     err
 }
 
-fn simulation_error(py: Python<'_>, error: &SimulationError) -> PyErr {
+pub(crate) fn simulation_error(py: Python<'_>, error: &SimulationError) -> PyErr {
     match error {
         SimulationError::Geometry(e) => errors::kinematics(py, e, None, None, "robot geometry: "),
         SimulationError::Trajectory(e) => errors::trajectory(py, e),

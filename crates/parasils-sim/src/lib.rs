@@ -76,6 +76,7 @@
 //! | `robot` | [`Robot`]: a robot file's whole content (geometry and supervisor thresholds), read once |
 //! | [`robot_file`] | the robot file as TOML |
 //! | [`procedure`] | procedure files (TOML) into a scenario with motions |
+//! | [`teleop`] | a teleoperation run's columns ([`teleop::TELEOP`]) and summary ([`TeleopSummary`]); the run itself is the engine's ([`TeleopRun`], [`Replay`]) |
 //! | [`input`] | [`Input`]: what a user asks for, each field given or not; the one resolution of defaults, exclusions and the timing rule that every front end calls |
 //!
 //! The plumbing (files written atomically, numbers in messages, the plot
@@ -115,6 +116,7 @@ pub mod scenario;
 mod sink;
 pub mod summary;
 mod supervisor;
+pub mod teleop;
 pub mod timing;
 
 pub use columns::{Channel, Column, InstrumentColumns};
@@ -125,7 +127,7 @@ pub use engine::procedure::{
 };
 pub use engine::{
     CERTIFY_MAX_DEPTH, CERTIFY_TOLERANCE_MM, CommandError, CommandName, MotionClearance, Records,
-    RunError, Scheduled, Simulation, SimulationError,
+    Replay, RunError, SETTLE_S, Scheduled, Simulation, SimulationError, TeleopRun,
 };
 pub use input::{Input, InputError, InputField, ProcedureSource, RobotSource, TimingKind};
 pub use mcap::{CameraImage, McapError, McapOptions, McapSink, SceneGeometry};
@@ -141,6 +143,7 @@ pub use plot::PlotSink;
 pub use procedure::ProcedureError;
 pub use record::{
     CameraRecord, ClearanceRecord, ForceRecord, InstrumentRecord, Module1Record, Record,
+    TeleopRecord,
 };
 pub use robot::Robot;
 pub use robot_file::{
@@ -154,6 +157,7 @@ pub use scenario::{
 pub use sink::{BoxError, Sink, Tee};
 pub use summary::{CheckReport, Summary};
 pub use supervisor::SupervisorTable;
+pub use teleop::TeleopSummary;
 pub use timing::{
     Binding, OptimalLaw, OptimalMotion, PhasePlane, PhaseSummary, TimingError, TimingOptions,
 };

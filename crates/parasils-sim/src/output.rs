@@ -233,10 +233,29 @@ impl OutputFile {
     /// ([`WriteError::Create`]), and the
     /// writers' errors.
     pub fn create(path: &Path, format: Format, scenario: &Scenario) -> Result<Self, OutputError> {
+        Self::create_with(
+            path,
+            format,
+            scenario,
+            crate::no_go::csv_columns_of(scenario),
+        )
+    }
+
+    /// As [`OutputFile::create`], the CSV with `columns` (a teleoperation
+    /// run's, [`crate::teleop::CSV_WITH_TELEOP`]).
+    ///
+    /// # Errors
+    /// As [`OutputFile::create`].
+    pub fn create_with(
+        path: &Path,
+        format: Format,
+        scenario: &Scenario,
+        columns: &'static [crate::columns::Column],
+    ) -> Result<Self, OutputError> {
         let (atomic, file) = AtomicFile::create(path)?;
         let file = BufWriter::new(file);
         let writer = match format {
-            Format::Csv => Writer::Csv(Box::new(CsvSink::for_scenario(file, scenario).map_err(
+            Format::Csv => Writer::Csv(Box::new(CsvSink::with_columns(file, columns).map_err(
                 |error| OutputError::Csv {
                     path: path.to_owned(),
                     error,

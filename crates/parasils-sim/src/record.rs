@@ -134,6 +134,45 @@ pub struct CameraRecord {
     pub roll: f64,
 }
 
+/// A teleoperation run's cycle: what each device held, the command given,
+/// and what the teleoperation core made of it (see
+/// [`parasils::teleop`]). Non-numeric values are small integer codes, as the
+/// columns table writes them ([`crate::teleop`] lists the codes).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TeleopRecord {
+    /// Each device's six normalised axes as held at this cycle,
+    /// `[left, right, camera]`, each `[tx, ty, tz, rx, ry, rz]` in the
+    /// image frame.
+    pub axes: [[f64; 6]; 3],
+    /// Each device's buttons as held (bit 0 enable, bit 1 clutch).
+    pub buttons: [u8; 3],
+    /// The command given at this cycle, if any.
+    pub command: Option<parasils::teleop::Command>,
+    /// The operating state after this cycle.
+    pub state: parasils::teleop::OperatingState,
+    /// The limit this cycle holds at, if any.
+    pub hold: Option<parasils::teleop::HoldAt>,
+    /// The fault the core is in, if any.
+    pub fault: Option<parasils::teleop::Fault>,
+    /// The module each hand drives, `[left hand, right hand]`.
+    pub hands: [parasils::kin::Side; 2],
+}
+
+impl Default for TeleopRecord {
+    /// Nothing held, no command, DISABLED, each hand on its own side.
+    fn default() -> Self {
+        Self {
+            axes: [[0.0; 6]; 3],
+            buttons: [0; 3],
+            command: None,
+            state: parasils::teleop::OperatingState::Disabled,
+            hold: None,
+            fault: None,
+            hands: [parasils::kin::Side::Left, parasils::kin::Side::Right],
+        }
+    }
+}
+
 /// Everything computed at one instant of a simulation.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Record {
@@ -195,6 +234,9 @@ pub struct Record {
     /// endoscope and a forbidden region, mm (negative inside one; `+inf`
     /// when nothing is inside the patient; written with an anatomy only).
     pub no_go_clearance_mm: f64,
+    /// A teleoperation run's cycle (written in such runs only; the default
+    /// elsewhere).
+    pub teleop: TeleopRecord,
 }
 
 impl Record {

@@ -10,6 +10,10 @@ CLI's units, which its argument names and column names carry).
   batch of rows, looped in Rust without the GIL; the endoscope's turn as a
   path with its exact derivatives (``Robot.reorientation_path``) and timed as
   fast as the actuators' limits allow (``Robot.optimal_reorientation``).
+- :func:`teleop`: a recorded teleoperation session (the issue's CSV
+  format) replayed, as ``parasils teleop --input`` does: the same table as
+  :func:`simulate`, then the tips, each device's axes and buttons and the
+  teleoperation core's codes (state, hold, fault, hands).
 - :func:`simulate`: the simulation library's run, as ``parasils simulate``
   does it, returning its CSV table as a dict of NumPy columns
   (``pandas.DataFrame(parasils.simulate())``), and writing CSV or MCAP with
@@ -63,6 +67,7 @@ from ._parasils import (
     __version__,
     batch_threads,
     segment_distance_mm,
+    teleop,
 )
 
 #: The paper's scenario in the units of ``simulate``'s arguments, from the
@@ -464,5 +469,6 @@ __all__ = [
     "calibrate",
     "segment_distance_mm",
     "simulate",
+    "teleop",
     "tolerance",
 ]

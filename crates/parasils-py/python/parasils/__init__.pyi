@@ -227,6 +227,28 @@ class Robot:
     ) -> Any:
         """Deprecated alias of module1_rates (a DeprecationWarning)."""
 
+def teleop(
+    input: _Path,
+    *,
+    rate_hz: Optional[float] = None,
+    pose_mm_deg: Optional[Sequence[float]] = None,
+    tip_left_mm: Optional[Sequence[float]] = None,
+    tip_right_mm: Optional[Sequence[float]] = None,
+    robot: Union[_Path, Robot, None] = None,
+    settle_s: Optional[float] = None,
+    out: Optional[_Path] = None,
+    format: Optional[Literal["csv", "mcap"]] = None,
+) -> Dict[str, npt.NDArray[Any]]:
+    """``parasils teleop --input`` from the simulation library: the recorded
+    session ``input`` (CSV: t_s, device, tx, ty, tz, rx, ry, rz, buttons,
+    command) replayed at ``rate_hz`` (default 1000) until its last row plus
+    ``settle_s`` (default 1 s). Returns the CLI's CSV table as NumPy columns:
+    simulate's columns, then the tips (mm, fixed frame), each device's axes
+    and buttons as held, and the codes ``teleop_command``, ``teleop_state``,
+    ``teleop_hold``, ``teleop_fault``, ``left_hand_module``,
+    ``right_hand_module`` (int64). ``out`` writes CSV or MCAP as well."""
+    ...
+
 def simulate(
     *,
     psi_deg: Optional[float] = None,

@@ -181,6 +181,18 @@ pub enum SimulationError {
         /// What failed.
         error: parasils::Error,
     },
+    /// The teleoperation core refused its setup or a cycle (an invalid
+    /// parameter, a home pose the kinematics refuse, a clock that goes
+    /// back).
+    #[error("{}{error}", AtTime(*t))]
+    Teleop {
+        /// The cycle's time, s.
+        t: f64,
+        /// The cycle's index (`None` at the setup).
+        sample: Option<usize>,
+        /// What failed.
+        error: parasils::teleop::TeleopError,
+    },
 }
 
 impl SimulationError {
@@ -238,7 +250,9 @@ impl SimulationError {
             | SimulationError::ActuatorLimit { t, .. }
             | SimulationError::Clearance { t, .. }
             | SimulationError::PortMotion { t, .. } => Some(*t),
-            SimulationError::NoGo { t, .. } | SimulationError::Anatomy { t, .. } => Some(*t),
+            SimulationError::NoGo { t, .. }
+            | SimulationError::Anatomy { t, .. }
+            | SimulationError::Teleop { t, .. } => Some(*t),
             SimulationError::Motion { error, .. } => error.time_s(),
             _ => None,
         }

@@ -27,6 +27,11 @@
 //!   [`CommandKind::SupervisorStop`](crate::CommandKind::SupervisorStop)),
 //!   where a planned run would fail there with an error.
 //!
+//! - **Teleoperation** ([`TeleopRun`], [`Replay`]): the teleoperation core
+//!   stepped at the control rate from what each input device holds, a
+//!   recorded session's rows or live devices; every cycle is a record, with
+//!   the inputs and the core's state ([`TeleopRecord`](crate::TeleopRecord)).
+//!
 //! A planned run's clearance is also certified between its samples, motion
 //! by motion, on demand ([`Simulation::certify_clearance`], `certify`).
 //!
@@ -42,12 +47,14 @@ pub mod procedure;
 mod records;
 mod schedule;
 mod simulation;
+mod teleop;
 
 pub use certify::{CERTIFY_MAX_DEPTH, CERTIFY_TOLERANCE_MM, MotionClearance, RegionCertificate};
 pub use error::{CommandError, CommandName, RunError, SimulationError};
 pub use records::Records;
 pub use schedule::Scheduled;
 pub use simulation::Simulation;
+pub use teleop::{Replay, SETTLE_S, TeleopRun};
 
 #[cfg(test)]
 mod tests;

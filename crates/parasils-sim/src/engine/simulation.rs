@@ -499,6 +499,8 @@ impl Simulation {
             camera: self.camera(&out.frame, context, targets),
             // Likewise (`records::with_no_go`).
             no_go_clearance_mm: f64::INFINITY,
+            // Filled in by a teleoperation run (`teleop::TeleopRun`).
+            teleop: crate::record::TeleopRecord::default(),
         }
     }
 
