@@ -18,7 +18,7 @@ use super::cycle::{Fault, HoldAt};
 /// How many predicted fractions the search verifies at most after the
 /// controlled stop's (each failure narrows the bracket; the search ends at
 /// the first that passes).
-const TRIES: usize = 4;
+const TRIES: usize = 2;
 
 /// The share of the way to the predicted crossing the search aims at: the
 /// limiting slack is aimed at a fifth of its value at the last fraction
