@@ -15,14 +15,14 @@ use crate::supervisor::{Margin, Margins};
 use super::core::{Teleop, Velocities};
 use super::cycle::{Fault, HoldAt};
 
-/// How many predicted fractions the search verifies at most after the
-/// controlled stop's (each failure narrows the bracket; the search ends at
-/// the first that passes).
+/// How many predicted fractions the search verifies at most before it
+/// checks the controlled stop (each failure narrows the bracket; the search
+/// ends at the first that passes).
 const TRIES: usize = 2;
 
 /// The share of the way to the predicted crossing the search aims at: the
-/// limiting slack is aimed at a fifth of its value at the last fraction
-/// that passed, so a curved margin rarely makes the prediction fail.
+/// limiting slack is aimed at a fifth of its value at the current setpoint,
+/// so a curved margin rarely makes the prediction fail.
 const AIM: f64 = 0.8;
 
 /// The parts of the motion a limit belongs to: `[left tip, right tip,
