@@ -1,7 +1,7 @@
 //! The teleoperation core's per-cycle cost (`parasils::Teleop::step`): both
 //! hands at full scale and the view turning (the step at its setpoint and
 //! its stop checked at two points: three controller steps), the same
-//! watching the clearance, and a push held at a limit (the bisection);
+//! watching the clearance, and a push held at a limit (the hold's search);
 //! with `Controller::step` alone, measured in the same run, as the
 //! yardstick. `f64` and `f32`.
 //!
@@ -110,7 +110,7 @@ fn bench<T: Real>(c: &mut Criterion, name: &str) {
         })
     });
     // Held: pushing along the view into a qs3 stop threshold 5 mm inside
-    // the start, reached and held (each cycle searches by bisection).
+    // the start, reached and held (each cycle searches for the admissible fraction of its step).
     let start = core::<T>(TipTargets::paper(), 60.0);
     let mut probe = start;
     let margins = probe

@@ -268,7 +268,9 @@ fn a_push_into_a_limit_stops_short_and_holds_there() -> R {
 
         assert!(creep < 1e-6, "crept {creep} mm in 0.1 s");
         assert!(
-            last[0].margins[m] - sup.stop[m] < 1.0,
+            // Within a micrometre: each held cycle's predicted fraction
+            // takes the robot most of the remaining way to the threshold.
+            last[0].margins[m] - sup.stop[m] < 1e-3,
             "stopped {} mm short",
             last[0].margins[m] - sup.stop[m]
         );

@@ -1,8 +1,9 @@
 //! Limits held, never an error: a cycle's candidate motion is checked at
 //! the setpoint it reaches and at the point where the robot would come to
 //! rest if it braked from there; a candidate that would cross a limit is
-//! reduced, by bisection between the controlled stop and the candidate, to
-//! the largest fraction that passes (see `docs/model.md`, *Teleoperation*).
+//! reduced to a fraction of the way from the controlled stop to it,
+//! predicted by regula falsi on the limiting margin or gap and verified by
+//! the same checks (see `docs/model.md`, *Teleoperation*).
 
 use crate::kin::nalgebra::Vector3;
 use crate::kin::{
@@ -14,9 +15,15 @@ use crate::supervisor::{Margin, Margins};
 use super::core::{Teleop, Velocities};
 use super::cycle::{Fault, HoldAt};
 
-/// How many halvings the search for the largest admissible fraction takes
-/// (the fraction to within 1/64 of the cycle's change of velocity).
-const BISECTIONS: usize = 6;
+/// How many predicted fractions the search verifies at most before it
+/// checks the controlled stop (each failure narrows the bracket; the search
+/// ends at the first that passes).
+const TRIES: usize = 2;
+
+/// The share of the way to the predicted crossing the search aims at: the
+/// limiting slack is aimed at a fifth of its value at the current setpoint,
+/// so a curved margin rarely makes the prediction fail.
+const AIM: f64 = 0.8;
 
 /// The parts of the motion a limit belongs to: `[left tip, right tip,
 /// view]`.
@@ -60,6 +67,23 @@ fn dip<T: Real>(a: T, b: T, c: T) -> T {
     lowest
 }
 
+/// A candidate that failed: the limit it would cross, and by how much
+/// where it was found (see [`Teleop::slack`]; none for a reach failure).
+#[derive(Clone, Copy)]
+struct Miss<T: Real> {
+    at: HoldAt,
+    slack: Option<T>,
+}
+
+impl<T: Real> Miss<T> {
+    fn reach(e: crate::kin::Error) -> Self {
+        Self {
+            at: HoldAt::Reach(e),
+            slack: None,
+        }
+    }
+}
+
 /// A candidate cycle solved.
 struct Trial<T: Real> {
     tips: [Vector3<T>; 2],
@@ -97,25 +121,51 @@ impl<T: Real> Teleop<T> {
     /// Margins and gaps each at or above its stop threshold, or no lower
     /// than at the current setpoint (a robot stopped near a limit may move
     /// away from it).
-    fn admissible(&self, m: &Margins<T>, gaps: Option<[T; 3]>) -> Result<(), HoldAt> {
+    fn admissible(&self, m: &Margins<T>, gaps: Option<[T; 3]>) -> Result<(), Miss<T>> {
         for k in Margin::ALL {
             if !(m[k] >= self.supervisor.stop[k]) && !(m[k] >= self.margins[k]) {
-                return Err(HoldAt::Margin(k));
+                return Err(Miss {
+                    at: HoldAt::Margin(k),
+                    slack: self.slack(HoldAt::Margin(k), m, gaps),
+                });
             }
         }
         if let (Some((_, th)), Some(gaps), Some(now)) = (&self.watch, gaps, &self.clearance) {
             for (pair, g) in ClearancePair::ALL.into_iter().zip(gaps) {
                 if !(g >= th.stop) && !(g >= now.get(pair).gap) {
-                    return Err(HoldAt::Clearance(pair));
+                    let at = HoldAt::Clearance(pair);
+                    return Err(Miss {
+                        at,
+                        slack: self.slack(at, m, Some(gaps)),
+                    });
                 }
             }
         }
         Ok(())
     }
 
+    /// How far the margin or gap `at` of `m` and `gaps` is above the lower
+    /// of its stop threshold and its value at the current setpoint (mm or
+    /// the margin's unit; negative: it fails), when it is finite.
+    fn slack(&self, at: HoldAt, m: &Margins<T>, gaps: Option<[T; 3]>) -> Option<T> {
+        let x = match at {
+            HoldAt::Margin(k) => m[k] - self.supervisor.stop[k].min(self.margins[k]),
+            HoldAt::Clearance(pair) => {
+                let (Some((_, th)), Some(gaps), Some(now)) = (&self.watch, gaps, &self.clearance)
+                else {
+                    return None;
+                };
+                let i = ClearancePair::ALL.iter().position(|p| *p == pair)?;
+                *gaps.get(i)? - th.stop.min(now.get(pair).gap)
+            }
+            HoldAt::Reach(_) => return None,
+        };
+        x.is_finite().then_some(x)
+    }
+
     /// The cycle reached with the velocities `v` over `dt`, solved; with
     /// `check`, it and its stopping point must be admissible.
-    fn trial(&self, dt: T, v: &Velocities<T>, check: bool) -> Result<Trial<T>, HoldAt> {
+    fn trial(&self, dt: T, v: &Velocities<T>, check: bool) -> Result<Trial<T>, Miss<T>> {
         let per_s = if dt > T::zero() {
             T::one() / dt
         } else {
@@ -140,9 +190,9 @@ impl<T: Real> Teleop<T> {
         let step = self
             .controller
             .step_commanded(&platform, &command(0), &command(1), &mut tracker)
-            .map_err(HoldAt::Reach)?;
+            .map_err(Miss::reach)?;
         let margins = Margins::of(&step);
-        let clearance = self.clearance_of(&step).map_err(HoldAt::Reach)?;
+        let clearance = self.clearance_of(&step).map_err(Miss::reach)?;
         let mut end_tracker = self.end_tracker;
         if check {
             let gaps = clearance.as_ref().map(gap_array);
@@ -173,16 +223,16 @@ impl<T: Real> Teleop<T> {
                             },
                             &mut end_tracker,
                         )
-                        .map_err(HoldAt::Reach)?;
-                    let g = self.clearance_of(&end).map_err(HoldAt::Reach)?;
+                        .map_err(Miss::reach)?;
+                    let g = self.clearance_of(&end).map_err(Miss::reach)?;
                     along[i] = (Margins::of(&end), g.as_ref().map(gap_array));
                     self.admissible(&along[i].0, along[i].1)?;
                 }
-                let mut lowest = margins;
-                for (k, x) in lowest.0.iter_mut().enumerate() {
+                let mut lowest = (margins, gaps);
+                for (k, x) in lowest.0.0.iter_mut().enumerate() {
                     *x = dip(along[0].0.0[k], along[1].0.0[k], along[2].0.0[k]);
                 }
-                let gaps = match (along[0].1, along[1].1, along[2].1) {
+                lowest.1 = match (along[0].1, along[1].1, along[2].1) {
                     // Zipped, not indexed: no bounds check is left to panic.
                     (Some(mut a), Some(b), Some(c)) => {
                         for ((x, y), z) in a.iter_mut().zip(b).zip(c) {
@@ -192,7 +242,7 @@ impl<T: Real> Teleop<T> {
                     }
                     _ => None,
                 };
-                self.admissible(&lowest, gaps)?;
+                self.admissible(&lowest.0, lowest.1)?;
             }
         }
         Ok(Trial {
@@ -206,36 +256,49 @@ impl<T: Real> Teleop<T> {
         })
     }
 
-    /// The largest fraction `s` (to `2^-BISECTIONS`) of the way from the
-    /// stop `brake` to `candidate` in the parts `which` that passes.
+    /// A fraction `s` of the way from the stop `brake` to `candidate` in
+    /// the parts `which` that passes, `miss` being how the whole way
+    /// (`s = 1`) fails. The limiting slack is interpolated linearly between
+    /// the last fraction that passed (at first `s = 0`, its slack taken from
+    /// the current setpoint's margins and gaps) and the last that failed,
+    /// and the fraction where it falls to a fifth of its passing value is
+    /// solved and checked (regula falsi; halving when the failure has no
+    /// slack): the first that passes is taken, at most [`TRIES`] times.
+    /// Else the stop in these parts (`s = 0`), checked; none when it fails,
+    /// or when a limit these parts do not move fails first.
     fn search(
         &self,
         dt: T,
         brake: &Velocities<T>,
         candidate: &Velocities<T>,
         which: [bool; 3],
+        miss: Miss<T>,
     ) -> Option<(Trial<T>, Velocities<T>)> {
-        let mut best = None;
-        let (mut lo, mut hi) = (T::zero(), T::one());
-        for _ in 0..BISECTIONS {
-            let mid = (lo + hi) * T::lit(0.5);
-            let v = brake.lerp(candidate, mid, which);
-            match self.trial(dt, &v, true) {
-                Ok(trial) => {
-                    lo = mid;
-                    best = Some((trial, v));
+        let now = (self.margins, self.clearance.as_ref().map(gap_array));
+        let (mut hi, mut miss) = (T::one(), miss);
+        for _ in 0..TRIES {
+            let s = match (self.slack(miss.at, &now.0, now.1), miss.slack) {
+                (Some(good), Some(bad)) if good > T::zero() && bad < T::zero() => {
+                    hi * (good / (good - bad)) * T::lit(AIM)
                 }
-                Err(_) => hi = mid,
+                (Some(good), _) if !(good > T::zero()) => break,
+                _ => hi * T::lit(0.5),
+            };
+            if !(s > T::zero() && s < hi) {
+                break;
+            }
+            let v = brake.lerp(candidate, s, which);
+            match self.trial(dt, &v, true) {
+                Ok(trial) => return Some((trial, v)),
+                Err(m) => (hi, miss) = (s, m),
+            }
+            let parts = culprits(&miss.at);
+            if parts.iter().zip(which).any(|(&p, w)| p && !w) {
+                return None;
             }
         }
-        if best.is_none() && which != [true; 3] {
-            // The stop in these parts alone, the rest as commanded.
-            let v = brake.lerp(candidate, T::zero(), which);
-            if let Ok(trial) = self.trial(dt, &v, true) {
-                best = Some((trial, v));
-            }
-        }
-        best
+        let v = brake.lerp(candidate, T::zero(), which);
+        Some((self.trial(dt, &v, true).ok()?, v))
     }
 
     fn commit(&mut self, trial: Trial<T>, v: Velocities<T>) {
@@ -258,13 +321,14 @@ impl<T: Real> Teleop<T> {
         candidate: &Velocities<T>,
         checked: bool,
     ) -> Option<HoldAt> {
-        let reason = match self.trial(dt, candidate, checked) {
+        let miss = match self.trial(dt, candidate, checked) {
             Ok(trial) => {
                 self.commit(trial, *candidate);
                 return None;
             }
-            Err(reason) => reason,
+            Err(miss) => miss,
         };
+        let reason = miss.at;
         let brake = self.brake(dt);
         let mut best = None;
         if checked {
@@ -272,22 +336,25 @@ impl<T: Real> Teleop<T> {
             // the view, which moves both modules' joints), then everything.
             let all = [true; 3];
             let own = culprits(&reason);
-            best = self.search(dt, &brake, candidate, own);
+            best = self.search(dt, &brake, candidate, own, miss);
             if best.is_none() && own != all {
-                best = self.search(dt, &brake, candidate, all);
+                best = self.search(dt, &brake, candidate, all, miss);
             }
         }
         let (trial, v) = match best {
             Some(found) => found,
             None => match self.trial(dt, &brake, false) {
                 Ok(trial) => (trial, brake),
-                Err(HoldAt::Reach(e)) => {
+                Err(Miss {
+                    at: HoldAt::Reach(e),
+                    ..
+                }) => {
                     // Not even the stop solves: hold the setpoint as it is.
                     self.velocity = Velocities::zero();
                     self.enter_fault(Fault::Unsolvable(e));
                     return Some(HoldAt::Reach(e));
                 }
-                Err(other) => return Some(other),
+                Err(other) => return Some(other.at),
             },
         };
         self.commit(trial, v);

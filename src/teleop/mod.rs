@@ -17,7 +17,7 @@
 //! | report | `cycle` | [`TeleopCycle`], [`HoldAt`], [`Fault`], [`CommandOutcome`] |
 //! | the core | `core` | [`Teleop`]: construction, the cycle, the commands, the hands' assignment |
 //! | mapping | `motion` | the hands' and the camera's velocities, the home move's, the controlled stop's |
-//! | limits | `hold` | every candidate checked at its setpoint and its stopping point, reduced by bisection when it would cross a limit |
+//! | limits | `hold` | every candidate checked at its setpoint and its stopping point, reduced by a verified regula falsi step when it would cross a limit |
 //!
 //! # The mapping
 //! A rate hand's translation `(tx, ty, tz)` in the image frame (`u`
@@ -42,8 +42,9 @@
 //! A candidate cycle is solved and checked at its setpoint and at the point
 //! where a stop at the acceleration limits would end: every supervised
 //! margin and gap must be at or above its stop threshold (or not below its
-//! current value). If not, the cycle's change of velocity is reduced by
-//! bisection between the controlled stop and the candidate, and the cycle
+//! current value). If not, the cycle's change of velocity is reduced to a
+//! fraction between the controlled stop and the candidate, predicted from
+//! the limiting slack by regula falsi and verified by the same checks, and the cycle
 //! reports the limit it holds at ([`HoldAt`]). A non-finite input or a
 //! device silent for longer than the timeout while ENABLED is a [`Fault`]:
 //! state FAULT, a controlled stop within the acceleration limits, then held.

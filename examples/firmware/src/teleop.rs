@@ -7,7 +7,7 @@
 //! command, the fault checks, both hands' and the camera's mapping, the
 //! controller's step at the setpoint and at the middle and the end of the
 //! controlled stop's line, the supervisor's and the clearance's checks,
-//! and, when a limit would be crossed, the bisection that holds short of
+//! and, when a limit would be crossed, the search that holds short of
 //! it. The harness around it checks, exactly, the states against the
 //! stream's, every command accepted, no fault, the hands assigned crossed,
 //! every margin at or above its stop threshold, the clutch and the pause
@@ -16,7 +16,7 @@
 //! limits; and, within tolerances, the compared cycles against the `f64`
 //! references of `build.rs`. It prints the instructions per cycle: over
 //! every cycle, over the cycles that hold at no limit, and over those that
-//! do (the bisection), each with its worst cycle.
+//! do (the hold's search), each with its worst cycle.
 
 use core::hint::black_box;
 
@@ -75,7 +75,7 @@ const FIRST_HOLD_SLACK: usize = 2;
 /// velocities every cycle (`x += v dt`), and each step rounds to half an
 /// `f32` ulp of the coordinate (30 nm at 600 mm), so their drift from the
 /// `f64` run grows with the run (a few um over 8800 cycles); near a limit
-/// the bisection may take another branch in `f32`, which changes a
+/// the hold's search may take another branch in `f32`, which changes a
 /// velocity by a fraction of `a_max dt`.
 fn tolerance(kind: Kind, a_dt: f64, alpha_dt: f64) -> f64 {
     match kind {
@@ -644,7 +644,7 @@ fn report_segments(out: &mut Out, calibration: u32, segments: &[Tally; ts::SEGME
 }
 
 /// The cost: every cycle, the cycles that hold at no limit (the bound), the
-/// held ones (the bisection).
+/// held ones (the hold's search).
 fn report_cost(out: &mut Out, calibration: u32, tallies: [&Tally; 3]) -> bool {
     let per = |t: u64| instructions(t, calibration);
     let [all, normal, held] = tallies;
