@@ -112,7 +112,8 @@ fn a_rate_clutch_cycle_changes_no_setpoint() -> R {
     let after = run(&mut teleop, &mut k, 5, 0, rate(2, -1.0), on)?;
     let m = module(teleop.hands()[0]);
     let first = (after[0].tips[m] - rest.tips[m]).norm();
-    assert!(first > 0.0 && first <= 250.0 * DT * DT * (1.0 + 1e-12));
+    let a_max = TeleopParams::<f64>::assumed().tip_accel_mm_s2;
+    assert!(first > 0.0 && first <= a_max * DT * DT * (1.0 + 1e-12));
     Ok(())
 }
 

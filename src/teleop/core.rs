@@ -73,6 +73,10 @@ pub struct Teleop<T: Real> {
     /// The current setpoint's tips and velocities, `[left, right]` module.
     pub(super) tips: [Vector3<T>; 2],
     pub(super) velocity: Velocities<T>,
+    /// The longest a controlled stop from the current setpoint may take, s:
+    /// the stop its cycle was checked with, or what is left of the stop
+    /// under way (none at rest).
+    pub(super) stop_left: Option<T>,
     /// Module 1's weakest direction, at the setpoints and at the stop points.
     pub(super) tracker: MarginTracker<T>,
     pub(super) end_tracker: MarginTracker<T>,
@@ -137,6 +141,7 @@ impl<T: Real> Teleop<T> {
             pose: home,
             tips: [tips.left, tips.right],
             velocity: Velocities::zero(),
+            stop_left: None,
             tracker,
             end_tracker: tracker,
             last: None,

@@ -2,7 +2,9 @@
 //! control step, the state, the limit held at, the fault.
 
 use crate::kin::nalgebra::Vector3;
-use crate::kin::{ACTUATOR_COUNT, Clearance, ClearancePair, ControlStep, Real, Side};
+use crate::kin::{
+    ACTUATOR_COUNT, Actuator, Clearance, ClearancePair, ControlStep, RateKind, Real, Side,
+};
 use crate::supervisor::{Margin, Margins};
 
 use super::input::{Command, Device};
@@ -21,6 +23,14 @@ pub enum HoldAt {
     /// The kinematics refuse the commanded pose (out of reach, or a hard
     /// limit the margins do not watch).
     Reach(crate::kin::Error),
+    /// An actuator's velocity or acceleration would have gone beyond its
+    /// limit ([`Controller::limits`](crate::kin::Controller::limits)).
+    Actuator {
+        /// Which actuator.
+        actuator: Actuator,
+        /// Its velocity or its acceleration.
+        kind: RateKind,
+    },
 }
 
 impl core::fmt::Display for HoldAt {
@@ -29,6 +39,7 @@ impl core::fmt::Display for HoldAt {
             HoldAt::Margin(m) => write!(f, "margin {m}"),
             HoldAt::Clearance(p) => write!(f, "clearance {p}"),
             HoldAt::Reach(e) => write!(f, "reach: {e}"),
+            HoldAt::Actuator { actuator, kind } => write!(f, "{actuator} {kind} limit"),
         }
     }
 }

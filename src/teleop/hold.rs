@@ -7,8 +7,8 @@
 
 use crate::kin::nalgebra::Vector3;
 use crate::kin::{
-    Bodies, Clearance, ClearancePair, ControlStep, MarginTracker, ModuleCommand, PlatformState,
-    Pose, Real, TipMotion, TipTargets,
+    Actuator, Bodies, Clearance, ClearancePair, ControlStep, LimitError, MarginTracker,
+    ModuleCommand, PlatformState, Pose, RateKind, Real, Side, TipMotion, TipTargets, step_rates,
 };
 use crate::supervisor::{Margin, Margins};
 
@@ -42,13 +42,36 @@ fn culprits(reason: &HoldAt) -> [bool; 3] {
         },
         HoldAt::Clearance(ClearancePair::LeftEndoscope) => [true, false, true],
         HoldAt::Clearance(ClearancePair::RightEndoscope) => [false, true, true],
-        HoldAt::Clearance(_) | HoldAt::Reach(_) => [true; 3],
+        HoldAt::Actuator {
+            actuator: Actuator::Instrument { side, .. },
+            ..
+        } => match side {
+            Side::Left => [true, false, true],
+            Side::Right => [false, true, true],
+        },
+        HoldAt::Clearance(_) | HoldAt::Reach(_) | HoldAt::Actuator { .. } => [true; 3],
     }
 }
 
 /// The three gaps of `c`, in the order of [`ClearancePair::ALL`], mm.
 fn gap_array<T: Real>(c: &Clearance<T>) -> [T; 3] {
     ClearancePair::ALL.map(|pair| c.get(pair).gap)
+}
+
+/// How many units in the last place of a margin or gap its solve's
+/// rounding may leave between two solves of one pose.
+const ROUNDING_ULPS: f64 = 64.0;
+
+/// `x` lowered by [`ROUNDING_ULPS`] of its magnitude: a threshold the
+/// checks accept to rounding. A setpoint resting on a threshold, or a stop
+/// ending on it, computes its margin a few units in the last place either
+/// side of it from one cycle to the next; without this the hold would
+/// refuse every fraction and fall back to the stop for a difference no
+/// motion makes. The allowance does not accumulate: it is taken off the
+/// threshold itself, never off the current value (a robot below a
+/// threshold may only move away from it).
+fn rounded_down<T: Real>(x: T) -> T {
+    x - x.abs().max(T::one()) * T::EPSILON * T::lit(ROUNDING_ULPS)
 }
 
 /// The lowest value on `[0, 1]` of the parabola through `(0, a)`,
@@ -93,6 +116,8 @@ struct Trial<T: Real> {
     clearance: Option<Clearance<T>>,
     tracker: MarginTracker<T>,
     end_tracker: MarginTracker<T>,
+    /// The stop from it the checks covered, s (none when unchecked).
+    stop_s: Option<T>,
 }
 
 impl<T: Real> Teleop<T> {
@@ -123,7 +148,7 @@ impl<T: Real> Teleop<T> {
     /// away from it).
     fn admissible(&self, m: &Margins<T>, gaps: Option<[T; 3]>) -> Result<(), Miss<T>> {
         for k in Margin::ALL {
-            if !(m[k] >= self.supervisor.stop[k]) && !(m[k] >= self.margins[k]) {
+            if !(m[k] >= rounded_down(self.supervisor.stop[k])) && !(m[k] >= self.margins[k]) {
                 return Err(Miss {
                     at: HoldAt::Margin(k),
                     slack: self.slack(HoldAt::Margin(k), m, gaps),
@@ -132,7 +157,7 @@ impl<T: Real> Teleop<T> {
         }
         if let (Some((_, th)), Some(gaps), Some(now)) = (&self.watch, gaps, &self.clearance) {
             for (pair, g) in ClearancePair::ALL.into_iter().zip(gaps) {
-                if !(g >= th.stop) && !(g >= now.get(pair).gap) {
+                if !(g >= rounded_down(th.stop)) && !(g >= now.get(pair).gap) {
                     let at = HoldAt::Clearance(pair);
                     return Err(Miss {
                         at,
@@ -144,11 +169,47 @@ impl<T: Real> Teleop<T> {
         Ok(())
     }
 
+    /// Every actuator's velocity and acceleration at `step` within its
+    /// limit; the first beyond it is the miss, its slack `1 - |rate| /
+    /// limit`.
+    fn within_limits(&self, step: &ControlStep<T>) -> Result<(), Miss<T>> {
+        let (q_dot, q_ddot) = step_rates(step);
+        match self.controller.limits.check_rates(&q_dot, &q_ddot) {
+            Ok(()) => Ok(()),
+            Err(LimitError::Exceeded {
+                actuator,
+                kind,
+                value,
+                limit,
+            }) => Err(Miss {
+                at: HoldAt::Actuator { actuator, kind },
+                slack: (value.is_finite() && limit > 0.0)
+                    .then(|| T::one() - T::lit(value.abs() / limit)),
+            }),
+            // `check_rates` reports nothing else; a limit the controller
+            // was built with is valid.
+            Err(_) => Ok(()),
+        }
+    }
+
     /// How far the margin or gap `at` of `m` and `gaps` is above the lower
     /// of its stop threshold and its value at the current setpoint (mm or
-    /// the margin's unit; negative: it fails), when it is finite.
+    /// the margin's unit; negative: it fails), when it is finite. For an
+    /// actuator's velocity, its share of the limit left at the current
+    /// setpoint, `1 - |q_dot| / q_dot_max`; none for an acceleration (the
+    /// current one says nothing of the stop's).
     fn slack(&self, at: HoldAt, m: &Margins<T>, gaps: Option<[T; 3]>) -> Option<T> {
         let x = match at {
+            HoldAt::Actuator {
+                actuator,
+                kind: RateKind::Velocity,
+            } => {
+                let k = actuator.index();
+                let (q_dot, _) = step_rates(&self.step);
+                let limit = *self.controller.limits.velocity.get(k)?;
+                T::one() - q_dot.get(k)?.abs() / limit
+            }
+            HoldAt::Actuator { .. } => return None,
             HoldAt::Margin(k) => m[k] - self.supervisor.stop[k].min(self.margins[k]),
             HoldAt::Clearance(pair) => {
                 let (Some((_, th)), Some(gaps), Some(now)) = (&self.watch, gaps, &self.clearance)
@@ -194,18 +255,22 @@ impl<T: Real> Teleop<T> {
         let margins = Margins::of(&step);
         let clearance = self.clearance_of(&step).map_err(Miss::reach)?;
         let mut end_tracker = self.end_tracker;
+        let mut stop_s = None;
         if check {
             let gaps = clearance.as_ref().map(gap_array);
             self.admissible(&margins, gaps)?;
+            self.within_limits(&step)?;
             if !v.is_zero() {
                 // The controlled stop from this setpoint keeps to the line
                 // from it to `x + v (T_stop / 2 + dt)` (one cycle late):
                 // solved at its middle and its end, and each margin and gap
                 // checked there and at the lowest point of the parabola
                 // through its three values (a dip between the points).
-                let reach = self.stop_time(v) * T::lit(0.5) + dt;
+                let t_stop = self.stop_time(v, &step);
+                stop_s = Some(t_stop);
+                let reach = t_stop * T::lit(0.5) + dt;
                 let mut along = [(margins, gaps); 3];
-                for (i, s) in [(1, T::lit(0.5)), (2, T::one())] {
+                for (i, s) in [(2, T::one()), (1, T::lit(0.5))] {
                     let k = reach * s;
                     let ends = [0, 1].map(|m| tips[m] + v.tips[m] * k);
                     let end_pose = Pose {
@@ -253,6 +318,7 @@ impl<T: Real> Teleop<T> {
             clearance,
             tracker,
             end_tracker,
+            stop_s,
         })
     }
 
@@ -301,7 +367,15 @@ impl<T: Real> Teleop<T> {
         Some((self.trial(dt, &v, true).ok()?, v))
     }
 
-    fn commit(&mut self, trial: Trial<T>, v: Velocities<T>) {
+    /// Takes `trial`, moving at `v`, as the new setpoint. A stop from it
+    /// may take at most the time its checks covered; after an unchecked
+    /// cycle (the controlled stop's), what is left of the stop under way.
+    fn commit(&mut self, dt: T, trial: Trial<T>, v: Velocities<T>) {
+        self.stop_left = if v.is_zero() {
+            None
+        } else {
+            Some(trial.stop_s.unwrap_or_else(|| self.brake_time() - dt))
+        };
         self.tips = trial.tips;
         self.pose = trial.pose;
         self.step = trial.step;
@@ -323,7 +397,7 @@ impl<T: Real> Teleop<T> {
     ) -> Option<HoldAt> {
         let miss = match self.trial(dt, candidate, checked) {
             Ok(trial) => {
-                self.commit(trial, *candidate);
+                self.commit(dt, trial, *candidate);
                 return None;
             }
             Err(miss) => miss,
@@ -357,7 +431,7 @@ impl<T: Real> Teleop<T> {
                 Err(other) => return Some(other.at),
             },
         };
-        self.commit(trial, v);
+        self.commit(dt, trial, v);
         Some(reason)
     }
 }

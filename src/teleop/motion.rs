@@ -5,12 +5,16 @@
 
 use crate::follow::{Follow, FollowParams};
 use crate::kin::nalgebra::{Matrix3, Vector3};
-use crate::kin::{Real, Side};
+use crate::kin::{ControlStep, Real, Side, step_rates};
 use crate::traj::OnlineMulti;
 
 use super::core::{Teleop, Velocities};
 use super::filter::dead_zone;
 use super::input::{BUTTON_ENABLE, CameraCommand, HandCommand, HandInput, Inputs};
+
+/// The share of each actuator's acceleration limit a controlled stop plans
+/// to use (see [`Teleop::stop_time`]).
+const BRAKE_SHARE: f64 = 0.9;
 
 /// `v` moved towards `target` by at most `step` (norm).
 fn approach<T: Real>(v: &Vector3<T>, target: &Vector3<T>, step: T) -> Vector3<T> {
@@ -182,21 +186,42 @@ impl<T: Real> Teleop<T> {
     }
 
     /// The time a controlled stop from the velocities `v` takes, s: the
-    /// longest of the tips' `|v| / a_max` and the angles' `|w| / alpha_max`.
-    pub(super) fn stop_time(&self, v: &Velocities<T>) -> T {
+    /// longest of the tips' `|v| / a_max`, the angles' `|w| / alpha_max`
+    /// and the actuators' `|q_dot| / (s q_ddot_max)` at `step` (the cycle
+    /// moving at `v`), `s` = [`BRAKE_SHARE`]. A stop scales every velocity
+    /// alike, so each actuator's rate falls at about `|q_dot| / T_stop`;
+    /// the share leaves the rest of its limit to the terms the scaling
+    /// does not cover (the velocities' products, the Jacobian's change).
+    pub(super) fn stop_time(&self, v: &Velocities<T>, step: &ControlStep<T>) -> T {
         let a = self.params.tip_accel_mm_s2;
         let alpha = self.params.camera.a_max;
         let tips = v.tips.iter().fold(T::zero(), |m, x| m.max(x.norm() / a));
-        v.angles.iter().fold(tips, |m, w| m.max(w.abs() / alpha))
+        let view = v.angles.iter().fold(tips, |m, w| m.max(w.abs() / alpha));
+        let (q_dot, _) = step_rates(step);
+        let share = T::lit(BRAKE_SHARE);
+        q_dot
+            .iter()
+            .zip(&self.controller.limits.acceleration)
+            .fold(view, |m, (qd, a_max)| m.max(qd.abs() / (*a_max * share)))
+    }
+
+    /// The time the controlled stop from the current setpoint takes, s:
+    /// [`Teleop::stop_time`], or what is left of the stop under way when
+    /// that is shorter.
+    pub(super) fn brake_time(&self) -> T {
+        let t_stop = self.stop_time(&self.velocity, &self.step);
+        self.stop_left.map_or(t_stop, |left| t_stop.min(left))
     }
 
     /// The controlled stop's next cycle: every velocity scaled by the same
     /// factor `1 - dt / T_stop`, so that all reach rest together, each
     /// within its acceleration limit, and the robot's coordinates (both
-    /// tips and the two angles) keep to one straight line.
+    /// tips and the two angles) keep to one straight line. A stop under way
+    /// keeps its end: `T_stop` is never more than what was left of it at
+    /// the cycle before (the point its first cycle was checked to reach).
     pub(super) fn brake(&self, dt: T) -> Velocities<T> {
         let v = &self.velocity;
-        let t_stop = self.stop_time(v);
+        let t_stop = self.brake_time();
         if !(t_stop > dt) {
             return Velocities::zero();
         }

@@ -23,7 +23,10 @@ pub struct TeleopParams<T> {
     pub cutoff_hz: T,
     /// The tip's speed limit, mm/s, fixed frame (**assumed** 25 mm/s).
     pub tip_speed_mm_s: T,
-    /// The tip's acceleration limit, mm/s^2 (**assumed** 250 mm/s^2).
+    /// The tip's acceleration limit, mm/s^2 (**assumed** 50 mm/s^2: below
+    /// `qs3`'s assumed 60 mm/s^2 by the centripetal share of a 25 mm/s tip
+    /// 62.5 mm or more from its RCM, so that a controlled stop keeps to the
+    /// actuators' limits; each cycle's actuator rates are checked anyway).
     pub tip_accel_mm_s2: T,
     /// The view's limits on each of `psi` and `theta`, rad/s and rad/s^2
     /// (default the paper's 10 deg/s and 5 deg/s^2); a camera rate at full
@@ -46,7 +49,7 @@ impl<T: Real> TeleopParams<T> {
             position_scale: T::lit(0.2),
             cutoff_hz: T::lit(2.5),
             tip_speed_mm_s: T::lit(25.0),
-            tip_accel_mm_s2: T::lit(250.0),
+            tip_accel_mm_s2: T::lit(50.0),
             camera: Limits::paper(),
             timeout_s: T::lit(0.05),
             rest_mm_s: T::lit(1e-3),

@@ -125,7 +125,9 @@ fn the_summary_has_a_teleoperation_block() {
     );
     assert!(text.contains("held at margin right.qs3_limits:"), "{text}");
     assert!(
-        text.contains("clutch: 2 presses and releases, largest tip change across one 0e0 mm"),
+        text.contains(
+            "clutch: 2 presses and releases, largest tip change across one 0 mm (exactly)"
+        ),
         "{text}"
     );
 }

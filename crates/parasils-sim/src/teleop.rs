@@ -13,11 +13,11 @@
 //! |---|---|
 //! | `teleop_command` | 0 none, then 1 `enable`, 2 `disable`, 3 `pause`, 4 `resume`, 5 `home` (`Command::ALL`'s order, from 1) |
 //! | `teleop_state` | 0 DISABLED, 1 ENABLED, 2 PAUSED, 3 FAULT (`OperatingState::ALL`'s order) |
-//! | `teleop_hold` | 0 none; 1 to 11 a supervised margin (`Margin::ALL`'s order, from 1); 12 to 14 a clearance pair (`ClearancePair::ALL`'s order); 15 the kinematics' reach |
+//! | `teleop_hold` | 0 none; 1 to 11 a supervised margin (`Margin::ALL`'s order, from 1); 12 to 14 a clearance pair (`ClearancePair::ALL`'s order); 15 the kinematics' reach; 16 to 39 an actuator's velocity (even) or acceleration (odd) limit, `16 + 2 k + rate` with `k` its place in `Actuator::ALL` |
 //! | `teleop_fault` | 0 none, 1 a non-finite input, 2 a silent device, 3 a stop that cannot be solved |
 //! | `left_hand_module`, `right_hand_module` | 0 the left module, 1 the right module |
 
-use parasils::kin::{ClearancePair, Side};
+use parasils::kin::{ClearancePair, RateKind, Side};
 use parasils::supervisor::Margin;
 use parasils::teleop::{Command, Fault, HoldAt, OperatingState};
 
@@ -73,6 +73,13 @@ pub fn hold_code(hold: Option<HoldAt>) -> u8 {
             1 + Margin::COUNT + ClearancePair::ALL.iter().position(|a| *a == p).unwrap_or(0)
         }
         Some(HoldAt::Reach(_)) => 1 + Margin::COUNT + ClearancePair::ALL.len(),
+        Some(HoldAt::Actuator { actuator, kind }) => {
+            let rate = match kind {
+                RateKind::Velocity => 0,
+                RateKind::Acceleration => 1,
+            };
+            2 + Margin::COUNT + ClearancePair::ALL.len() + 2 * actuator.index() + rate
+        }
     };
     u8::try_from(k).unwrap_or(u8::MAX)
 }
@@ -254,8 +261,14 @@ impl core::fmt::Display for TeleopSummary {
         }
         write!(
             f,
-            "  clutch: {} presses and releases, largest tip change across one {:e} mm",
-            self.clutch_changes, self.clutch_jump_mm
-        )
+            "  clutch: {} presses and releases, largest tip change across one ",
+            self.clutch_changes
+        )?;
+        // Exactly zero is the design: say it as such, anything else in full.
+        if self.clutch_jump_mm == 0.0 {
+            write!(f, "0 mm (exactly)")
+        } else {
+            write!(f, "{:e} mm", self.clutch_jump_mm)
+        }
     }
 }

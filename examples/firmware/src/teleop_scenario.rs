@@ -27,10 +27,10 @@
 //! | 3200-4399 | the camera turning at rate (`psi` full scale, `theta` half), the right hand moving | ENABLED |
 //! | 4400-6399 | follow mode: the view comes to rest, then follows; the left hand moves from 5400 | ENABLED |
 //! | 6400-7299 | the camera idle (the view comes to rest); both hands pushing | ENABLED |
-//! | 7300-7599 | `pause`, the hands pushing on | PAUSED |
-//! | 7600-7899 | `resume`, the hands pushing on | ENABLED |
-//! | 7900-8899 | the left hand (the right module's tip: the instruments cross) pushes into the picture, into the stop threshold of the right `qs3`, and is held there | ENABLED |
-//! | 8900-9399 | `disable`, the left hand pushing on | DISABLED |
+//! | 7300-7899 | `pause`, the hands pushing on | PAUSED |
+//! | 7900-8199 | `resume`, the hands pushing on | ENABLED |
+//! | 8200-9199 | the left hand (the right module's tip: the instruments cross) pushes into the picture, into the stop threshold of the right `qs3`, and is held there | ENABLED |
+//! | 9200-9799 | `disable`, the left hand pushing on | DISABLED |
 
 use parasils::kin::nalgebra::Vector3;
 use parasils::kin::{
@@ -247,13 +247,13 @@ pub const TURN: usize = 3200;
 /// The pause and the resume, cycles.
 pub const PAUSE: usize = 7300;
 /// See [`PAUSE`].
-pub const RESUME: usize = 7600;
+pub const RESUME: usize = 7900;
 /// The push into the limit, from this cycle to [`DISABLE`].
-pub const PUSH: usize = 7900;
+pub const PUSH: usize = 8200;
 /// The disable command, cycle.
-pub const DISABLE: usize = 8900;
+pub const DISABLE: usize = 9200;
 /// The stream's cycles: after the disable, the robot stops and holds.
-pub const CYCLES: usize = 9400;
+pub const CYCLES: usize = 9800;
 /// The margin the push holds at: the right module's `qs3` to its limits.
 pub const HELD_MARGIN: Margin = Margin::RightQs3Limits;
 
