@@ -123,12 +123,19 @@ fn bench<T: Real>(c: &mut Criterion, name: &str) {
         sup.warn[m] = sup.stop[m];
     }
     let push = [0.0, 0.0, 1.0, 0.0, 0.0, 0.0];
-    let (held, t) = warmed(
-        start.with_supervisor(sup).expect("valid"),
-        2000,
-        push,
-        [0.0; 6],
-    );
+    let limited = start.with_supervisor(sup).expect("valid");
+    // Braking into it: at 0.6 s the tips still close in at about 8 mm/s,
+    // each cycle the latest stop that ends at the threshold.
+    let (braking, t) = warmed(limited, 600, push, [0.0; 6]);
+    let pushing = inputs(t, push, [0.0; 6]);
+    c.bench_function(&format!("teleop/step_held_braking/{name}"), |b| {
+        b.iter(|| {
+            let mut copy = braking;
+            copy.step(black_box(t), black_box(&pushing))
+        })
+    });
+    // Resting at it (from 0.8 s).
+    let (held, t) = warmed(limited, 2000, push, [0.0; 6]);
     let pushing = inputs(t, push, [0.0; 6]);
     c.bench_function(&format!("teleop/step_held/{name}"), |b| {
         b.iter(|| {

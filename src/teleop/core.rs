@@ -77,9 +77,15 @@ pub struct Teleop<T: Real> {
     /// the stop its cycle was checked with, or what is left of the stop
     /// under way (none at rest).
     pub(super) stop_left: Option<T>,
+    /// The limit the previous cycle held at when reducing its own parts
+    /// did not suffice and everything was reduced.
+    pub(super) widened: Option<super::cycle::HoldAt>,
     /// Module 1's weakest direction, at the setpoints and at the stop points.
     pub(super) tracker: MarginTracker<T>,
     pub(super) end_tracker: MarginTracker<T>,
+    /// The same at the stop lines' middles (each point warm-started from
+    /// its own of the cycle before, which is near it).
+    pub(super) mid_tracker: MarginTracker<T>,
     pub(super) last: Option<T>,
     pub(super) state: OperatingState,
     /// The home move and its start time, s.
@@ -98,6 +104,9 @@ pub struct Teleop<T: Real> {
     pub(super) step: ControlStep<T>,
     pub(super) margins: Margins<T>,
     pub(super) clearance: Option<Clearance<T>>,
+    /// The lowest margins and gaps the current setpoint's checks found (at
+    /// it, or along its stop line), the gaps in `ClearancePair::ALL`'s order.
+    pub(super) path_low: (Margins<T>, Option<[T; 3]>),
     pub(super) fault: Option<Fault>,
 }
 
@@ -142,8 +151,10 @@ impl<T: Real> Teleop<T> {
             tips: [tips.left, tips.right],
             velocity: Velocities::zero(),
             stop_left: None,
+            widened: None,
             tracker,
             end_tracker: tracker,
+            mid_tracker: tracker,
             last: None,
             state: OperatingState::Disabled,
             homing: None,
@@ -154,6 +165,7 @@ impl<T: Real> Teleop<T> {
             master: [None; 2],
             hands: [Side::Left, Side::Right],
             margins: Margins::of(&step),
+            path_low: (Margins::of(&step), None),
             step,
             clearance: None,
             fault: None,
@@ -184,6 +196,7 @@ impl<T: Real> Teleop<T> {
         thresholds.validate()?;
         self.watch = Some((bodies, thresholds));
         self.clearance = self.clearance_of(&self.step).map_err(Error::from)?;
+        self.path_low.1 = self.clearance.as_ref().map(super::hold::gap_array);
         Ok(self)
     }
 

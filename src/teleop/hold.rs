@@ -54,7 +54,7 @@ fn culprits(reason: &HoldAt) -> [bool; 3] {
 }
 
 /// The three gaps of `c`, in the order of [`ClearancePair::ALL`], mm.
-fn gap_array<T: Real>(c: &Clearance<T>) -> [T; 3] {
+pub(super) fn gap_array<T: Real>(c: &Clearance<T>) -> [T; 3] {
     ClearancePair::ALL.map(|pair| c.get(pair).gap)
 }
 
@@ -116,8 +116,12 @@ struct Trial<T: Real> {
     clearance: Option<Clearance<T>>,
     tracker: MarginTracker<T>,
     end_tracker: MarginTracker<T>,
+    mid_tracker: MarginTracker<T>,
     /// The stop from it the checks covered, s (none when unchecked).
     stop_s: Option<T>,
+    /// The lowest margins and gaps its checks found, at the setpoint or
+    /// along the stop line.
+    path_low: (Margins<T>, Option<[T; 3]>),
 }
 
 impl<T: Real> Teleop<T> {
@@ -255,7 +259,9 @@ impl<T: Real> Teleop<T> {
         let margins = Margins::of(&step);
         let clearance = self.clearance_of(&step).map_err(Miss::reach)?;
         let mut end_tracker = self.end_tracker;
+        let mut mid_tracker = self.mid_tracker;
         let mut stop_s = None;
+        let mut path_low = (margins, clearance.as_ref().map(gap_array));
         if check {
             let gaps = clearance.as_ref().map(gap_array);
             self.admissible(&margins, gaps)?;
@@ -286,7 +292,11 @@ impl<T: Real> Teleop<T> {
                                 left: ends[0],
                                 right: ends[1],
                             },
-                            &mut end_tracker,
+                            if i == 2 {
+                                &mut end_tracker
+                            } else {
+                                &mut mid_tracker
+                            },
                         )
                         .map_err(Miss::reach)?;
                     let g = self.clearance_of(&end).map_err(Miss::reach)?;
@@ -308,6 +318,7 @@ impl<T: Real> Teleop<T> {
                     _ => None,
                 };
                 self.admissible(&lowest.0, lowest.1)?;
+                path_low = lowest;
             }
         }
         Ok(Trial {
@@ -318,7 +329,9 @@ impl<T: Real> Teleop<T> {
             clearance,
             tracker,
             end_tracker,
+            mid_tracker,
             stop_s,
+            path_low,
         })
     }
 
@@ -340,7 +353,9 @@ impl<T: Real> Teleop<T> {
         which: [bool; 3],
         miss: Miss<T>,
     ) -> Option<(Trial<T>, Velocities<T>)> {
-        let now = (self.margins, self.clearance.as_ref().map(gap_array));
+        // At `s = 0` the robot follows the stop the current setpoint was
+        // checked with: its lowest values are the slack there.
+        let now = self.path_low;
         let (mut hi, mut miss) = (T::one(), miss);
         for _ in 0..TRIES {
             let s = match (self.slack(miss.at, &now.0, now.1), miss.slack) {
@@ -383,6 +398,8 @@ impl<T: Real> Teleop<T> {
         self.clearance = trial.clearance;
         self.tracker = trial.tracker;
         self.end_tracker = trial.end_tracker;
+        self.path_low = trial.path_low;
+        self.mid_tracker = trial.mid_tracker;
         self.velocity = v;
     }
 
@@ -398,6 +415,7 @@ impl<T: Real> Teleop<T> {
         let miss = match self.trial(dt, candidate, checked) {
             Ok(trial) => {
                 self.commit(dt, trial, *candidate);
+                self.widened = None;
                 return None;
             }
             Err(miss) => miss,
@@ -408,11 +426,22 @@ impl<T: Real> Teleop<T> {
         if checked {
             // First only what the limit belongs to (one module's tip and
             // the view, which moves both modules' joints), then everything.
+            // When the cycle before held at the same limit and its own
+            // parts did not suffice, everything is reduced at once.
             let all = [true; 3];
             let own = culprits(&reason);
-            best = self.search(dt, &brake, candidate, own, miss);
+            let widened = self.widened == Some(reason);
+            if !widened {
+                best = self.search(dt, &brake, candidate, own, miss);
+            }
             if best.is_none() && own != all {
                 best = self.search(dt, &brake, candidate, all, miss);
+                self.widened = best.is_some().then_some(reason);
+            } else {
+                self.widened = None;
+            }
+            if widened && best.is_none() {
+                best = self.search(dt, &brake, candidate, own, miss);
             }
         }
         let (trial, v) = match best {

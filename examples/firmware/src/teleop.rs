@@ -230,8 +230,10 @@ fn check_cycle(
     }
     for m in Margin::ALL {
         let above = f64::from(c.margins[m]) - f64::from(sup.stop[m]);
-        // `!(x >= 0)` catches NaN too.
-        if !(above >= 0.0) {
+        // The core's checks accept 64 units in the last place of rounding
+        // off a threshold (`f32` here); `!(x >= -r)` catches NaN too.
+        let rounding = f64::from(sup.stop[m].abs().max(1.0) * 64.0 * f32::EPSILON);
+        if !(above >= -rounding) {
             ok = mismatch(out, k, "a margin is below its stop threshold");
         }
         if above < track.lowest.0 {
@@ -581,8 +583,10 @@ fn report(
     }
     let (low, m, k) = track.lowest;
     let name = Margin::ALL.get(m).map_or("?", |m| m.name());
-    out.str("teleop margins: lowest above its stop threshold ")
-        .fixed(low, 6);
+    out.str(
+        "teleop margins: lowest margin minus its stop threshold (f32 rounding allowance 64 ulps) ",
+    )
+    .fixed(low, 6);
     out.str(" (").str(name).str(" at cycle ").u64(k as u64);
     out.str("); cycles following the tips: ")
         .u64(track.following as u64)
