@@ -241,8 +241,9 @@ impl OutputFile {
         )
     }
 
-    /// As [`OutputFile::create`], the CSV with `columns` (a teleoperation
-    /// run's, [`crate::teleop::CSV_WITH_TELEOP`]).
+    /// As [`OutputFile::create`], the CSV with `columns`; with a
+    /// teleoperation run's ([`crate::teleop::CSV_WITH_TELEOP`]), the MCAP
+    /// file has its `/teleop` channel ([`McapSink::teleop`]).
     ///
     /// # Errors
     /// As [`OutputFile::create`].
@@ -261,12 +262,24 @@ impl OutputFile {
                     error,
                 },
             )?)),
-            Format::Mcap => Writer::Mcap(Box::new(McapSink::new(file, scenario).map_err(
-                |error| OutputError::Mcap {
+            Format::Mcap => {
+                // A teleoperation run's columns put its inputs and states
+                // on `/teleop`.
+                let teleop = columns.len() == crate::teleop::CSV_WITH_TELEOP.len()
+                    && columns
+                        .iter()
+                        .zip(&crate::teleop::CSV_WITH_TELEOP)
+                        .all(|(a, b)| a.name == b.name);
+                let sink = if teleop {
+                    McapSink::teleop(file, scenario)
+                } else {
+                    McapSink::new(file, scenario)
+                };
+                Writer::Mcap(Box::new(sink.map_err(|error| OutputError::Mcap {
                     path: path.to_owned(),
                     error,
-                },
-            )?)),
+                })?))
+            }
         };
         Ok(Self {
             writer,

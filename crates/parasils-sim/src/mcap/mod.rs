@@ -33,6 +33,12 @@
 //! `retarget` or `stop`). Its channel comes after `/scene`, so the other
 //! channels keep their ids; a run without commands has no `/motion`.
 //!
+//! A teleoperation run ([`McapSink::teleop`]) has one more channel after
+//! every other, `/teleop` (schema `parasils.Teleop`): per record each
+//! device's axes and buttons, the command, state, hold, fault and hands as
+//! the CSV's codes ([`crate::teleop`]), and the state (`ENABLED`), the
+//! limit held at and the fault in words (empty strings when none).
+//!
 //! For the 3D view, in metres as Foxglove expects:
 //! - `/tf`, `foxglove.FrameTransforms`: `world -> platform` (`P` and `R`),
 //!   `platform -> left_rcm`, `platform -> right_rcm` (the ports), and
@@ -124,6 +130,7 @@ pub use schema::{
 };
 pub use sink::{
     GENERATOR, MOTION_TOPIC, McapOptions, McapSink, RUN_METADATA, SAMPLE_TOPICS, SCENARIO_METADATA,
+    TELEOP_TOPIC,
 };
 
 #[cfg(test)]

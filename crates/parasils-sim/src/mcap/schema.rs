@@ -68,6 +68,79 @@ pub(crate) fn data_schema(channel: Channel, fields: &[Field]) -> serde_json::Val
     })
 }
 
+/// The fields of a teleoperation run's `/teleop` messages: `t_s`, then
+/// the teleoperation columns on no other channel (each device's axes and
+/// buttons, the codes), in [`crate::teleop::TELEOP`]'s order.
+pub(crate) fn teleop_fields() -> Vec<Field> {
+    core::iter::once(columns::T_S)
+        .chain(
+            crate::teleop::TELEOP
+                .into_iter()
+                .filter(|c| c.channel.is_none()),
+        )
+        .enumerate()
+        .map(|(k, column)| Field {
+            key: format!("{}\"{}\":", if k == 0 { "{" } else { "," }, column.name).into_bytes(),
+            column,
+        })
+        .collect()
+}
+
+/// The name of `/teleop`'s JSON schema.
+pub(crate) const TELEOP_SCHEMA_NAME: &str = "parasils.Teleop";
+
+/// The JSON Schema of `/teleop`'s messages: the numbers of
+/// [`teleop_fields`], then the state, the limit held at and the fault in
+/// words.
+pub(crate) fn teleop_schema(fields: &[Field]) -> serde_json::Value {
+    let mut properties = serde_json::Map::new();
+    for f in fields {
+        let kind = if f.column.integer {
+            "integer"
+        } else {
+            "number"
+        };
+        properties.insert(
+            f.column.name.to_owned(),
+            serde_json::json!({"type": kind, "description": format!("unit: {}", f.column.unit)}),
+        );
+    }
+    properties.insert(
+        "state".to_owned(),
+        serde_json::json!({
+            "type": "string",
+            "enum": ["DISABLED", "ENABLED", "PAUSED", "FAULT"],
+            "description": "the operating state after the cycle (CRTK's names)",
+        }),
+    );
+    for (name, what) in [
+        (
+            "hold",
+            "the limit the cycle holds at, in words; empty when none",
+        ),
+        (
+            "fault",
+            "the fault that put the core in FAULT, in words; empty when none",
+        ),
+    ] {
+        properties.insert(
+            name.to_owned(),
+            serde_json::json!({"type": "string", "description": what}),
+        );
+    }
+    let mut required: Vec<&str> = fields.iter().map(|f| f.column.name).collect();
+    required.extend(["state", "hold", "fault"]);
+    serde_json::json!({
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "title": TELEOP_SCHEMA_NAME,
+        "description": "One teleoperation cycle: what each device held (axes normalised to [-1, 1], buttons as a bit mask), the command given, and what the core made of it (codes as the CSV's, and in words)",
+        "type": "object",
+        "properties": properties,
+        "required": required,
+        "additionalProperties": false,
+    })
+}
+
 /// The name of `/motion`'s JSON schema.
 pub(crate) const MOTION_SCHEMA_NAME: &str = "parasils.Motion";
 

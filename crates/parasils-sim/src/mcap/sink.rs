@@ -11,6 +11,9 @@ use nalgebra::Vector3;
 
 /// The topic of the active command, in runs with commands.
 pub const MOTION_TOPIC: &str = "/motion";
+/// A teleoperation run's channel of the devices' inputs and the core's
+/// state ([`McapSink::teleop`]).
+pub const TELEOP_TOPIC: &str = "/teleop";
 
 use super::camera::{self, ANNOTATIONS_TOPIC, CALIBRATION_TOPIC, CameraImage};
 use super::error::McapError;
@@ -99,6 +102,9 @@ pub struct McapSink<W: Write + Seek> {
     /// `/motion`'s channel id and next sequence number, in a run with
     /// commands.
     motion: Option<(u16, u32)>,
+    /// `/teleop`'s channel id, next sequence number and numeric fields, in
+    /// a teleoperation run.
+    teleop: Option<(u16, u32, Vec<Field>)>,
     /// The commands as they took effect: index, kind, first time.
     commands: Vec<(u32, CommandKind, f64)>,
     /// In a procedure: each motion's name as a JSON string (`null` for
@@ -208,6 +214,28 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
         scenario: &Scenario,
         options: McapOptions,
     ) -> Result<Self, McapError> {
+        Self::build(writer, scenario, options, false)
+    }
+
+    /// Starts a teleoperation run's file: as [`McapSink::new`], with one more
+    /// channel, `/teleop` (schema `parasils.Teleop`), after every other: one
+    /// message per record with each device's axes and buttons, the codes of
+    /// [`crate::teleop`] and the state, the limit held at and the fault in
+    /// words (`{"t_s": .., "left_tx": .., .., "state": "ENABLED", "hold":
+    /// "margin right.qs3_limits", "fault": ""}`).
+    ///
+    /// # Errors
+    /// As [`McapSink::new`].
+    pub fn teleop(writer: W, scenario: &Scenario) -> Result<Self, McapError> {
+        Self::build(writer, scenario, McapOptions::default(), true)
+    }
+
+    fn build(
+        writer: W,
+        scenario: &Scenario,
+        options: McapOptions,
+        teleop: bool,
+    ) -> Result<Self, McapError> {
         let period = options.scene_period_s;
         let Ok(scene_period_ns) = log_time(period) else {
             return Err(McapError::InvalidOption {
@@ -294,6 +322,16 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
             None
         };
 
+        let teleop = if teleop {
+            let fields = schema::teleop_fields();
+            let schema = serde_json::to_vec_pretty(&schema::teleop_schema(&fields))?;
+            let schema_id = writer.add_schema(schema::TELEOP_SCHEMA_NAME, "jsonschema", &schema)?;
+            let id = writer.add_channel(schema_id, TELEOP_TOPIC, "json", &no_meta)?;
+            Some((id, 0, fields))
+        } else {
+            None
+        };
+
         let tips = scenario.tips();
         let thread = WriterThread::spawn(writer)?;
         Ok(Self {
@@ -306,6 +344,7 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
             annotations: (annotations, 0),
             image: CameraImage::of(&geometry.camera),
             motion,
+            teleop,
             commands: Vec::new(),
             motion_names: procedure.then(|| {
                 scenario
@@ -525,6 +564,51 @@ impl<W: Write + Seek + Send + 'static> Sink for McapSink<W> {
             self.motion = Some((id, seq.wrapping_add(1)));
             if self.commands.last().is_none_or(|c| c.0 != record.command) {
                 self.commands.push((record.command, record.kind, record.t));
+            }
+        }
+
+        if let Some((id, seq, fields)) = &self.teleop {
+            let (id, seq) = (*id, *seq);
+            self.buf.clear();
+            for f in fields {
+                self.buf.extend_from_slice(&f.key);
+                let value = f.column.value(record);
+                // The codes and bit masks as JSON integers (`2`, not `2.0`).
+                let whole = f.column.integer && value.fract() == 0.0 && value.abs() < 1e15;
+                let written = if whole {
+                    #[allow(clippy::cast_possible_truncation)]
+                    let n = value as i64;
+                    self.buf
+                        .extend_from_slice(itoa::Buffer::new().format(n).as_bytes());
+                    Ok(())
+                } else {
+                    push_num(&mut self.buf, &mut self.ryu, value)
+                };
+                if let Err(value) = written {
+                    return Err(McapError::NonFinite {
+                        topic: TELEOP_TOPIC,
+                        field: f.column.name,
+                        t: record.t,
+                        value,
+                    });
+                }
+            }
+            let r = &record.teleop;
+            let words = [
+                ("state", r.state.to_string()),
+                ("hold", r.hold.map(|h| h.to_string()).unwrap_or_default()),
+                ("fault", r.fault.map(|f| f.to_string()).unwrap_or_default()),
+            ];
+            for (key, text) in words {
+                self.buf.extend_from_slice(b",\"");
+                self.buf.extend_from_slice(key.as_bytes());
+                self.buf.extend_from_slice(b"\":");
+                serde_json::to_writer(&mut self.buf, &text)?;
+            }
+            self.buf.push(b'}');
+            self.write(id, seq, ns);
+            if let Some(t) = &mut self.teleop {
+                t.1 = seq.wrapping_add(1);
             }
         }
 
