@@ -5,8 +5,9 @@
 //! and a teleoperation block.
 //!
 //! Live devices are read once per cycle, at the control rate, until Ctrl-C
-//! (SIGINT or SIGTERM); the core is enabled at the first cycle, and the
-//! output written up to the last cycle run. Errors are one line and a
+//! (SIGINT or SIGTERM); the core is enabled at the first cycle. On Ctrl-C
+//! it is disabled and run on until its controlled stop has ended, and the
+//! output is written up to that last cycle. Errors are one line and a
 //! non-zero exit; a failed run leaves no file (it is written to a temporary
 //! file renamed at the end).
 
@@ -14,7 +15,7 @@ use core::time::Duration;
 use std::io::Write;
 use std::time::Instant;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result, anyhow, bail};
 use parasils::teleop::{Command, TeleopParams};
 use parasils_device::{Held, Recording, SpaceMouse};
 use parasils_io::Fixed;
@@ -26,6 +27,22 @@ use parasils_sim::{Replay, SETTLE_S, Sink, Tee, TeleopRun, TeleopSummary};
 use crate::args::TeleopArgs;
 use crate::interrupt;
 use crate::stdout;
+
+/// The longest a live session runs on after Ctrl-C for its controlled
+/// stop, s (a tip at its speed limit stops in 0.5 s).
+const STOP_S: f64 = 5.0;
+
+/// One cycle's record into the summaries and the output file.
+fn push(
+    record: &parasils_sim::Record,
+    summary: &mut Summary,
+    teleop: &mut TeleopSummary,
+    out: Option<&mut OutputFile>,
+) -> Result<()> {
+    let mut tee = Tee::new().with(summary).with(teleop).with_some(out);
+    tee.push(record)
+        .map_err(|e| anyhow!("writing the output failed: {e}"))
+}
 
 /// `parasils teleop`.
 pub fn teleop(args: &TeleopArgs) -> Result<()> {
@@ -70,12 +87,10 @@ pub fn teleop(args: &TeleopArgs) -> Result<()> {
         summary = Some(s);
     } else {
         // Fails here, as one line, when no device is attached.
-        let mut devices = SpaceMouse::open_all(2)?;
-        if let Ok(mut third) = SpaceMouse::open_all(3)
-            && let Some(camera) = third.pop()
-        {
-            devices.push(camera);
-        }
+        let mut devices = match SpaceMouse::open_all(3) {
+            Ok(three) => three,
+            Err(_) => SpaceMouse::open_all(2)?,
+        };
         let mut run = TeleopRun::new(scenario, params)?;
         if let Some((p, format)) = file.take() {
             out = Some(OutputFile::create_with(
@@ -87,6 +102,13 @@ pub fn teleop(args: &TeleopArgs) -> Result<()> {
         }
         let mut s = Summary::for_simulation(run.simulation());
         let start = Instant::now();
+        let pace = |run: &TeleopRun| {
+            // Paced at the control rate against the wall clock.
+            let due = Duration::from_secs_f64(run.next_time_s());
+            if let Some(wait) = due.checked_sub(start.elapsed()) {
+                std::thread::sleep(wait);
+            }
+        };
         let mut command = Some(Command::Enable);
         while interrupt::received().is_none() {
             let mut held = [Held::REST; 3];
@@ -98,18 +120,20 @@ pub fn teleop(args: &TeleopArgs) -> Result<()> {
                 };
             }
             let record = run.step(held, command.take())?;
-            let mut tee = Tee::new()
-                .with(&mut s)
-                .with(&mut teleop_summary)
-                .with_some(out.as_mut());
-            if tee.push(&record).is_err() {
-                bail!("writing the output failed");
+            push(&record, &mut s, &mut teleop_summary, out.as_mut())?;
+            pace(&run);
+        }
+        // Interrupted: disable, and run on (the devices no longer read)
+        // until the controlled stop has ended, at most `STOP_S`.
+        let mut command = Some(Command::Disable);
+        let until = run.next_time_s() + STOP_S;
+        loop {
+            let record = run.step([Held::REST; 3], command.take())?;
+            push(&record, &mut s, &mut teleop_summary, out.as_mut())?;
+            if run.teleop().is_at_rest() || run.next_time_s() > until {
+                break;
             }
-            // Paced at the control rate against the wall clock.
-            let due = Duration::from_secs_f64(run.next_time_s());
-            if let Some(wait) = due.checked_sub(start.elapsed()) {
-                std::thread::sleep(wait);
-            }
+            pace(&run);
         }
         summary = Some(s);
     }

@@ -38,6 +38,15 @@ pub enum DeviceError {
         /// The HID layer's message.
         message: String,
     },
+    /// A recording file that cannot be read at all (missing, a folder, no
+    /// permission, not UTF-8).
+    #[error("cannot read {file}: {message}")]
+    RecordingFile {
+        /// The file.
+        file: String,
+        /// The operating system's reason.
+        message: String,
+    },
     /// A recorded input stream that cannot be read as one.
     #[error("{file}: line {line}: {message}")]
     Recording {

@@ -70,12 +70,13 @@ impl Recording {
     /// Reads and checks a recording file.
     ///
     /// # Errors
-    /// [`DeviceError::Recording`], naming the file, the line and the column.
+    /// [`DeviceError::RecordingFile`] when the file cannot be read;
+    /// [`DeviceError::Recording`], naming the file, the line and the
+    /// column, when its content is wrong.
     pub fn read(path: &Path) -> Result<Self, DeviceError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| DeviceError::Recording {
+        let text = std::fs::read_to_string(path).map_err(|e| DeviceError::RecordingFile {
             file: file.clone(),
-            line: 0,
             message: e.to_string(),
         })?;
         Self::parse(&text, &file)
@@ -340,7 +341,7 @@ t_s,device,tx,ty,tz,rx,ry,rz,buttons,command
         let missing = Recording::read(&dir.join("none.csv"))
             .err()
             .map(|e| e.to_string());
-        assert!(missing.is_some_and(|m| m.contains("none.csv: line 0:")));
+        assert!(missing.is_some_and(|m| m.starts_with("cannot read ") && m.contains("none.csv: ")));
         Ok(())
     }
 }

@@ -428,10 +428,21 @@ fn finish<'py>(
             columns::CSV_COUNT
         )),
     })?;
+    columns_dict(py, csv, table)
+}
+
+/// The table's columns as a dict of NumPy arrays named as the CSV's
+/// columns: `int64` for the whole-number columns (command indices, codes,
+/// bit masks: whole numbers widened to `f64`, exactly), `float64` for the
+/// others.
+pub(crate) fn columns_dict<'py>(
+    py: Python<'py>,
+    columns: &[parasils_sim::columns::Column],
+    table: Vec<Vec<f64>>,
+) -> PyResult<Bound<'py, PyDict>> {
     let dict = PyDict::new(py);
-    for (column, values) in csv.iter().zip(table) {
+    for (column, values) in columns.iter().zip(table) {
         if column.integer {
-            // The command index: a u32 widened to f64, exactly.
             #[allow(clippy::cast_possible_truncation, reason = "whole numbers")]
             let ints: Vec<i64> = values.iter().map(|v| *v as i64).collect();
             dict.set_item(column.name, ints.into_pyarray(py))?;

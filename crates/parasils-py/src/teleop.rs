@@ -6,7 +6,6 @@
 use core::convert::Infallible;
 use std::path::PathBuf;
 
-use numpy::IntoPyArray;
 use parasils::teleop::TeleopParams;
 use parasils_device::Recording;
 use parasils_sim::teleop::CSV_WITH_TELEOP;
@@ -109,16 +108,5 @@ pub(crate) fn teleop<'py>(
         Ok(table)
     });
     let table = table.map_err(PyValueError::new_err)?;
-    let dict = PyDict::new(py);
-    for (column, values) in columns.iter().zip(table) {
-        if column.integer {
-            // Codes and bit masks: whole numbers widened to f64, exactly.
-            #[allow(clippy::cast_possible_truncation, reason = "whole numbers")]
-            let ints: Vec<i64> = values.iter().map(|v| *v as i64).collect();
-            dict.set_item(column.name, ints.into_pyarray(py))?;
-        } else {
-            dict.set_item(column.name, values.into_pyarray(py))?;
-        }
-    }
-    Ok(dict)
+    crate::simulate::columns_dict(py, columns, table)
 }
