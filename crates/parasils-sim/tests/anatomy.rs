@@ -342,3 +342,119 @@ fn the_mcap_scene_draws_each_region_once_with_its_shape_and_place() {
             .all(|e| e["lifetime"]["sec"] == 0 && e["lifetime"]["nsec"] == 0)
     );
 }
+
+/// An online run (a turn to `psi = -30`, `theta = 10` deg, then the same
+/// goal commanded again at 0.3 s) with the right tip moved by `(60, -40, 40)` mm from the default so
+/// that the shafts and the endoscope stay clear of each other; with
+/// `regions`, the anatomy, and with `watched`, the robot file's clearance
+/// thresholds (warn 2 mm, stop 0.5 mm).
+fn online(regions: Option<Arc<Anatomy>>, watched: bool) -> Vec<Record> {
+    let g = [-30.0, 10.0];
+    let right = parasils::kin::TipTargets::<f64>::paper().right + V::new(60.0, -40.0, 40.0);
+    let mut scenario = Input {
+        psi_deg: Some(g[0]),
+        theta_deg: Some(g[1]),
+        tip_right_mm: Some([right.x, right.y, right.z]),
+        retarget: Some(vec![parasils_sim::scenario::Retarget {
+            t_s: 0.3,
+            psi_deg: g[0],
+            theta_deg: g[1],
+        }]),
+        ..Input::default()
+    }
+    .resolve()
+    .expect("an online run");
+    scenario.anatomy = regions;
+    if watched {
+        scenario.supervisor.clearance_warn_mm = Some(2.0);
+        scenario.supervisor.clearance_stop_mm = Some(0.5);
+    }
+    let sim = Simulation::new(scenario).expect("planned");
+    sim.samples().map(|r| r.expect("runs")).collect()
+}
+
+/// The gap from the left shaft of `r` to the sphere `(c, radius)`, mm.
+fn ball_gap(r: &Record, c: &V, radius: f64) -> f64 {
+    let [left, _] = shafts(r);
+    point_segment(c, &left.0, &left.1) - radius - SHAFT_RADIUS
+}
+
+#[test]
+fn an_online_run_stops_ahead_of_a_forbidden_region() {
+    // The turn without regions: the left port sweeps 1.2 mm across the
+    // shaft while the tip holds. A 20 mm ball on the side the port moves
+    // to, 0.1 mm into the shaft's last position at its port.
+    let free = online(None, false);
+    let (first, last) = (&free[0], free.last().expect("records"));
+    let (start, end) = (shafts(first)[0], shafts(last)[0]);
+    let axis = (end.1 - end.0).normalize();
+    let sweep = (end.1 - start.1) - axis * axis.dot(&(end.1 - start.1));
+    assert!(sweep.norm() > 1.0, "the port moves {} mm", sweep.norm());
+    let radius = 20.0;
+    let centre = end.1 + sweep.normalize() * (radius + SHAFT_RADIUS - 0.1);
+    let ball = Arc::new(Anatomy {
+        file: "test.toml".into(),
+        regions: vec![
+            Region::new(
+                "ball".into(),
+                Shape::Sphere {
+                    centre_mm: centre.into(),
+                    radius_mm: radius,
+                },
+            )
+            .expect("valid"),
+        ],
+    });
+    let (at_start, at_end) = (
+        ball_gap(first, &centre, radius),
+        ball_gap(last, &centre, radius),
+    );
+    assert!(at_start > 0.8 && at_end < 0.0, "{at_start} {at_end}");
+    // The pairs never come near their threshold on this turn: whatever
+    // stops the watched run is the region.
+    let pairs = free
+        .iter()
+        .map(|r| {
+            r.clearance
+                .left_right
+                .min(r.clearance.left_endoscope)
+                .min(r.clearance.right_endoscope)
+        })
+        .fold(f64::INFINITY, f64::min);
+    assert!(pairs > 1.0, "{pairs}");
+
+    // Recorded but not watched without the thresholds: the shaft enters.
+    let recorded = online(Some(ball.clone()), false);
+    let deepest = recorded
+        .iter()
+        .map(|r| ball_gap(r, &centre, radius))
+        .fold(f64::INFINITY, f64::min);
+    assert!(deepest < 0.0, "{deepest}");
+    assert!(
+        recorded
+            .iter()
+            .all(|r| r.kind != parasils_sim::scenario::CommandKind::SupervisorStop)
+    );
+
+    // Watched: the controller stops ahead of the stop threshold, every
+    // record's gap (computed here) at or above it and equal to its column.
+    let held = online(Some(ball), true);
+    assert!(
+        held.iter()
+            .any(|r| r.kind == parasils_sim::scenario::CommandKind::SupervisorStop)
+    );
+    for r in &held {
+        let gap = ball_gap(r, &centre, radius);
+        assert!(gap >= 0.5 - 1e-9, "t = {}: {gap}", r.t);
+        assert!(
+            (r.no_go_clearance_mm - gap).abs() < 1e-6,
+            "t = {}: {} vs {gap}",
+            r.t,
+            r.no_go_clearance_mm
+        );
+    }
+    // Stopped short, after closing in.
+    let end = held.last().expect("records");
+    let last_gap = ball_gap(end, &centre, radius);
+    assert!(last_gap < at_start - 0.1, "{last_gap} from {at_start}");
+}

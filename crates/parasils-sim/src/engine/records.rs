@@ -445,7 +445,13 @@ impl OnlineRun {
             self.kind = s.command.kind;
             self.pending += 1;
         }
-        let cycle = self.controller.tick(t).map_err(|e| online_error(e, t, k))?;
+        // With an anatomy and the robot file's clearance thresholds, the
+        // controller also stops ahead of the forbidden regions.
+        let cycle = match (&sim.scenario.anatomy, sim.scenario.supervisor.clearance()) {
+            (Some(anatomy), Some(_)) => self.controller.tick_with(t, &**anatomy),
+            _ => self.controller.tick(t),
+        }
+        .map_err(|e| online_error(e, t, k))?;
         check_limits(self.controller.controller(), &cycle.step, t, k)?;
         if cycle.kind == MotionKind::SupervisorStop {
             self.kind = CommandKind::SupervisorStop;
