@@ -115,12 +115,16 @@ mod schema;
 mod sink;
 mod writer;
 
-pub use camera::{ANNOTATIONS_TOPIC, CALIBRATION_TOPIC, CAMERA_FRAME, CameraImage, IMAGE_WIDTH_PX};
+pub use camera::{
+    ANNOTATIONS_TOPIC, CALIBRATION_TOPIC, CAMERA_FRAME, CameraImage, IMAGE_WIDTH_PX,
+    write_annotations, write_calibration,
+};
 pub use error::McapError;
-pub use scene::{SCENE_TOPIC, SceneGeometry, TF_TOPIC};
+pub use json::{log_time, push_num};
+pub use scene::{ProcedureScene, SCENE_TOPIC, SceneGeometry, TF_TOPIC, write_scene, write_tf};
 pub use schema::{
-    CAMERA_CALIBRATION_SCHEMA, FRAME_TRANSFORMS_SCHEMA, IMAGE_ANNOTATIONS_SCHEMA,
-    SCENE_UPDATE_SCHEMA,
+    CAMERA_CALIBRATION_SCHEMA, FRAME_TRANSFORMS_SCHEMA, Field, IMAGE_ANNOTATIONS_SCHEMA,
+    SCENE_UPDATE_SCHEMA, data_schema, fields,
 };
 pub use sink::{
     GENERATOR, MOTION_TOPIC, McapOptions, McapSink, RUN_METADATA, SAMPLE_TOPICS, SCENARIO_METADATA,
