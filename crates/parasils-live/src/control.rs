@@ -124,8 +124,14 @@ pub fn run_loop(
     let mut pending: std::collections::VecDeque<(CommandRequest, ClientTag)> =
         std::collections::VecDeque::new();
     let mut fresh: [Option<(DeviceInput, Instant)>; 3] = [None; 3];
+    // When each device's input lapses (a twist's), back to rest with
+    // enable held.
+    let mut lapse: [Option<Instant>; 3] = [None; 3];
     let mut applied = None;
     let mut k: u64 = 0;
+    // The last cycle run, if it was not published: stopped between two
+    // published cycles, the session still ends on its last cycle.
+    let mut unpublished = None;
     loop {
         let last = settings.cycles.is_some_and(|n| k + 1 >= n);
         if settings.cycles.is_some_and(|n| k >= n) || stop.load(Ordering::Relaxed) {
@@ -148,12 +154,22 @@ pub fn run_loop(
                         buttons: input.buttons,
                     };
                     fresh[d] = Some((input, at));
+                    lapse[d] = input
+                        .hold_s
+                        .and_then(|h| Duration::try_from_secs_f64(h).ok())
+                        .map(|h| at + h);
                 }
                 Event::Command(request, client, _) => pending.push_back((request, client)),
             }
         }
         // After the queue is emptied: every input read arrived before it.
         let read = Instant::now();
+        for (h, l) in held.iter_mut().zip(lapse.iter_mut()) {
+            if l.is_some_and(|end| read >= end) {
+                *l = None;
+                h.axes = [0.0; 6];
+            }
+        }
         let t = run.next_time_s();
         for (input, at) in fresh.iter_mut().filter_map(Option::take) {
             applied = Some(AppliedInput {
@@ -183,21 +199,28 @@ pub fn run_loop(
                 t_s: t,
             });
         }
+        let frame = Frame {
+            record,
+            busy,
+            stats,
+            input: applied,
+        };
+        unpublished = None;
         if k % settings.publish_every == 0 || last {
-            let frame = Frame {
-                record,
-                busy,
-                stats,
-                input: applied,
-            };
             match queues.frames.try_send(frame) {
                 Ok(()) => {}
                 Err(TrySendError::Full(_)) => stats.dropped_frames += 1,
                 Err(TrySendError::Disconnected(_)) => break,
             }
+        } else {
+            unpublished = Some(frame);
         }
         stats.count(woke.saturating_duration_since(due), woke.elapsed(), period);
         k += 1;
+    }
+    if let Some(frame) = unpublished {
+        // The loop is over: waiting for the publisher costs no cycle.
+        let _ = queues.frames.send(frame);
     }
     Ok(stats)
 }

@@ -10,6 +10,14 @@
 //! A device's input is held until its next message, as a SpaceMouse's
 //! state is; a message that does not parse changes nothing and gets an
 //! error back to the client that sent it.
+//!
+//! An input topic also takes a twist, `{"linear": {"x", "y", "z"},
+//! "angular": {"x", "y", "z"}}` (`geometry_msgs/Twist`'s fields, what
+//! Foxglove's teleop panel publishes while a button is held): the six axes
+//! in that order, the enable button held, and held for [`TWIST_HOLD_S`]
+//! only: a panel stops publishing when its button is released, so the
+//! device returns to rest (enable still held) when no twist came for that
+//! long.
 
 use parasils::teleop::Command;
 
@@ -56,6 +64,9 @@ impl InputDevice {
     }
 }
 
+/// How long a twist input holds without a new one, s.
+pub const TWIST_HOLD_S: f64 = 0.25;
+
 /// The topic of the commands.
 pub const COMMAND_TOPIC: &str = "/command";
 
@@ -70,6 +81,8 @@ pub struct DeviceInput {
     pub buttons: u8,
     /// The client's number for it, if given.
     pub id: Option<u64>,
+    /// How long it holds without a new one, s (`None`: until the next).
+    pub hold_s: Option<f64>,
 }
 
 /// A command as a client sends it.
@@ -180,6 +193,11 @@ pub fn parse(topic: &str, payload: &[u8]) -> Result<ClientMessage, MessageError>
         });
     };
     let id = id_of(&obj, topic)?;
+    if let Some(device) = device
+        && obj.contains_key("linear")
+    {
+        return twist(topic, device, &obj, id);
+    }
     let Some(device) = device else {
         let name = obj
             .get("command")
@@ -238,6 +256,45 @@ pub fn parse(topic: &str, payload: &[u8]) -> Result<ClientMessage, MessageError>
         axes,
         buttons,
         id,
+        hold_s: None,
+    }))
+}
+
+/// A twist on `device`'s topic: `linear` then `angular`, each `x y z`,
+/// clamped to `[-1, 1]` (a panel's speeds are its own scale), enable held.
+fn twist(
+    topic: &'static str,
+    device: InputDevice,
+    obj: &serde_json::Map<String, serde_json::Value>,
+    id: Option<u64>,
+) -> Result<ClientMessage, MessageError> {
+    let mut axes = [0.0; 6];
+    for (k, (part, field)) in [("linear", "linear"), ("angular", "angular")]
+        .into_iter()
+        .enumerate()
+    {
+        let Some(v) = obj.get(part) else { continue };
+        for (j, c) in ["x", "y", "z"].into_iter().enumerate() {
+            let x = match v.get(c) {
+                None => 0.0,
+                Some(n) => n
+                    .as_f64()
+                    .filter(|x| x.is_finite())
+                    .ok_or(MessageError::Field {
+                        topic,
+                        field,
+                        expected: "an object of finite numbers x, y, z",
+                    })?,
+            };
+            axes[3 * k + j] = x.clamp(-1.0, 1.0);
+        }
+    }
+    Ok(ClientMessage::Input(DeviceInput {
+        device,
+        axes,
+        buttons: parasils::teleop::BUTTON_ENABLE,
+        id,
+        hold_s: Some(TWIST_HOLD_S),
     }))
 }
 
@@ -258,8 +315,31 @@ mod tests {
                 axes: [0.5, 0.0, 0.0, 0.0, 0.0, -1.0],
                 buttons: 1,
                 id: Some(9),
+                hold_s: None,
             }))
         );
+        // A teleop panel's twist: the six axes clamped, enable held, held
+        // for a quarter of a second only.
+        assert_eq!(
+            parse(
+                "/left/servo_input",
+                br#"{"linear":{"x":2,"y":-0.5,"z":0},"angular":{"x":0,"y":0,"z":0.25}}"#
+            ),
+            Ok(ClientMessage::Input(DeviceInput {
+                device: InputDevice::Left,
+                axes: [1.0, -0.5, 0.0, 0.0, 0.0, 0.25],
+                buttons: 1,
+                id: None,
+                hold_s: Some(0.25),
+            }))
+        );
+        assert!(matches!(
+            parse("/left/servo_input", br#"{"linear":{"x":"fast"}}"#),
+            Err(MessageError::Field {
+                field: "linear",
+                ..
+            })
+        ));
         assert_eq!(
             parse("/command", br#"{"command":"pause"}"#),
             Ok(ClientMessage::Command(CommandRequest {

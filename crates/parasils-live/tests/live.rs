@@ -383,3 +383,92 @@ fn a_legacy_client_is_refused_with_http_400() {
     drop(current);
     s.wait().expect("session");
 }
+
+/// Every topic a JSON layout panel names, from the fields Foxglove's panels
+/// keep them in (a message path's topic is the part before its first `.`
+/// or `[`, after the leading `/`).
+fn layout_topics(layout: &Value) -> Vec<(String, String)> {
+    let topic_of = |path: &str| {
+        let end = path[1..].find(['.', '[']).map_or(path.len(), |k| k + 1);
+        path[..end].to_owned()
+    };
+    let mut out = Vec::new();
+    for (panel, config) in layout["configById"].as_object().expect("configById") {
+        for key in ["topic", "topicName", "topicPath"] {
+            if let Some(t) = config[key].as_str() {
+                out.push((panel.clone(), topic_of(t)));
+            }
+        }
+        for p in config["paths"].as_array().into_iter().flatten() {
+            out.push((panel.clone(), topic_of(p["value"].as_str().expect("path"))));
+        }
+        for t in config["topics"]
+            .as_object()
+            .into_iter()
+            .flatten()
+            .map(|(t, _)| t)
+        {
+            out.push((panel.clone(), t.clone()));
+        }
+        if let Some(image) = config["imageMode"].as_object() {
+            out.push((
+                panel.clone(),
+                image["calibrationTopic"]
+                    .as_str()
+                    .expect("calibration")
+                    .to_owned(),
+            ));
+            for t in image["annotations"]
+                .as_object()
+                .into_iter()
+                .flatten()
+                .map(|(t, _)| t)
+            {
+                out.push((panel.clone(), t.clone()));
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn the_shipped_layout_names_only_topics_the_server_has() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../layouts/parasils.json");
+    let layout: Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).expect("layout")).expect("JSON");
+    let served = parasils_live::Channels::new(&foxglove::Context::new())
+        .expect("channels")
+        .topics();
+    let inputs: Vec<&str> = parasils_live::InputDevice::ALL
+        .iter()
+        .map(|d| d.topic())
+        .chain([parasils_live::COMMAND_TOPIC])
+        .collect();
+    let named = layout_topics(&layout);
+    assert!(named.len() >= 20, "{named:?}");
+    for (panel, topic) in &named {
+        let ok = if panel.starts_with("Teleop!") || panel.starts_with("Publish!") {
+            inputs.contains(&topic.as_str())
+        } else {
+            served.contains(topic)
+        };
+        assert!(ok, "{panel}: {topic} is not a topic of the server");
+    }
+    // Each teleop panel's buttons send a twist the server takes as that
+    // device's input.
+    for (panel, config) in layout["configById"].as_object().expect("panels") {
+        if panel.starts_with("Teleop!") {
+            let field = config["upButton"]["field"].as_str().expect("field");
+            let (part, axis) = field.split_once('-').expect("linear-x");
+            let twist = json!({ part: { axis: config["upButton"]["value"] } });
+            let parsed = parasils_live::parse(
+                config["topic"].as_str().expect("topic"),
+                twist.to_string().as_bytes(),
+            );
+            assert!(
+                matches!(parsed, Ok(parasils_live::ClientMessage::Input(i)) if i.axes[1] == 1.0 && i.buttons == 1),
+                "{panel}: {parsed:?}"
+            );
+        }
+    }
+}

@@ -105,6 +105,11 @@
 //! `regions` (the forbidden regions in the scene),
 //! `writer` (the writer thread), and `sink` ([`McapSink`], which ties them
 //! together).
+//!
+//! The message builders are public ([`fields`] and [`data_schema`] for the
+//! data channels, [`write_tf`], [`write_scene`], [`write_calibration`],
+//! [`write_annotations`], [`log_time`], [`push_num`]) so that the live
+//! server (`parasils-live`) publishes the same messages as this file.
 
 mod camera;
 mod error;
