@@ -206,7 +206,7 @@ pub fn run_loop(
             input: applied,
         };
         unpublished = None;
-        if k % settings.publish_every == 0 || last {
+        if k.is_multiple_of(settings.publish_every) || last {
             match queues.frames.try_send(frame) {
                 Ok(()) => {}
                 Err(TrySendError::Full(_)) => stats.dropped_frames += 1,

@@ -228,8 +228,10 @@ mod tests {
 
     #[test]
     fn the_platform_rotation_is_x_then_y_then_z_and_the_left_tip_is_the_record_s() {
-        let mut r = Record::default();
-        r.pose = [1.0, 2.0, 3.0, 0.3, -0.2, 0.1];
+        let mut r = Record {
+            pose: [1.0, 2.0, 3.0, 0.3, -0.2, 0.1],
+            ..Record::default()
+        };
         // R e_z computed by hand for R_X(psi) R_Y(theta) R_Z(phi): the third
         // column, (sin theta, -sin psi cos theta, cos psi cos theta).
         let (psi, theta) = (0.3_f64, -0.2_f64);

@@ -6,7 +6,7 @@
 mod common;
 
 use std::collections::{BTreeSet, HashMap};
-use std::time::Duration;
+use core::time::Duration;
 
 use common::{Client, connect, session};
 use parasils::kin::Side;

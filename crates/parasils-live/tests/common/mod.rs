@@ -5,7 +5,8 @@
 #![allow(dead_code, reason = "each test binary uses a part of it")]
 
 use std::collections::HashMap;
-use std::time::{Duration, Instant};
+use core::time::Duration;
+use std::time::Instant;
 
 use futures_util::{SinkExt, StreamExt};
 use parasils::teleop::TeleopParams;
