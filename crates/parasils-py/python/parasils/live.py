@@ -64,7 +64,10 @@ class LiveClient:
 
     def __init__(self, url: str = "ws://127.0.0.1:8765", *, timeout_s: float = 5.0):
         self.timeout_s = timeout_s
-        self._ws = connect(url, subprotocols=[SUBPROTOCOL], open_timeout=timeout_s)
+        # Entered as a context manager: the form every version of
+        # websockets' synchronous client takes.
+        self._connection = connect(url, subprotocols=[SUBPROTOCOL], open_timeout=timeout_s)
+        self._ws = self._connection.__enter__()
         self.channels: dict[str, int] = {}
         self.schemas: dict[str, str] = {}
         self.statuses: list[tuple[int, str]] = []
@@ -85,7 +88,7 @@ class LiveClient:
 
     def close(self) -> None:
         """Closes the connection."""
-        self._ws.close()
+        self._connection.__exit__(None, None, None)
 
     # Reading.
 
