@@ -781,6 +781,9 @@ pub struct ServeArgs {
     /// Record the session's messages to FILE.mcap.
     #[arg(short = 'o', long = "output", value_name = "FILE.mcap")]
     pub output: Option<PathBuf>,
+    /// A token clients must publish on /auth before they drive.
+    #[arg(long, env = "PARASILS_TOKEN", hide_env_values = true)]
+    pub token: Option<String>,
     /// The start pose and the tips.
     #[command(flatten)]
     pub place: PlaceArgs,

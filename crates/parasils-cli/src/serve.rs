@@ -37,11 +37,17 @@ pub fn serve(args: &ServeArgs) -> Result<()> {
         publish_hz: args.publish_hz,
         duration_s: args.duration_s,
         record: args.output.clone(),
+        token: args.token.clone(),
         ..LiveOptions::default()
     };
     if !options.is_loopback() {
+        let who = if options.token.is_some() {
+            "anyone who can reach this port can watch the robot, and anyone who also has the token can drive it"
+        } else {
+            "anyone who can reach this port can drive the robot (give --token to require one)"
+        };
         eprintln!(
-            "parasils: warning: serving on {}, not loopback: anyone who can reach this port can drive the robot",
+            "parasils: warning: serving on {}, not loopback: {who}",
             options.bind
         );
     }

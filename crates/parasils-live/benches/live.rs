@@ -31,7 +31,8 @@ fn run(publish_hz: f64, reading: bool) {
         let mut c = Client::new(&address).await;
         c.subscribe(|_| true).await;
         if reading {
-            c.read_to_end(Duration::from_secs_f64(duration_s + 15.0)).await;
+            c.read_to_end(Duration::from_secs_f64(duration_s + 15.0))
+                .await;
         } else {
             // Subscribed, then silent: the socket's buffers and the
             // server's queue for this client fill up.
@@ -80,7 +81,12 @@ fn main() {
     if !std::env::args().any(|a| a == "--bench") {
         return;
     }
-    for (publish_hz, reading) in [(100.0, true), (1000.0, true), (100.0, false), (1000.0, false)] {
+    for (publish_hz, reading) in [
+        (100.0, true),
+        (1000.0, true),
+        (100.0, false),
+        (1000.0, false),
+    ] {
         run(publish_hz, reading);
     }
 }

@@ -49,6 +49,6 @@ pub use publish::{
     ACK_TOPIC, Channels, Clients, DIAGNOSTICS_TOPIC, PublishReport, PublishSettings, run_publisher,
 };
 pub use session::{
-    DEFAULT_PORT, LEGACY_SUBPROTOCOL, LiveOptions, SUBPROTOCOL, Session, SessionReport,
+    AUTH_TOPIC, DEFAULT_PORT, LEGACY_SUBPROTOCOL, LiveOptions, SUBPROTOCOL, Session, SessionReport,
 };
 pub use timing::CycleStats;

@@ -4,7 +4,7 @@
 
 use core::net::SocketAddr;
 use core::sync::atomic::{AtomicBool, Ordering};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::PathBuf;
@@ -28,6 +28,8 @@ use crate::timing::CycleStats;
 pub const SUBPROTOCOL: &str = "foxglove.sdk.v1";
 /// The subprotocol refused.
 pub const LEGACY_SUBPROTOCOL: &str = "foxglove.websocket.v1";
+/// The topic a client publishes the session's token on.
+pub const AUTH_TOPIC: &str = "/auth";
 /// The default port, Foxglove's.
 pub const DEFAULT_PORT: u16 = 8765;
 
@@ -51,6 +53,10 @@ pub struct LiveOptions {
     pub queue_frames: usize,
     /// The messages each client's queue holds before its oldest is dropped.
     pub client_backlog: usize,
+    /// A token a client must publish on [`AUTH_TOPIC`] (`{"token": ...}`)
+    /// before its inputs and commands are taken (`None`: none needed).
+    /// Watching needs no token.
+    pub token: Option<String>,
 }
 
 impl Default for LiveOptions {
@@ -66,6 +72,7 @@ impl Default for LiveOptions {
             record: None,
             queue_frames: 256,
             client_backlog: 8192,
+            token: None,
         }
     }
 }
@@ -82,6 +89,47 @@ impl LiveOptions {
 struct Listener {
     events: SyncSender<Event>,
     clients: Clients,
+    /// The token, and the clients that sent it.
+    token: Option<(String, Mutex<HashSet<u32>>)>,
+}
+
+impl Listener {
+    /// Whether `client` may drive; a message on [`AUTH_TOPIC`] is checked
+    /// here and answered (`false`: nothing more to do with it).
+    fn authorised(&self, client: &Client, topic: &str, payload: &[u8]) -> bool {
+        let Some((token, allowed)) = &self.token else {
+            return topic != AUTH_TOPIC;
+        };
+        let Ok(mut allowed) = allowed.lock() else {
+            return false;
+        };
+        if topic == AUTH_TOPIC {
+            let sent = serde_json::from_slice::<serde_json::Value>(payload)
+                .ok()
+                .and_then(|v| {
+                    v.get("token")
+                        .and_then(serde_json::Value::as_str)
+                        .map(str::to_owned)
+                });
+            if sent.as_deref() == Some(token.as_str()) {
+                allowed.insert(tag(client));
+                client.send_status(Status::info(
+                    "/auth: token accepted; inputs and commands are taken",
+                ));
+            } else {
+                client.send_status(Status::error("/auth: wrong token"));
+            }
+            return false;
+        }
+        if allowed.contains(&tag(client)) {
+            true
+        } else {
+            client.send_status(Status::error(format!(
+                "{topic}: refused: this server needs a token; publish {{\"token\": ...}} on {AUTH_TOPIC} first"
+            )));
+            false
+        }
+    }
 }
 
 fn tag(client: &Client) -> u32 {
@@ -91,6 +139,7 @@ fn tag(client: &Client) -> u32 {
 impl ServerListener for Listener {
     fn on_client_advertise(&self, client: Client, channel: &ClientChannel) {
         let known = channel.topic == COMMAND_TOPIC
+            || channel.topic == AUTH_TOPIC
             || InputDevice::ALL.iter().any(|d| d.topic() == channel.topic);
         if !known {
             client.send_status(Status::warning(format!(
@@ -105,6 +154,14 @@ impl ServerListener for Listener {
 
     fn on_message_data(&self, client: Client, channel: &ClientChannel, payload: &[u8]) {
         let at = Instant::now();
+        if !self.authorised(&client, &channel.topic, payload) {
+            if self.token.is_none() {
+                client.send_status(Status::error(format!(
+                    "{AUTH_TOPIC}: this server needs no token"
+                )));
+            }
+            return;
+        }
         let event = match parse(&channel.topic, payload) {
             Ok(ClientMessage::Input(input)) => Event::Input(input, at),
             Ok(ClientMessage::Command(request)) => Event::Command(request, tag(&client), at),
@@ -255,6 +312,10 @@ impl Session {
         let listener = Arc::new(Listener {
             events: events_in,
             clients: Arc::clone(&clients),
+            token: options
+                .token
+                .clone()
+                .map(|t| (t, Mutex::new(HashSet::new()))),
         });
         let address = format!("{}:{}", options.bind, options.port);
         let server = ctx

@@ -5,10 +5,10 @@
 
 mod common;
 
-use std::collections::{BTreeSet, HashMap};
 use core::time::Duration;
+use std::collections::{BTreeSet, HashMap};
 
-use common::{Client, connect, session};
+use common::{Client, connect, session, session_with};
 use parasils::kin::Side;
 use parasils::teleop::{Command, TeleopParams};
 use parasils_device::Held;
@@ -346,6 +346,62 @@ fn commands_follow_crtk_s_table_and_bad_messages_are_refused() {
                 .await;
             assert!(status, "no status for {command}");
         }
+        c.read_to_end(Duration::from_secs(10)).await;
+    });
+    waiter.join().expect("join").expect("session");
+}
+
+#[test]
+fn with_a_token_only_a_client_that_sent_it_drives() {
+    let s = session_with(1000.0, 100.0, 3.0, Some("s3cret"));
+    let address = s.address().to_string();
+    let waiter = std::thread::spawn(move || s.wait());
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("runtime");
+    rt.block_on(async {
+        let mut c = Client::new(&address).await;
+        c.subscribe(|t| t == "/command_ack").await;
+        c.advertise("/command").await;
+        c.advertise("/auth").await;
+        let errors = |c: &Client| c.statuses.iter().filter(|(l, _)| *l == 2).count();
+        c.publish("/command", &json!({"command": "enable", "id": 1}))
+            .await;
+        assert!(
+            c.read_until(Duration::from_secs(2), |c| errors(c) == 1)
+                .await
+        );
+        c.publish("/auth", &json!({"token": "guess"})).await;
+        assert!(
+            c.read_until(Duration::from_secs(2), |c| errors(c) == 2)
+                .await
+        );
+        c.publish("/auth", &json!({"token": "s3cret"})).await;
+        c.publish("/command", &json!({"command": "enable", "id": 2}))
+            .await;
+        let acked = c
+            .read_until(Duration::from_secs(2), |c| {
+                c.received.contains_key("/command_ack")
+            })
+            .await;
+        for (level, m) in &c.statuses {
+            println!("status {level}: {m}");
+        }
+        assert!(acked);
+        let acks = &c.received["/command_ack"];
+        // The command sent before the token was never taken.
+        assert_eq!(acks.len(), 1);
+        assert_eq!(
+            (acks[0].1["id"].as_u64(), acks[0].1["state"].as_str()),
+            (Some(2), Some("ENABLED"))
+        );
+        assert!(
+            c.statuses[0].1.contains("needs a token"),
+            "{:?}",
+            c.statuses
+        );
+        assert!(c.statuses[1].1.contains("wrong token"), "{:?}", c.statuses);
         c.read_to_end(Duration::from_secs(10)).await;
     });
     waiter.join().expect("join").expect("session");

@@ -4,8 +4,8 @@
 
 #![allow(dead_code, reason = "each test binary uses a part of it")]
 
-use std::collections::HashMap;
 use core::time::Duration;
+use std::collections::HashMap;
 use std::time::Instant;
 
 use futures_util::{SinkExt, StreamExt};
@@ -23,6 +23,16 @@ pub type Ws = WebSocketStream<MaybeTlsStream<TcpStream>>;
 
 /// A session of the paper's robot at `rate_hz`, on a free loopback port.
 pub fn session(rate_hz: f64, publish_hz: f64, duration_s: f64) -> Session {
+    session_with(rate_hz, publish_hz, duration_s, None)
+}
+
+/// The same, with a token to drive.
+pub fn session_with(
+    rate_hz: f64,
+    publish_hz: f64,
+    duration_s: f64,
+    token: Option<&str>,
+) -> Session {
     let scenario = Scenario {
         rate_hz,
         ..Scenario::paper()
@@ -32,6 +42,7 @@ pub fn session(rate_hz: f64, publish_hz: f64, duration_s: f64) -> Session {
         port: 0,
         publish_hz,
         duration_s: Some(duration_s),
+        token: token.map(str::to_owned),
         ..LiveOptions::default()
     };
     Session::start(run, &options).expect("session")

@@ -40,6 +40,9 @@ INPUT_TOPICS = {
 }
 #: The command topic.
 COMMAND_TOPIC = "/command"
+#: The topic a client publishes the server's token on (``parasils serve
+#: --token``), before it may drive.
+AUTH_TOPIC = "/auth"
 #: The topic of the commands' acknowledgements.
 ACK_TOPIC = "/command_ack"
 
@@ -62,7 +65,13 @@ class LiveClient:
     ``(level, message)``, level 0 info, 1 warning, 2 error.
     """
 
-    def __init__(self, url: str = "ws://127.0.0.1:8765", *, timeout_s: float = 5.0):
+    def __init__(
+        self,
+        url: str = "ws://127.0.0.1:8765",
+        *,
+        token: Optional[str] = None,
+        timeout_s: float = 5.0,
+    ):
         self.timeout_s = timeout_s
         # Entered as a context manager: the form every version of
         # websockets' synchronous client takes.
@@ -79,6 +88,8 @@ class LiveClient:
             self._read(deadline - time.monotonic())
         if not self.channels:
             raise LiveError(f"{url}: no channel advertised within {timeout_s} s")
+        if token is not None:
+            self.publish(AUTH_TOPIC, {"token": token})
 
     def __enter__(self) -> "LiveClient":
         return self
