@@ -23,6 +23,22 @@
 //! messages go when the client does not read. A slow client loses
 //! messages, never cycles.
 //!
+//! Clients publish each device's input (six axes and buttons, or a
+//! teleop panel's twist) and the CRTK commands; each command is
+//! acknowledged to its client and on `/command_ack` with the state it led
+//! to, and a message that does not parse is answered with an error naming
+//! the field. The server binds to loopback unless told otherwise; with a
+//! token ([`LiveOptions::token`]) a client publishes it on [`AUTH_TOPIC`]
+//! before it may drive.
+//!
+//! # Why the Foxglove SDK
+//! The `foxglove` crate (feature `websocket`, without its TLS backend)
+//! serves the protocol Foxglove speaks today, `foxglove.sdk.v1`, refuses a
+//! client offering only the legacy `foxglove.websocket.v1` with HTTP 400,
+//! takes client-published channels, JSON channels with JSON Schemas, and
+//! status messages to one client; and its MCAP writer is a sink of the same
+//! channels, so the recording holds exactly what was served.
+//!
 //! # Modules
 //! In import order: `error` ([`LiveError`]), `message` (what clients send:
 //! [`ClientMessage`], [`parse`]), `crtk` (the CRTK topics' schemas and

@@ -61,7 +61,9 @@ pub struct LiveOptions {
 
 impl Default for LiveOptions {
     /// Loopback on 8765, 100 Hz publishing, 20 ms scenes, no end, no
-    /// recording, 256 frames, 8192 messages.
+    /// recording, 1024 frames (1 s of frames at 1 kHz publishing), 32768
+    /// messages per client (about 1.5 s of every channel at 1 kHz
+    /// publishing, some 10 MB), no token.
     fn default() -> Self {
         Self {
             bind: "127.0.0.1".to_owned(),
@@ -70,8 +72,8 @@ impl Default for LiveOptions {
             scene_period_s: 0.02,
             duration_s: None,
             record: None,
-            queue_frames: 256,
-            client_backlog: 8192,
+            queue_frames: 1024,
+            client_backlog: 32768,
             token: None,
         }
     }

@@ -4,13 +4,28 @@ input moving the setpoint it drives, and the session ended by SIGINT with
 its recording complete, read back by the ``mcap`` package and validated
 against each channel's JSON Schema."""
 
+import importlib
 import json
 import signal
 import subprocess
+import sys
 
 import pytest
 
-live = pytest.importorskip("parasils.live", reason="parasils.live needs the websockets package")
+
+@pytest.fixture
+def live():
+    """``parasils.live``, imported for the test and forgotten after it:
+    the package imports it only on demand, and the other tests see the
+    package as a user who never imported it does (``test_docs`` checks
+    its public names)."""
+    pytest.importorskip("websockets", reason="parasils.live needs the websockets package")
+    module = importlib.import_module("parasils.live")
+    yield module
+    sys.modules.pop("parasils.live", None)
+    parent = sys.modules.get("parasils")
+    if parent is not None and hasattr(parent, "live"):
+        delattr(parent, "live")
 
 
 @pytest.fixture
@@ -35,7 +50,7 @@ def server(cli, tmp_path):
         proc.wait()
 
 
-def test_commands_inputs_and_a_complete_recording(server):
+def test_commands_inputs_and_a_complete_recording(server, live):
     url, proc, recording = server
     with live.LiveClient(url) as c:
         assert "/left/setpoint_cp" in c.channels and "/diagnostics" in c.channels
