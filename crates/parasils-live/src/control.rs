@@ -54,6 +54,10 @@ pub struct AppliedInput {
     /// deadline plus its lateness): `applied_s - arrival_s` is the wait
     /// between the input's arrival and its first use.
     pub applied_s: f64,
+    /// When the cycle before it read its queue, s since the session's
+    /// start (0 for the first cycle): the input arrived after this, so the
+    /// cycle that read it was the first that could.
+    pub previous_read_s: f64,
 }
 
 /// A command's outcome, for the client that sent it.
@@ -128,6 +132,7 @@ pub fn run_loop(
     // enable held.
     let mut lapse: [Option<Instant>; 3] = [None; 3];
     let mut applied = None;
+    let mut last_read = start;
     let mut k: u64 = 0;
     // The last cycle run, if it was not published: stopped between two
     // published cycles, the session still ends on its last cycle.
@@ -178,8 +183,10 @@ pub fn run_loop(
                 arrival_s: at.saturating_duration_since(start).as_secs_f64(),
                 applied_t_s: t,
                 applied_s: read.saturating_duration_since(start).as_secs_f64(),
+                previous_read_s: last_read.saturating_duration_since(start).as_secs_f64(),
             });
         }
+        last_read = read;
         let before = run.teleop().state();
         let command = pending.pop_front();
         let record = run.step(held, command.map(|(r, _)| r.command))?;

@@ -63,6 +63,7 @@ pub fn diagnostics_schema() -> serde_json::Value {
                     "arrival_s": n("unit: s"),
                     "applied_t_s": n("unit: s (the cycle's time, k / rate)"),
                     "applied_s": n("unit: s (when that cycle read it)"),
+                    "previous_read_s": n("unit: s (when the cycle before read its inputs)"),
                 },
             },
         },
@@ -373,6 +374,7 @@ impl Publisher {
                 "arrival_s": i.arrival_s,
                 "applied_t_s": i.applied_t_s,
                 "applied_s": i.applied_s,
+                "previous_read_s": i.previous_read_s,
             })
         });
         let v = json!({
