@@ -395,7 +395,7 @@ impl Json<'_> {
 /// endoscope from its tip at the record's depth up along `+z'`, a shaft
 /// from its tip back along the tool axis through its RCM), the ports and
 /// the tips, the target tips, and the camera's view frustum (lines from the
-/// eye at the endoscope's tip to the image's corners, [`FRUSTUM_MM`] along
+/// eye at the endoscope's tip to the image's corners, `FRUSTUM_MM` (80 mm) along
 /// the view).
 ///
 /// In a procedure, the targets are left out (each motion has its own), and
