@@ -208,7 +208,15 @@ pub struct Session {
     record: Option<PathBuf>,
     /// The channels' context: the server and the recording hold it weakly,
     /// so it lives as long as the session.
-    context: Arc<Context>,
+    _context: Arc<Context>,
+}
+
+impl Drop for Session {
+    /// A session dropped without [`Session::wait`] stops its loop (the
+    /// server and the recording end with their handles).
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::SeqCst);
+    }
 }
 
 impl core::fmt::Debug for Session {
@@ -390,7 +398,7 @@ impl Session {
             server: Some(server),
             mcap,
             record: options.record.clone(),
-            context: ctx,
+            _context: ctx,
         })
     }
 
@@ -430,7 +438,6 @@ impl Session {
         if let Some(server) = self.server.take() {
             server.stop().wait_blocking();
         }
-        drop(Arc::clone(&self.context));
         let finished = match (self.mcap.take(), &self.record) {
             (Some(handle), Some(path)) => {
                 handle
