@@ -96,7 +96,7 @@ pub fn ack_schema() -> serde_json::Value {
 /// Every channel of a session, made in one [`Context`].
 #[derive(Debug)]
 pub struct Channels {
-    data: Vec<(Arc<RawChannel>, Vec<Field>)>,
+    data: Vec<(Arc<RawChannel>, Vec<Field>, &'static str)>,
     tf: Arc<RawChannel>,
     scene: Arc<RawChannel>,
     calibration: Arc<RawChannel>,
@@ -136,7 +136,11 @@ impl Channels {
         for c in Channel::ALL {
             let fields = parasils_sim::mcap::fields(c);
             let schema = pretty(&parasils_sim::mcap::data_schema(c, &fields));
-            data.push((channel(ctx, c.topic(), c.schema_name(), schema)?, fields));
+            data.push((
+                channel(ctx, c.topic(), c.schema_name(), schema)?,
+                fields,
+                c.topic(),
+            ));
         }
         let official = |s: &str| s.as_bytes().to_vec();
         let mut crtk = Vec::new();
@@ -193,7 +197,7 @@ impl Channels {
         let mut t: Vec<String> = self
             .data
             .iter()
-            .map(|(c, _)| c.topic().to_owned())
+            .map(|(c, _, _)| c.topic().to_owned())
             .collect();
         for c in [&self.tf, &self.scene, &self.calibration, &self.annotations] {
             t.push(c.topic().to_owned());
@@ -256,7 +260,7 @@ impl Publisher {
         let ns = parasils_sim::mcap::log_time(r.t)?;
         for k in 0..self.channels.data.len() {
             self.buf.clear();
-            let (ch, fields) = &self.channels.data[k];
+            let (ch, fields, topic) = &self.channels.data[k];
             for field in fields {
                 self.buf.extend_from_slice(&field.key);
                 if let Err(value) = parasils_sim::mcap::push_num(
@@ -265,7 +269,7 @@ impl Publisher {
                     field.column.value(r),
                 ) {
                     return Err(McapError::NonFinite {
-                        topic: "data channel",
+                        topic: *topic,
                         field: field.column.name,
                         t: r.t,
                         value,
