@@ -269,7 +269,7 @@ impl Publisher {
                     field.column.value(r),
                 ) {
                     return Err(McapError::NonFinite {
-                        topic: *topic,
+                        topic,
                         field: field.column.name,
                         t: r.t,
                         value,
