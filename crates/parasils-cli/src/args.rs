@@ -60,6 +60,9 @@ pub enum Command {
     /// devices (--device auto); the same output and summary as simulate,
     /// with each device's inputs and the operating state.
     Teleop(TeleopArgs),
+    /// Serve the robot live to Foxglove (WebSocket, foxglove.sdk.v1) at the
+    /// control rate, driven by clients' inputs and commands; record to MCAP.
+    Serve(ServeArgs),
 }
 
 /// `--robot`, shared by `simulate`, `ik` and `fk`.
@@ -387,7 +390,7 @@ pub struct FkArgs {
 
 /// `input` resolved, its errors in the command line's words (flags, not
 /// field names).
-fn resolve(input: Input) -> Result<Scenario> {
+pub(crate) fn resolve(input: Input) -> Result<Scenario> {
     input.resolve().map_err(|e| match e {
         InputError::WithProcedure(field) => anyhow!(
             "{} cannot be given with --procedure: a procedure has its own start, robot and motions",
@@ -755,4 +758,36 @@ impl TeleopArgs {
             ..Input::default()
         }))
     }
+}
+
+/// `parasils serve`'s flags; the command is `serve.rs`.
+#[derive(Debug, Args)]
+pub struct ServeArgs {
+    /// The address to serve on: loopback unless told otherwise.
+    #[arg(long, default_value = "127.0.0.1")]
+    pub bind: String,
+    /// The port; 0 picks a free one (the address is printed).
+    #[arg(long, default_value_t = 8765)]
+    pub port: u16,
+    /// Control cycles per second, Hz [default: 1000].
+    #[arg(long, value_name = "HZ")]
+    pub rate: Option<f64>,
+    /// The data channels' publishing rate, Hz (at most the control rate).
+    #[arg(long, value_name = "HZ", default_value_t = 100.0)]
+    pub publish_hz: f64,
+    /// End the session after S seconds [default: at Ctrl-C].
+    #[arg(long, value_name = "S")]
+    pub duration_s: Option<f64>,
+    /// Record the session's messages to FILE.mcap.
+    #[arg(short = 'o', long = "output", value_name = "FILE.mcap")]
+    pub output: Option<PathBuf>,
+    /// A token clients must publish on /auth before they drive.
+    #[arg(long, env = "PARASILS_TOKEN", hide_env_values = true)]
+    pub token: Option<String>,
+    /// The start pose and the tips.
+    #[command(flatten)]
+    pub place: PlaceArgs,
+    /// The robot.
+    #[command(flatten)]
+    pub robot: RobotArg,
 }

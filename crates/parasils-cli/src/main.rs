@@ -4,7 +4,7 @@
 //! and the kinematics; this binary parses the arguments and prints.
 //!
 //! Modules: `args` (the arguments, the shared flags defined once),
-//! `simulate`, `reach`, `pose`, `calibrate`, `tolerance` and `teleop` (the commands), `stdout` (standard output that
+//! `simulate`, `reach`, `pose`, `calibrate`, `tolerance`, `teleop` and `serve` (the commands), `stdout` (standard output that
 //! notices a closed pipe), `interrupt` (SIGINT and SIGTERM end a run
 //! through its error path).
 
@@ -13,6 +13,7 @@ mod calibrate;
 mod interrupt;
 mod pose;
 mod reach;
+mod serve;
 mod simulate;
 mod stdout;
 mod teleop;
@@ -56,6 +57,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Fk(args) => pose::fk(&args),
         Command::Tolerance(args) => tolerance::tolerance(&args),
         Command::Teleop(args) => teleop::teleop(&args),
+        Command::Serve(args) => serve::serve(&args),
         Command::Robot => {
             let text =
                 parasils_sim::robot_file::to_toml_string(&parasils::kin::RobotGeometry::paper())?;

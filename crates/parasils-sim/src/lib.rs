@@ -130,7 +130,9 @@ pub use engine::{
     Replay, RunError, SETTLE_S, Scheduled, Simulation, SimulationError, TeleopRun,
 };
 pub use input::{Input, InputError, InputField, ProcedureSource, RobotSource, TimingKind};
-pub use mcap::{CameraImage, McapError, McapOptions, McapSink, SceneGeometry};
+pub use mcap::{
+    CameraImage, Field, McapError, McapOptions, McapSink, ProcedureScene, SceneGeometry,
+};
 pub use motion::{
     CameraMode, Inside, InsideRule, LookAt, LookAtTips, MotionGoal, MotionLimits, MotionName,
     MotionSpec,

@@ -26,6 +26,10 @@ CLI's units, which its argument names and column names carry).
   threads or mapped over a Dask cluster (``client=``); :class:`ToleranceStudy`
   runs any range or list of its samples and pickles to workers.
 - :data:`COLUMNS`: the names of those columns, each with its unit.
+- :mod:`parasils.live`: a client of ``parasils serve`` (the robot live over
+  Foxglove's WebSocket protocol): subscribe, publish a hand's input, send a
+  command; it needs the ``websockets`` package (``parasils[live]``) and is
+  imported on its own (``from parasils.live import LiveClient``).
 - :func:`segment_distance_mm`: the closest points of two segments and their
   distance (the clearance kernel), on batches of segment pairs.
 - :func:`batch_threads`: the number of threads a large batch runs on

@@ -117,7 +117,7 @@ pub(crate) fn frustum(
 }
 
 /// Writes the `/camera/calibration` message (logged at `ns`) into `out`.
-pub(crate) fn write_calibration(
+pub fn write_calibration(
     image: &CameraImage,
     ns: u64,
     t: f64,
@@ -203,7 +203,7 @@ impl Json<'_> {
 /// into `out`: a cross at the image's centre, and each tip ahead of the
 /// camera as a point with its label (a tip behind the camera is left out;
 /// one outside the image is drawn where the image's plane has it).
-pub(crate) fn write_annotations(
+pub fn write_annotations(
     image: &CameraImage,
     record: &Record,
     ns: u64,

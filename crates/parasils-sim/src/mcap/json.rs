@@ -12,7 +12,7 @@ use super::error::McapError;
 /// # Errors
 /// [`McapError::InvalidTime`] for a negative or non-finite time, or one too
 /// large for a `u64` of nanoseconds.
-pub(crate) fn log_time(t: f64) -> Result<u64, McapError> {
+pub fn log_time(t: f64) -> Result<u64, McapError> {
     let ns = (t * 1e9).round();
     // 1.8e19 < u64::MAX = 1.8446e19.
     if ns.is_finite() && (0.0..1.8e19).contains(&ns) {
@@ -25,7 +25,7 @@ pub(crate) fn log_time(t: f64) -> Result<u64, McapError> {
 
 /// Appends `v` to `out` as a JSON number (shortest round-trip form); `Err(v)`
 /// for a value JSON cannot hold (NaN, infinite).
-pub(crate) fn push_num(out: &mut Vec<u8>, ryu: &mut ryu::Buffer, v: f64) -> Result<(), f64> {
+pub fn push_num(out: &mut Vec<u8>, ryu: &mut ryu::Buffer, v: f64) -> Result<(), f64> {
     if v.is_finite() {
         out.extend_from_slice(ryu.format_finite(v).as_bytes());
         Ok(())

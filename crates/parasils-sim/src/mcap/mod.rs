@@ -111,6 +111,11 @@
 //! `regions` (the forbidden regions in the scene),
 //! `writer` (the writer thread), and `sink` ([`McapSink`], which ties them
 //! together).
+//!
+//! The message builders are public ([`fields`] and [`data_schema`] for the
+//! data channels, [`write_tf`], [`write_scene`], [`write_calibration`],
+//! [`write_annotations`], [`log_time`], [`push_num`]) so that the live
+//! server (`parasils-live`) publishes the same messages as this file.
 
 mod camera;
 mod error;
@@ -121,12 +126,16 @@ mod schema;
 mod sink;
 mod writer;
 
-pub use camera::{ANNOTATIONS_TOPIC, CALIBRATION_TOPIC, CAMERA_FRAME, CameraImage, IMAGE_WIDTH_PX};
+pub use camera::{
+    ANNOTATIONS_TOPIC, CALIBRATION_TOPIC, CAMERA_FRAME, CameraImage, IMAGE_WIDTH_PX,
+    write_annotations, write_calibration,
+};
 pub use error::McapError;
-pub use scene::{SCENE_TOPIC, SceneGeometry, TF_TOPIC};
+pub use json::{log_time, push_num};
+pub use scene::{ProcedureScene, SCENE_TOPIC, SceneGeometry, TF_TOPIC, write_scene, write_tf};
 pub use schema::{
-    CAMERA_CALIBRATION_SCHEMA, FRAME_TRANSFORMS_SCHEMA, IMAGE_ANNOTATIONS_SCHEMA,
-    SCENE_UPDATE_SCHEMA,
+    CAMERA_CALIBRATION_SCHEMA, FRAME_TRANSFORMS_SCHEMA, Field, IMAGE_ANNOTATIONS_SCHEMA,
+    SCENE_UPDATE_SCHEMA, data_schema, fields,
 };
 pub use sink::{
     GENERATOR, MOTION_TOPIC, McapOptions, McapSink, RUN_METADATA, SAMPLE_TOPICS, SCENARIO_METADATA,

@@ -148,7 +148,7 @@ fn quat(m: &Matrix3<f64>) -> UnitQuaternion<f64> {
 /// `left_rcm -> left_tool`, `right_rcm -> right_tool`, `platform ->
 /// camera` (at the endoscope's tip, `x` along the image's `u`, `y` down
 /// the image, `z` along the view: see `camera`).
-pub(crate) fn write_tf(
+pub fn write_tf(
     g: &SceneGeometry,
     record: &Record,
     ns: u64,
@@ -269,7 +269,8 @@ fn spheres(diameter: f64, color: [f64; 4], centres: &[Vector3<f64>]) -> Spheres<
 
 /// What a procedure's `/scene` adds: the piece of each tip's path (left,
 /// right, endoscope, mm) from where the previous scene drew it.
-pub(crate) struct ProcedureScene {
+#[derive(Debug, Clone, Copy)]
+pub struct ProcedureScene {
     /// The tips at the previous scene (at the first, the tips now).
     pub path_from: [Vector3<f64>; 3],
     /// The piece's number, from 0: its entity is `tip_paths_<n>`.
@@ -394,13 +395,13 @@ impl Json<'_> {
 /// endoscope from its tip at the record's depth up along `+z'`, a shaft
 /// from its tip back along the tool axis through its RCM), the ports and
 /// the tips, the target tips, and the camera's view frustum (lines from the
-/// eye at the endoscope's tip to the image's corners, [`FRUSTUM_MM`] along
+/// eye at the endoscope's tip to the image's corners, `FRUSTUM_MM` (80 mm) along
 /// the view).
 ///
 /// In a procedure, the targets are left out (each motion has its own), and
 /// a kept entity per scene adds the piece of the three tips' paths since the
 /// previous scene, so that the paths build up without being sent again.
-pub(crate) fn write_scene(
+pub fn write_scene(
     g: &SceneGeometry,
     targets: &[Vector3<f64>; 2],
     record: &Record,

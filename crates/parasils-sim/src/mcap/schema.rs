@@ -21,14 +21,16 @@ pub const IMAGE_ANNOTATIONS_SCHEMA: &str = include_str!("../../schemas/ImageAnno
 /// One field of a data channel's messages: its column, and the JSON text
 /// before its value (`{"t_s":` for the first, `,"x_mm":` for the others).
 #[derive(Debug, Clone)]
-pub(crate) struct Field {
-    pub(crate) column: Column,
-    pub(crate) key: Vec<u8>,
+pub struct Field {
+    /// The column whose value follows.
+    pub column: Column,
+    /// The JSON text before the value.
+    pub key: Vec<u8>,
 }
 
 /// The fields of `channel`'s messages: `t_s`, then the channel's columns in
 /// the table's order.
-pub(crate) fn fields(channel: Channel) -> Vec<Field> {
+pub fn fields(channel: Channel) -> Vec<Field> {
     core::iter::once(columns::T_S)
         .chain(
             columns::ALL
@@ -45,7 +47,7 @@ pub(crate) fn fields(channel: Channel) -> Vec<Field> {
 
 /// The JSON Schema of `channel`'s messages: an object of the numbers in
 /// `fields`, all required, none other allowed.
-pub(crate) fn data_schema(channel: Channel, fields: &[Field]) -> serde_json::Value {
+pub fn data_schema(channel: Channel, fields: &[Field]) -> serde_json::Value {
     let mut properties = serde_json::Map::new();
     for f in fields {
         properties.insert(

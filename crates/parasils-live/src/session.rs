@@ -1,0 +1,478 @@
+//! A live session: the WebSocket server, the MCAP recording, the control
+//! loop's thread and the publisher's thread, started together and ended
+//! together.
+
+use core::net::SocketAddr;
+use core::sync::atomic::{AtomicBool, Ordering};
+use std::collections::{HashMap, HashSet};
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::PathBuf;
+use std::sync::mpsc::{SyncSender, TrySendError, channel, sync_channel};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
+use std::time::Instant;
+
+use foxglove::websocket::{Capability, Client, ClientChannel, ServerListener, Status};
+use foxglove::{Context, McapWriterHandle, WebSocketServerHandle};
+use parasils_sim::{CameraImage, SceneGeometry, TeleopRun};
+
+use crate::control::{Event, LoopSettings, Queues, run_loop};
+use crate::error::LiveError;
+use crate::message::{COMMAND_TOPIC, ClientMessage, InputDevice, parse};
+use crate::publish::{Channels, Clients, PublishReport, PublishSettings, run_publisher};
+use crate::timing::CycleStats;
+
+/// The WebSocket subprotocol the server speaks (the Foxglove SDK's); the
+/// legacy `foxglove.websocket.v1` is refused with HTTP 400.
+pub const SUBPROTOCOL: &str = "foxglove.sdk.v1";
+/// The subprotocol refused.
+pub const LEGACY_SUBPROTOCOL: &str = "foxglove.websocket.v1";
+/// The topic a client publishes the session's token on.
+pub const AUTH_TOPIC: &str = "/auth";
+/// The default port, Foxglove's.
+pub const DEFAULT_PORT: u16 = 8765;
+
+/// How a session runs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LiveOptions {
+    /// The address to bind, `127.0.0.1` by default (loopback only).
+    pub bind: String,
+    /// The port (`0`: a free one, see [`Session::address`]).
+    pub port: u16,
+    /// The data channels' publishing rate, Hz (at most the control rate; a
+    /// whole divisor of it is published exactly).
+    pub publish_hz: f64,
+    /// The period of `/tf`, `/scene`, the camera and the operating state, s.
+    pub scene_period_s: f64,
+    /// The session's length, s (`None`: until stopped).
+    pub duration_s: Option<f64>,
+    /// The MCAP file the session is recorded to, if any.
+    pub record: Option<PathBuf>,
+    /// The frames the publisher's queue holds before the loop drops them.
+    pub queue_frames: usize,
+    /// The messages each client's queue holds before its oldest is dropped.
+    pub client_backlog: usize,
+    /// A token a client must publish on [`AUTH_TOPIC`] (`{"token": ...}`)
+    /// before its inputs and commands are taken (`None`: none needed).
+    /// Watching needs no token.
+    pub token: Option<String>,
+}
+
+impl Default for LiveOptions {
+    /// Loopback on 8765, 100 Hz publishing, 20 ms scenes, no end, no
+    /// recording, 1024 frames (1 s of frames at 1 kHz publishing), 32768
+    /// messages per client (about 1.5 s of every channel at 1 kHz
+    /// publishing, some 10 MB), no token.
+    fn default() -> Self {
+        Self {
+            bind: "127.0.0.1".to_owned(),
+            port: DEFAULT_PORT,
+            publish_hz: 100.0,
+            scene_period_s: 0.02,
+            duration_s: None,
+            record: None,
+            queue_frames: 1024,
+            client_backlog: 32768,
+            token: None,
+        }
+    }
+}
+
+impl LiveOptions {
+    /// Whether the address is this machine's loopback only.
+    pub fn is_loopback(&self) -> bool {
+        matches!(self.bind.as_str(), "127.0.0.1" | "localhost" | "::1")
+            || self.bind.starts_with("127.")
+    }
+}
+
+/// The clients' messages, from the server's tasks to the control loop.
+struct Listener {
+    events: SyncSender<Event>,
+    clients: Clients,
+    /// The token, and the clients that sent it.
+    token: Option<(String, Mutex<HashSet<u32>>)>,
+}
+
+impl Listener {
+    /// Whether `client` may drive; a message on [`AUTH_TOPIC`] is checked
+    /// here and answered (`false`: nothing more to do with it).
+    fn authorised(&self, client: &Client, topic: &str, payload: &[u8]) -> bool {
+        let Some((token, allowed)) = &self.token else {
+            return topic != AUTH_TOPIC;
+        };
+        let Ok(mut allowed) = allowed.lock() else {
+            return false;
+        };
+        if topic == AUTH_TOPIC {
+            let sent = serde_json::from_slice::<serde_json::Value>(payload)
+                .ok()
+                .and_then(|v| {
+                    v.get("token")
+                        .and_then(serde_json::Value::as_str)
+                        .map(str::to_owned)
+                });
+            if sent.as_deref() == Some(token.as_str()) {
+                allowed.insert(tag(client));
+                client.send_status(Status::info(
+                    "/auth: token accepted; inputs and commands are taken",
+                ));
+            } else {
+                client.send_status(Status::error("/auth: wrong token"));
+            }
+            return false;
+        }
+        if allowed.contains(&tag(client)) {
+            true
+        } else {
+            client.send_status(Status::error(format!(
+                "{topic}: refused: this server needs a token; publish {{\"token\": ...}} on {AUTH_TOPIC} first"
+            )));
+            false
+        }
+    }
+}
+
+fn tag(client: &Client) -> u32 {
+    u32::from(client.id())
+}
+
+impl ServerListener for Listener {
+    fn on_client_advertise(&self, client: Client, channel: &ClientChannel) {
+        let known = channel.topic == COMMAND_TOPIC
+            || channel.topic == AUTH_TOPIC
+            || InputDevice::ALL.iter().any(|d| d.topic() == channel.topic);
+        if !known {
+            client.send_status(Status::warning(format!(
+                "{}: not an input topic; its messages will be refused",
+                channel.topic
+            )));
+        }
+        if let Ok(mut map) = self.clients.lock() {
+            map.insert(tag(&client), client);
+        }
+    }
+
+    fn on_message_data(&self, client: Client, channel: &ClientChannel, payload: &[u8]) {
+        let at = Instant::now();
+        if !self.authorised(&client, &channel.topic, payload) {
+            if self.token.is_none() {
+                client.send_status(Status::error(format!(
+                    "{AUTH_TOPIC}: this server needs no token"
+                )));
+            }
+            return;
+        }
+        let event = match parse(&channel.topic, payload) {
+            Ok(ClientMessage::Input(input)) => Event::Input(input, at),
+            Ok(ClientMessage::Command(request)) => Event::Command(request, tag(&client), at),
+            Err(e) => {
+                client.send_status(Status::error(e.to_string()));
+                return;
+            }
+        };
+        match self.events.try_send(event) {
+            Ok(()) => {}
+            Err(TrySendError::Full(_)) => client.send_status(Status::error(format!(
+                "{}: the control loop's input queue is full; message dropped",
+                channel.topic
+            ))),
+            Err(TrySendError::Disconnected(_)) => {
+                client.send_status(Status::error("the session has ended".to_owned()))
+            }
+        }
+    }
+}
+
+/// What a session did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SessionReport {
+    /// The control loop's timing.
+    pub stats: CycleStats,
+    /// The publisher's counts.
+    pub published: PublishReport,
+    /// The recording, if any.
+    pub record: Option<PathBuf>,
+}
+
+/// A session under way.
+pub struct Session {
+    address: SocketAddr,
+    topics: Vec<String>,
+    stop: Arc<AtomicBool>,
+    control: Option<JoinHandle<Result<CycleStats, parasils_sim::SimulationError>>>,
+    publisher: Option<JoinHandle<Result<PublishReport, parasils_sim::McapError>>>,
+    server: Option<WebSocketServerHandle>,
+    mcap: Option<McapWriterHandle<BufWriter<File>>>,
+    record: Option<PathBuf>,
+    /// The channels' context: the server and the recording hold it weakly,
+    /// so it lives as long as the session.
+    _context: Arc<Context>,
+}
+
+impl Drop for Session {
+    /// A session dropped without [`Session::wait`] stops its loop (the
+    /// server and the recording end with their handles).
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::SeqCst);
+    }
+}
+
+impl core::fmt::Debug for Session {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Session")
+            .field("address", &self.address)
+            .field("record", &self.record)
+            .finish_non_exhaustive()
+    }
+}
+
+fn positive(what: &'static str, value: f64) -> Result<(), LiveError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(LiveError::InvalidOption {
+            what,
+            value,
+            expected: "a positive, finite number",
+        })
+    }
+}
+
+impl Session {
+    /// Starts `run` live with `options`: the recording first (if asked),
+    /// the channels, the server, then the two threads.
+    ///
+    /// # Errors
+    /// [`LiveError::InvalidOption`], [`LiveError::Recording`],
+    /// [`LiveError::Server`], [`LiveError::Thread`], and the geometry's
+    /// errors ([`LiveError::Message`]).
+    pub fn start(run: TeleopRun, options: &LiveOptions) -> Result<Self, LiveError> {
+        let rate_hz = run.rate_hz();
+        positive("publish_hz", options.publish_hz)?;
+        if options.publish_hz > rate_hz * (1.0 + 1e-9) {
+            return Err(LiveError::InvalidOption {
+                what: "publish_hz",
+                value: options.publish_hz,
+                expected: "at most the control rate",
+            });
+        }
+        if !(options.scene_period_s.is_finite() && options.scene_period_s >= 0.0) {
+            return Err(LiveError::InvalidOption {
+                what: "scene_period_s",
+                value: options.scene_period_s,
+                expected: "a finite number from 0",
+            });
+        }
+        if let Some(d) = options.duration_s {
+            positive("duration_s", d)?;
+        }
+        if options.queue_frames == 0 || options.client_backlog == 0 {
+            return Err(LiveError::InvalidOption {
+                what: "queue size",
+                value: 0.0,
+                expected: "at least 1",
+            });
+        }
+        #[allow(
+            clippy::cast_possible_truncation,
+            clippy::cast_sign_loss,
+            reason = "positive, finite, checked above"
+        )]
+        let publish_every = ((rate_hz / options.publish_hz).round() as u64).max(1);
+        #[allow(
+            clippy::cast_possible_truncation,
+            clippy::cast_sign_loss,
+            reason = "positive, finite, checked above"
+        )]
+        let cycles = options.duration_s.map(|d| (d * rate_hz).round() as u64 + 1);
+
+        let scenario = run.scenario();
+        let geometry = SceneGeometry::from_robot(&scenario.robot)
+            .and_then(|g| g.with_bodies(scenario.bodies))
+            .map_err(|e| LiveError::Message(parasils_sim::McapError::Geometry(e)))?;
+        let tips = scenario.tips();
+        let settings = PublishSettings {
+            rate_hz,
+            publish_hz: rate_hz / publish_every as f64,
+            scene_period_s: options.scene_period_s,
+            targets: [tips.left, tips.right],
+            image: CameraImage::of(&scenario.robot.endoscope.camera),
+        };
+
+        let ctx = Context::new();
+        let mcap =
+            match &options.record {
+                None => None,
+                Some(path) => Some(ctx.mcap_writer().create_new_buffered_file(path).map_err(
+                    |e| LiveError::Recording {
+                        path: path.clone(),
+                        reason: e.to_string(),
+                    },
+                )?),
+            };
+        let channels = Channels::new(&ctx)?;
+        let topics = channels.topics();
+
+        let (events_in, events) = sync_channel(1024);
+        let (frames, frames_out) = sync_channel(options.queue_frames);
+        let (acks, acks_out) = channel();
+        let clients: Clients = Arc::new(Mutex::new(HashMap::new()));
+        let listener = Arc::new(Listener {
+            events: events_in,
+            clients: Arc::clone(&clients),
+            token: options
+                .token
+                .clone()
+                .map(|t| (t, Mutex::new(HashSet::new()))),
+        });
+        let address = format!("{}:{}", options.bind, options.port);
+        let server = ctx
+            .websocket_server()
+            .name(concat!("parasils ", env!("CARGO_PKG_VERSION")))
+            .bind(options.bind.clone(), options.port)
+            .capabilities([Capability::ClientPublish])
+            .supported_encodings(["json"])
+            .message_backlog_size(options.client_backlog)
+            .listener(listener)
+            .start_blocking()
+            .map_err(|e| LiveError::Server {
+                address: address.clone(),
+                reason: e.to_string(),
+            })?;
+        let ip = options
+            .bind
+            .parse()
+            .unwrap_or(core::net::IpAddr::V4(core::net::Ipv4Addr::LOCALHOST));
+        let address = SocketAddr::new(ip, server.port());
+
+        let stop = Arc::new(AtomicBool::new(false));
+        let publisher = std::thread::Builder::new()
+            .name("parasils-publish".to_owned())
+            .spawn(move || {
+                run_publisher(
+                    channels,
+                    geometry,
+                    settings,
+                    &frames_out,
+                    &acks_out,
+                    &clients,
+                )
+            })
+            .map_err(|_| LiveError::Thread {
+                which: "publisher",
+                what: "could not start",
+            })?;
+        let loop_stop = Arc::clone(&stop);
+        let start = Instant::now();
+        let control = std::thread::Builder::new()
+            .name("parasils-control".to_owned())
+            .spawn(move || {
+                let queues = Queues {
+                    events,
+                    frames,
+                    acks,
+                };
+                run_loop(
+                    run,
+                    LoopSettings {
+                        publish_every,
+                        cycles,
+                    },
+                    &queues,
+                    &loop_stop,
+                    start,
+                )
+            })
+            .map_err(|_| LiveError::Thread {
+                which: "control",
+                what: "could not start",
+            })?;
+        Ok(Self {
+            address,
+            topics,
+            stop,
+            control: Some(control),
+            publisher: Some(publisher),
+            server: Some(server),
+            mcap,
+            record: options.record.clone(),
+            _context: ctx,
+        })
+    }
+
+    /// The address the server listens on (the port the system chose for
+    /// port 0).
+    pub fn address(&self) -> SocketAddr {
+        self.address
+    }
+
+    /// Every topic served, in the order the channels were made.
+    pub fn topics(&self) -> &[String] {
+        &self.topics
+    }
+
+    /// Whether the control loop has ended (its duration run, or a failure).
+    pub fn is_finished(&self) -> bool {
+        self.control.as_ref().is_none_or(JoinHandle::is_finished)
+    }
+
+    /// Asks the control loop to end after its current cycle.
+    pub fn stop(&self) {
+        self.stop.store(true, Ordering::SeqCst);
+    }
+
+    /// Waits for the loop to end (its duration, or [`Session::stop`]), then
+    /// for the publisher to log what it was given, stops the server and
+    /// finishes the recording; what the session did.
+    ///
+    /// # Errors
+    /// The loop's failure ([`LiveError::Simulation`]), the publisher's
+    /// ([`LiveError::Message`]), the recording's ([`LiveError::Recording`]),
+    /// a thread that panicked ([`LiveError::Thread`]). The recording is
+    /// finished in every case.
+    pub fn wait(mut self) -> Result<SessionReport, LiveError> {
+        let control = self.control.take().map(JoinHandle::join);
+        let publisher = self.publisher.take().map(JoinHandle::join);
+        if let Some(server) = self.server.take() {
+            server.stop().wait_blocking();
+        }
+        let finished = match (self.mcap.take(), &self.record) {
+            (Some(handle), Some(path)) => {
+                handle
+                    .close()
+                    .map(|_| ())
+                    .map_err(|e| LiveError::Recording {
+                        path: path.clone(),
+                        reason: e.to_string(),
+                    })
+            }
+            _ => Ok(()),
+        };
+        let stats = match control {
+            Some(Ok(r)) => r?,
+            _ => {
+                return Err(LiveError::Thread {
+                    which: "control",
+                    what: "panicked",
+                });
+            }
+        };
+        let published = match publisher {
+            Some(Ok(r)) => r?,
+            _ => {
+                return Err(LiveError::Thread {
+                    which: "publisher",
+                    what: "panicked",
+                });
+            }
+        };
+        finished?;
+        Ok(SessionReport {
+            stats,
+            published,
+            record: self.record.take(),
+        })
+    }
+}

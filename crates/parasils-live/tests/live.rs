@@ -1,0 +1,539 @@
+//! The live server against a WebSocket client over loopback: delivery,
+//! input-to-setpoint latency, CRTK's transitions, bad messages, and the
+//! legacy subprotocol's refusal. Each session bounds itself
+//! (`duration_s`), so a test server always stops by itself.
+
+mod common;
+
+use core::time::Duration;
+use std::collections::{BTreeSet, HashMap};
+
+use common::{Client, connect, session, session_with};
+use parasils::kin::Side;
+use parasils::teleop::{Command, TeleopParams};
+use parasils_device::Held;
+use parasils_sim::{Scenario, TeleopRun};
+use serde_json::{Value, json};
+
+/// The log times (ns) the publisher gives each topic kind, computed again
+/// here from the schedule: every `every`-th cycle of `cycles` (and the
+/// last), `/tf`-like topics every `scene_s` of those, `/diagnostics` every
+/// 0.1 s; the last cycle always gets both.
+fn schedule(rate_hz: f64, every: u64, cycles: u64, scene_s: f64) -> [BTreeSet<u64>; 3] {
+    let ns = |t: f64| (t * 1e9).round() as u64;
+    let (mut frames, mut scenes, mut diagnostics) =
+        (BTreeSet::new(), BTreeSet::new(), BTreeSet::new());
+    let (mut next_scene, mut next_diag) = (0.0, 0.0);
+    for k in 0..cycles {
+        if k % every != 0 && k + 1 != cycles {
+            continue;
+        }
+        let t = k as f64 / rate_hz;
+        frames.insert(ns(t));
+        if t >= next_scene {
+            next_scene = t + scene_s;
+            scenes.insert(ns(t));
+        }
+        if t >= next_diag {
+            next_diag = t + 0.1;
+            diagnostics.insert(ns(t));
+        }
+    }
+    let last = ns((cycles - 1) as f64 / rate_hz);
+    scenes.insert(last);
+    diagnostics.insert(last);
+    [frames, scenes, diagnostics]
+}
+
+/// Runs a session for `duration_s` with a client subscribed to every
+/// channel; checks and prints the share of the messages it received.
+fn delivery(publish_hz: f64, duration_s: f64) {
+    let rate_hz = 1000.0;
+    let s = session(rate_hz, publish_hz, duration_s);
+    let address = s.address().to_string();
+    let topics = s.topics().to_vec();
+    let waiter = std::thread::spawn(move || s.wait());
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("runtime");
+    let client = rt.block_on(async {
+        let mut c = Client::new(&address).await;
+        c.subscribe(|_| true).await;
+        c.read_to_end(Duration::from_secs_f64(duration_s + 15.0))
+            .await;
+        c
+    });
+    let report = waiter.join().expect("join").expect("session");
+    let every = (rate_hz / publish_hz).round() as u64;
+    let cycles = (duration_s * rate_hz).round() as u64 + 1;
+    assert_eq!(report.stats.cycles, cycles);
+    let [frames, scenes, diagnostics] = schedule(rate_hz, every, cycles, 0.02);
+    let (mut got_all, mut want_all) = (0usize, 0usize);
+    let mut worst: (f64, String) = (1.0, String::new());
+    for topic in &topics {
+        let expected = if topic == "/command_ack" {
+            continue;
+        } else if topic == "/diagnostics" {
+            &diagnostics
+        } else if [
+            "/tf",
+            "/scene",
+            "/camera/calibration",
+            "/camera/annotations",
+        ]
+        .contains(&topic.as_str())
+            || topic.ends_with("/operating_state")
+        {
+            &scenes
+        } else {
+            &frames
+        };
+        let got: Vec<u64> = client
+            .received
+            .get(topic)
+            .map(|v| v.iter().map(|(ns, _)| *ns).collect())
+            .unwrap_or_default();
+        let first = *got
+            .first()
+            .unwrap_or_else(|| panic!("{topic}: nothing received"));
+        let unique: BTreeSet<u64> = got.iter().copied().collect();
+        assert_eq!(unique.len(), got.len(), "{topic}: a message twice");
+        assert!(
+            unique.is_subset(expected),
+            "{topic}: a message at a time not published"
+        );
+        let want = expected.range(first..).count();
+        let share = got.len() as f64 / want as f64;
+        if share < worst.0 {
+            worst = (share, topic.clone());
+        }
+        got_all += got.len();
+        want_all += want;
+    }
+    let share = got_all as f64 / want_all as f64;
+    println!(
+        "delivery at {rate_hz} Hz control, {publish_hz} Hz publishing, {duration_s} s: {got_all} of {want_all} messages ({:.4} %) on {} topics, worst topic {} at {:.4} %; loop: {} deadline misses, worst cycle {:.1} us, {} frames dropped",
+        share * 100.0,
+        topics.len() - 1,
+        worst.1,
+        worst.0 * 100.0,
+        report.stats.deadline_misses,
+        report.stats.worst_cycle_s * 1e6,
+        report.stats.dropped_frames,
+    );
+    assert!(share >= 0.999, "{share}");
+    assert!(worst.0 >= 0.999, "{worst:?}");
+}
+
+#[test]
+fn a_subscriber_receives_999_per_mille_at_100_hz_publishing_for_10_s() {
+    delivery(100.0, 10.0);
+}
+
+#[test]
+fn a_subscriber_receives_999_per_mille_at_1_khz_publishing_for_10_s() {
+    delivery(1000.0, 10.0);
+}
+
+#[test]
+fn an_input_moves_the_setpoint_within_two_cycles_of_its_arrival() {
+    let rate_hz = 1000.0;
+    // The module the left hand drives once enabled: the core's mapping
+    // (each hand drives the tip on its side of the endoscope's image; at
+    // the paper's start the instruments cross, so the left hand drives the
+    // right module).
+    let mut core = TeleopRun::new(
+        Scenario {
+            rate_hz,
+            ..Scenario::paper()
+        },
+        TeleopParams::assumed(),
+    )
+    .expect("run");
+    core.step([Held::REST; 3], Some(Command::Enable))
+        .expect("enable");
+    let driven = match core.teleop().hands()[0] {
+        Side::Left => "/left/setpoint_js".to_owned(),
+        _ => "/right/setpoint_js".to_owned(),
+    };
+    let s = session(rate_hz, 1000.0, 4.0);
+    let address = s.address().to_string();
+    let waiter = std::thread::spawn(move || s.wait());
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("runtime");
+    let client = rt.block_on(async {
+        let mut c = Client::new(&address).await;
+        c.subscribe(|t| [driven.as_str(), "/diagnostics", "/command_ack"].contains(&t))
+            .await;
+        c.advertise("/command").await;
+        c.advertise("/left/servo_input").await;
+        c.publish("/command", &json!({"command": "enable", "id": 1}))
+            .await;
+        let acked = c
+            .read_until(Duration::from_secs(2), |c| {
+                c.received
+                    .get("/command_ack")
+                    .is_some_and(|v| v.iter().any(|(_, a)| a["id"] == 1))
+            })
+            .await;
+        assert!(acked, "no acknowledgement of enable");
+        // Engage the left hand at rest (its first engaged cycle anchors
+        // the master and moves nothing), rest a while, then push it along x.
+        c.publish(
+            "/left/servo_input",
+            &json!({"axes": [0, 0, 0, 0, 0, 0], "buttons": 1, "id": 41}),
+        )
+        .await;
+        tokio::time::sleep(Duration::from_millis(200)).await;
+        c.publish(
+            "/left/servo_input",
+            &json!({"axes": [1, 0, 0, 0, 0, 0], "buttons": 1, "id": 42}),
+        )
+        .await;
+        let applied = c
+            .read_until(Duration::from_secs(2), |c| {
+                c.received
+                    .get("/diagnostics")
+                    .is_some_and(|v| v.iter().any(|(_, d)| d["last_input"]["id"] == 42))
+            })
+            .await;
+        assert!(applied, "the input was never applied");
+        c.read_to_end(Duration::from_secs(10)).await;
+        c
+    });
+    waiter.join().expect("join").expect("session");
+    let d = &client.received["/diagnostics"]
+        .iter()
+        .find(|(_, d)| d["last_input"]["id"] == 42)
+        .expect("diag")
+        .1["last_input"];
+    let (arrival, read, cycle_t, previous) = (
+        d["arrival_s"].as_f64().expect("n"),
+        d["applied_s"].as_f64().expect("n"),
+        d["applied_t_s"].as_f64().expect("n"),
+        d["previous_read_s"].as_f64().expect("n"),
+    );
+    let period = 1.0 / rate_hz;
+    let wait = read - arrival;
+    // The setpoints before and at that cycle, from the published joints.
+    let js: HashMap<u64, Vec<f64>> = client.received[&driven]
+        .iter()
+        .map(|(ns, v)| {
+            (
+                *ns,
+                v["position"]
+                    .as_array()
+                    .expect("p")
+                    .iter()
+                    .map(|x| x.as_f64().expect("n"))
+                    .collect(),
+            )
+        })
+        .collect();
+    let ns = |t: f64| (t * 1e9).round() as u64;
+    let rest = &js[&ns(cycle_t - period)];
+    let earlier = &js[&ns(cycle_t - 50.0 * period)];
+    let differs = |a: &Vec<f64>, b: &Vec<f64>| {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max)
+    };
+    let still = differs(earlier, rest);
+    // The first cycle whose setpoint differs from the one at rest, counted
+    // from the cycle that read the input.
+    let m = (0..10)
+        .find(|m| differs(rest, &js[&ns(cycle_t + f64::from(*m) * period)]) > 0.0)
+        .expect("the setpoint never moved");
+    let moved = differs(rest, &js[&ns(cycle_t + f64::from(m) * period)]);
+    // From the input's arrival to the start of the cycle that moved the
+    // setpoint, on the wall clock: the wait for the next cycle, then m
+    // periods (printed; a loaded machine stretches it).
+    let latency = wait + f64::from(m) * period;
+    println!(
+        "{driven}: input 42 arrived at {arrival:.6} s (the previous cycle read at {previous:.6} s), read by cycle t = {cycle_t:.3} s at {read:.6} s ({:.1} us later); the setpoint moved {moved:.3e} (deg or mm) at that cycle + {m}: {:.1} us from arrival ({:.2} cycles); {still:.1e} over the 49 cycles before",
+        wait * 1e6,
+        latency * 1e6,
+        latency / period
+    );
+    // Counted in cycles, which the machine's load cannot stretch: the
+    // input arrived after the previous cycle read its queue and before
+    // this one did (so this cycle was the first that could use it), and the
+    // setpoint moved at this cycle or the next: within two cycles.
+    assert!(
+        previous < arrival && arrival <= read,
+        "{previous} {arrival} {read}"
+    );
+    assert!(m <= 1, "moved {m} cycles after the one that read it");
+    assert_eq!(still, 0.0, "the setpoint moved before the input");
+}
+
+#[test]
+fn commands_follow_crtk_s_table_and_bad_messages_are_refused() {
+    let s = session(1000.0, 100.0, 6.0);
+    let address = s.address().to_string();
+    let waiter = std::thread::spawn(move || s.wait());
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("runtime");
+    // CRTK's table, written out here: command, accepted, state after.
+    let steps: [(&str, bool, &str); 9] = [
+        ("pause", false, "DISABLED"),
+        ("enable", true, "ENABLED"),
+        ("enable", true, "ENABLED"),
+        ("pause", true, "PAUSED"),
+        ("home", false, "PAUSED"),
+        ("resume", true, "ENABLED"),
+        ("resume", false, "ENABLED"),
+        ("disable", true, "DISABLED"),
+        ("resume", false, "DISABLED"),
+    ];
+    rt.block_on(async {
+        let mut c = Client::new(&address).await;
+        c.subscribe(|t| t == "/command_ack").await;
+        c.advertise("/command").await;
+        c.advertise("/left/servo_input").await;
+        // Bad messages first: each gets an error back, none changes the state.
+        c.publish("/command", &json!({"command": "fly"})).await;
+        c.publish("/left/servo_input", &json!({"axes": [0, 0, 2, 0, 0, 0]}))
+            .await;
+        c.publish_raw("/command", b"not json").await;
+        let errors = c
+            .read_until(Duration::from_secs(2), |c| {
+                c.statuses.iter().filter(|(l, _)| *l == 2).count() >= 3
+            })
+            .await;
+        for (level, m) in &c.statuses {
+            println!("status {level}: {m}");
+        }
+        assert!(errors, "{:?}", c.statuses);
+        assert!(
+            c.statuses
+                .iter()
+                .any(|(_, m)| m.contains("unknown command `fly`"))
+        );
+        assert!(
+            c.statuses
+                .iter()
+                .any(|(_, m)| m.contains("axis tz = 2 is outside [-1, 1]"))
+        );
+        for (k, (command, accepted, state)) in steps.iter().enumerate() {
+            let id = k as u64 + 100;
+            c.publish("/command", &json!({"command": command, "id": id}))
+                .await;
+            let got = c
+                .read_until(Duration::from_secs(2), |c| {
+                    c.received
+                        .get("/command_ack")
+                        .is_some_and(|v| v.iter().any(|(_, a)| a["id"] == id))
+                })
+                .await;
+            assert!(got, "no acknowledgement of {command}");
+            let ack: &Value = &c.received["/command_ack"]
+                .iter()
+                .find(|(_, a)| a["id"] == id)
+                .expect("ack")
+                .1;
+            println!("{command}: {ack}");
+            assert_eq!(ack["accepted"], *accepted, "{command}");
+            assert_eq!(ack["state"], *state, "{command}");
+            assert_eq!(ack["reason"].is_null(), *accepted, "{command}");
+            if k == 0 {
+                assert_eq!(ack["before"], "DISABLED", "a bad message changed the state");
+            }
+            // The client that sent it hears back too.
+            let status = c
+                .read_until(Duration::from_secs(1), |c| {
+                    c.statuses
+                        .iter()
+                        .any(|(_, m)| m.contains(&format!("\"id\":{id}")))
+                })
+                .await;
+            assert!(status, "no status for {command}");
+        }
+        c.read_to_end(Duration::from_secs(10)).await;
+    });
+    waiter.join().expect("join").expect("session");
+}
+
+#[test]
+fn with_a_token_only_a_client_that_sent_it_drives() {
+    let s = session_with(1000.0, 100.0, 3.0, Some("s3cret"));
+    let address = s.address().to_string();
+    let waiter = std::thread::spawn(move || s.wait());
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("runtime");
+    rt.block_on(async {
+        let mut c = Client::new(&address).await;
+        c.subscribe(|t| t == "/command_ack").await;
+        c.advertise("/command").await;
+        c.advertise("/auth").await;
+        let errors = |c: &Client| c.statuses.iter().filter(|(l, _)| *l == 2).count();
+        c.publish("/command", &json!({"command": "enable", "id": 1}))
+            .await;
+        assert!(
+            c.read_until(Duration::from_secs(2), |c| errors(c) == 1)
+                .await
+        );
+        c.publish("/auth", &json!({"token": "guess"})).await;
+        assert!(
+            c.read_until(Duration::from_secs(2), |c| errors(c) == 2)
+                .await
+        );
+        c.publish("/auth", &json!({"token": "s3cret"})).await;
+        c.publish("/command", &json!({"command": "enable", "id": 2}))
+            .await;
+        let acked = c
+            .read_until(Duration::from_secs(2), |c| {
+                c.received.contains_key("/command_ack")
+            })
+            .await;
+        for (level, m) in &c.statuses {
+            println!("status {level}: {m}");
+        }
+        assert!(acked);
+        let acks = &c.received["/command_ack"];
+        // The command sent before the token was never taken.
+        assert_eq!(acks.len(), 1);
+        assert_eq!(
+            (acks[0].1["id"].as_u64(), acks[0].1["state"].as_str()),
+            (Some(2), Some("ENABLED"))
+        );
+        assert!(
+            c.statuses[0].1.contains("needs a token"),
+            "{:?}",
+            c.statuses
+        );
+        assert!(c.statuses[1].1.contains("wrong token"), "{:?}", c.statuses);
+        c.read_to_end(Duration::from_secs(10)).await;
+    });
+    waiter.join().expect("join").expect("session");
+}
+
+#[test]
+fn a_legacy_client_is_refused_with_http_400() {
+    let s = session(1000.0, 100.0, 2.0);
+    let address = s.address().to_string();
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("runtime");
+    let (legacy, current) = rt.block_on(async {
+        (
+            connect(&address, "foxglove.websocket.v1").await,
+            connect(&address, "foxglove.sdk.v1").await,
+        )
+    });
+    match legacy {
+        Err(tokio_tungstenite::tungstenite::Error::Http(response)) => {
+            let body = response
+                .body()
+                .as_ref()
+                .map(|b| String::from_utf8_lossy(b).into_owned());
+            println!("legacy subprotocol: HTTP {}, {body:?}", response.status());
+            assert_eq!(response.status().as_u16(), 400);
+        }
+        other => panic!(
+            "the legacy subprotocol was not refused: {:?}",
+            other.map(|_| ())
+        ),
+    }
+    assert!(current.is_ok(), "the current subprotocol was refused");
+    drop(current);
+    s.wait().expect("session");
+}
+
+/// Every topic a JSON layout panel names, from the fields Foxglove's panels
+/// keep them in (a message path's topic is the part before its first `.`
+/// or `[`, after the leading `/`).
+fn layout_topics(layout: &Value) -> Vec<(String, String)> {
+    let topic_of = |path: &str| {
+        let end = path[1..].find(['.', '[']).map_or(path.len(), |k| k + 1);
+        path[..end].to_owned()
+    };
+    let mut out = Vec::new();
+    for (panel, config) in layout["configById"].as_object().expect("configById") {
+        for key in ["topic", "topicName", "topicPath"] {
+            if let Some(t) = config[key].as_str() {
+                out.push((panel.clone(), topic_of(t)));
+            }
+        }
+        for p in config["paths"].as_array().into_iter().flatten() {
+            out.push((panel.clone(), topic_of(p["value"].as_str().expect("path"))));
+        }
+        for t in config["topics"]
+            .as_object()
+            .into_iter()
+            .flatten()
+            .map(|(t, _)| t)
+        {
+            out.push((panel.clone(), t.clone()));
+        }
+        if let Some(image) = config["imageMode"].as_object() {
+            out.push((
+                panel.clone(),
+                image["calibrationTopic"]
+                    .as_str()
+                    .expect("calibration")
+                    .to_owned(),
+            ));
+            for t in image["annotations"]
+                .as_object()
+                .into_iter()
+                .flatten()
+                .map(|(t, _)| t)
+            {
+                out.push((panel.clone(), t.clone()));
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn the_shipped_layout_names_only_topics_the_server_has() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../layouts/parasils.json");
+    let layout: Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).expect("layout")).expect("JSON");
+    let served = parasils_live::Channels::new(&foxglove::Context::new())
+        .expect("channels")
+        .topics();
+    let inputs: Vec<&str> = parasils_live::InputDevice::ALL
+        .iter()
+        .map(|d| d.topic())
+        .chain([parasils_live::COMMAND_TOPIC])
+        .collect();
+    let named = layout_topics(&layout);
+    assert!(named.len() >= 20, "{named:?}");
+    for (panel, topic) in &named {
+        let ok = if panel.starts_with("Teleop!") || panel.starts_with("Publish!") {
+            inputs.contains(&topic.as_str())
+        } else {
+            served.contains(topic)
+        };
+        assert!(ok, "{panel}: {topic} is not a topic of the server");
+    }
+    // Each teleop panel's buttons send a twist the server takes as that
+    // device's input.
+    for (panel, config) in layout["configById"].as_object().expect("panels") {
+        if panel.starts_with("Teleop!") {
+            let field = config["upButton"]["field"].as_str().expect("field");
+            let (part, axis) = field.split_once('-').expect("linear-x");
+            let twist = json!({ part: { axis: config["upButton"]["value"] } });
+            let parsed = parasils_live::parse(
+                config["topic"].as_str().expect("topic"),
+                twist.to_string().as_bytes(),
+            );
+            assert!(
+                matches!(parsed, Ok(parasils_live::ClientMessage::Input(i)) if i.axes[1] == 1.0 && i.buttons == 1),
+                "{panel}: {parsed:?}"
+            );
+        }
+    }
+}
