@@ -148,6 +148,8 @@ pub(crate) fn reach_map<'py>(
         robot: robot.geometry,
         supervisor: robot.supervisor,
         bodies: robot.bodies,
+        dynamics: robot.dynamics,
+        stiffness: robot.stiffness,
         anatomy,
         ..paper
     };

@@ -147,8 +147,8 @@ pub use record::{
 };
 pub use robot::Robot;
 pub use robot_file::{
-    BodiesFile, CameraFile, EndoscopeFile, GuideFile, InstrumentFile, LegFile, Module1File,
-    RobotFile, RobotFileError,
+    BodiesFile, CameraFile, DynamicsFile, EndoscopeFile, GuideFile, InstrumentFile, LegFile,
+    Module1File, RobotFile, RobotFileError, StiffnessFile,
 };
 pub use scenario::{
     Command, CommandKind, LibraryUnits, Motions, Online, Retarget, RetargetUnits, Run, Scenario,

@@ -141,7 +141,7 @@ pub const CSV_WITH_PROCEDURE: [Column; CSV_COUNT + 12] = {
 /// procedure, [`CSV_WITH_COMMAND`] with commands, [`CSV`] otherwise; with
 /// a tip load given, the same followed by [`FORCES`].
 pub fn csv_columns_of(scenario: &crate::scenario::Scenario) -> &'static [Column] {
-    let loads = scenario.tip_load_left_n.is_some() || scenario.tip_load_right_n.is_some();
+    let loads = scenario.has_forces();
     match (scenario.is_procedure(), loads) {
         (true, false) => &CSV_WITH_PROCEDURE,
         (true, true) => &CSV_WITH_PROCEDURE_AND_FORCES,
