@@ -558,6 +558,14 @@ pub struct ReachArgs {
     /// limiting constraint no_go.<region name>.
     #[arg(long, value_name = "FILE.toml")]
     pub anatomy: Option<PathBuf>,
+    /// The stiffness map: the force each tip exerts on the tissue, N,
+    /// fixed frame (e.g. 0,0,-10). Each feasible cell then gets how far
+    /// each tip gives way pressing with it, the other unloaded, with the
+    /// robot file's actuator stiffnesses ([stiffness], assumed by
+    /// default): CSV columns left_tip_deflection_mm and
+    /// right_tip_deflection_mm, their range in the summary.
+    #[arg(long, value_name = "FX,FY,FZ", value_parser = parse_floats::<3>, allow_hyphen_values = true)]
+    pub deflection_load: Option<[f64; 3]>,
     /// Write the map to FILE: .csv (one row per cell; `-` for standard
     /// output), .png or .svg (a picture). Without it, print a summary.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
@@ -583,6 +591,7 @@ impl ReachArgs {
             step_deg: self.step,
             line: !self.no_line,
             threads: self.threads,
+            deflection_load_n: self.deflection_load,
         }
     }
 }
