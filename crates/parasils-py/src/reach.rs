@@ -198,7 +198,10 @@ pub(crate) fn reach_map<'py>(
         grid(py, shape, cells.iter().map(|c| c.margin).collect())?,
     )?;
     if deflection_load_n.is_some() {
-        for (side, key) in [(0, "left_tip_deflection_mm"), (1, "right_tip_deflection_mm")] {
+        for (side, key) in [
+            (0, "left_tip_deflection_mm"),
+            (1, "right_tip_deflection_mm"),
+        ] {
             let values = cells
                 .iter()
                 .map(|c| c.deflection_mm.map_or(f64::NAN, |d| d[side]))

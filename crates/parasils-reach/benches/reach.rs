@@ -18,7 +18,11 @@ fn default_map(c: &mut Criterion) {
         ("with_line", true, None),
         ("without_line", false, None),
         ("with_line_and_stiffness", true, Some([0.0, 0.0, -10.0])),
-        ("without_line_with_stiffness", false, Some([0.0, 0.0, -10.0])),
+        (
+            "without_line_with_stiffness",
+            false,
+            Some([0.0, 0.0, -10.0]),
+        ),
     ] {
         let options = ReachOptions {
             line,

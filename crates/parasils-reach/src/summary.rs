@@ -62,7 +62,12 @@ impl ReachSummary {
             }
         }
         let mut deflection_mm: Option<[[f64; 2]; 2]> = None;
-        for d in map.cells.iter().filter(|c| c.reachable).filter_map(|c| c.deflection_mm) {
+        for d in map
+            .cells
+            .iter()
+            .filter(|c| c.reachable)
+            .filter_map(|c| c.deflection_mm)
+        {
             let range = deflection_mm.get_or_insert([[d[0]; 2], [d[1]; 2]]);
             for (r, v) in range.iter_mut().zip(d) {
                 *r = [r[0].min(v), r[1].max(v)];

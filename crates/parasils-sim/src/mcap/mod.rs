@@ -33,6 +33,15 @@
 //! `retarget` or `stop`). Its channel comes after `/scene`, so the other
 //! channels keep their ids; a run without commands has no `/motion`.
 //!
+//! A run with forces ([`Scenario::has_forces`](crate::Scenario::has_forces):
+//! a tip load or the robot file's `[dynamics]`) has one more channel after
+//! every other, `/forces` (schema `parasils.Forces`), one message per
+//! record: `t_s` and the fourteen force columns
+//! ([`columns::FORCES`](crate::columns::FORCES)); and its `/scene` draws
+//! the forces as arrows (entity `forces`: each slider's force along its
+//! guide from the slider, each tip's load from the tip, at
+//! [`FORCE_ARROW_MM_PER_N`], 2 mm per newton).
+//!
 //! For the 3D view, in metres as Foxglove expects:
 //! - `/tf`, `foxglove.FrameTransforms`: `world -> platform` (`P` and `R`),
 //!   `platform -> left_rcm`, `platform -> right_rcm` (the ports), and
@@ -102,12 +111,14 @@
 //! builder), `schema` (the data channels' fields and schemas from the
 //! column table, and the Foxglove schemas), `scene` (the `/tf` frames and
 //! the `/scene` drawing),
-//! `regions` (the forbidden regions in the scene),
+//! `regions` (the forbidden regions in the scene), `forces` (`/forces` and
+//! the force arrows),
 //! `writer` (the writer thread), and `sink` ([`McapSink`], which ties them
 //! together).
 
 mod camera;
 mod error;
+mod forces;
 mod json;
 mod regions;
 mod scene;
@@ -117,6 +128,7 @@ mod writer;
 
 pub use camera::{ANNOTATIONS_TOPIC, CALIBRATION_TOPIC, CAMERA_FRAME, CameraImage, IMAGE_WIDTH_PX};
 pub use error::McapError;
+pub use forces::{FORCE_ARROW_MM_PER_N, FORCES_TOPIC};
 pub use scene::{SCENE_TOPIC, SceneGeometry, TF_TOPIC};
 pub use schema::{
     CAMERA_CALIBRATION_SCHEMA, FRAME_TRANSFORMS_SCHEMA, IMAGE_ANNOTATIONS_SCHEMA,
