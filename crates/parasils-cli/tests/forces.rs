@@ -229,9 +229,9 @@ fn a_robot_with_dynamics_feeds_forward_its_body_s_newton_euler_wrench() {
     assert_eq!(t.header()[74..86], FORCES.map(String::from));
     let col = |n: &str| t.col(n);
     let (x, y, z) = (col("x_mm"), col("y_mm"), col("z_mm"));
-    let angles = ["psi_deg", "theta_deg", "phi_deg"].map(|n| col(n));
-    let rates = ["psi_rate_deg_s", "theta_rate_deg_s"].map(|n| col(n));
-    let accs = ["psi_acc_deg_s2", "theta_acc_deg_s2"].map(|n| col(n));
+    let angles = ["psi_deg", "theta_deg", "phi_deg"].map(&col);
+    let rates = ["psi_rate_deg_s", "theta_rate_deg_s"].map(&col);
+    let accs = ["psi_acc_deg_s2", "theta_acc_deg_s2"].map(&col);
     let forces: Vec<Vec<f64>> = FORCES[..6].iter().map(|n| col(n)).collect();
     let module1 = ParallelRobot::<f64>::assumed();
     let body = Payload::<f64>::assumed();
