@@ -251,7 +251,9 @@ pub struct SimulateArgs {
     /// slider along its guide's direction), left_/right_qs1_torque_nmm,
     /// _qs2_torque_nmm (N mm) and _qs3_force_n (N), and each tip's
     /// deflection under the tissue's push, left_/right_tip_deflection_mm
-    /// (assumed actuator stiffnesses).
+    /// (the robot file's [stiffness], assumed by default). A robot file
+    /// with a [dynamics] table gives these columns without a load, with the
+    /// platform body's weight and inertia.
     #[arg(long, value_name = "FX,FY,FZ", value_parser = parse_floats::<3>, allow_hyphen_values = true)]
     pub tip_load_left: Option<[f64; 3]>,
     /// The force the right tip exerts on the tissue, N, fixed frame

@@ -87,8 +87,9 @@ pub struct Scenario {
     /// file's `[stiffness]`; assumed by default).
     pub stiffness: ActuatorStiffness<f64>,
     /// The force the left tip exerts on the tissue, N, fixed frame; `None`
-    /// when not given (zero). With either tip's load the run writes every
-    /// actuator's force ([`columns::FORCES`](crate::columns::FORCES)).
+    /// when not given (zero). With either tip's load (or the robot's
+    /// `[dynamics]`) the run writes every actuator's force
+    /// ([`columns::FORCES`](crate::columns::FORCES)).
     pub tip_load_left_n: Option<[f64; 3]>,
     /// The force the right tip exerts, N, fixed frame; `None` when not given.
     pub tip_load_right_n: Option<[f64; 3]>,
