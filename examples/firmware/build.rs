@@ -49,6 +49,7 @@ fn main() {
     println!("cargo:rustc-link-search={}", out.display());
 
     let mut online = scenario::online::<f64>().expect("valid controller");
+    let loads = scenario::loads::<f64>();
     let orders = scenario::orders::<f64>();
     let last_command = orders.iter().map(|o| o.0).max().unwrap_or(0);
     let mut next = orders.iter().peekable();
@@ -98,7 +99,9 @@ fn main() {
                 }
             }
         }
-        cycles.push(s);
+        let forces = scenario::forces(c, &s.step, &loads)
+            .unwrap_or_else(|e| panic!("f64 forces at cycle {k} failed: {e}"));
+        cycles.push((s, forces));
         if k >= last_command && online.is_at_rest(t) {
             break;
         }
@@ -112,9 +115,9 @@ fn main() {
 
     let mut peak = [0.0f64; FIELD_COUNT];
     let mut references = Vec::new();
-    for (k, s) in cycles.iter().enumerate() {
-        assert_eq!(scenario::values(s).count(), FIELD_COUNT, "fields");
-        let v = scenario::fields(s);
+    for (k, (s, forces)) in cycles.iter().enumerate() {
+        assert_eq!(scenario::values(s, forces).count(), FIELD_COUNT, "fields");
+        let v = scenario::fields(s, forces);
         for (p, x) in peak.iter_mut().zip(&v) {
             *p = p.max(x.abs());
         }

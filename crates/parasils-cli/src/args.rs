@@ -254,7 +254,9 @@ pub struct SimulateArgs {
     /// slider along its guide's direction), left_/right_qs1_torque_nmm,
     /// _qs2_torque_nmm (N mm) and _qs3_force_n (N), and each tip's
     /// deflection under the tissue's push, left_/right_tip_deflection_mm
-    /// (assumed actuator stiffnesses).
+    /// (the robot file's [stiffness], assumed by default). A robot file
+    /// with a [dynamics] table gives these columns without a load, with the
+    /// platform body's weight and inertia.
     #[arg(long, value_name = "FX,FY,FZ", value_parser = parse_floats::<3>, allow_hyphen_values = true)]
     pub tip_load_left: Option<[f64; 3]>,
     /// The force the right tip exerts on the tissue, N, fixed frame
@@ -561,6 +563,14 @@ pub struct ReachArgs {
     /// limiting constraint no_go.<region name>.
     #[arg(long, value_name = "FILE.toml")]
     pub anatomy: Option<PathBuf>,
+    /// The stiffness map: the force each tip exerts on the tissue, N,
+    /// fixed frame (e.g. 0,0,-10). Each feasible cell then gets how far
+    /// each tip gives way pressing with it, the other unloaded, with the
+    /// robot file's actuator stiffnesses ([stiffness], assumed by
+    /// default): CSV columns left_tip_deflection_mm and
+    /// right_tip_deflection_mm, their range in the summary.
+    #[arg(long, value_name = "FX,FY,FZ", value_parser = parse_floats::<3>, allow_hyphen_values = true)]
+    pub deflection_load: Option<[f64; 3]>,
     /// Write the map to FILE: .csv (one row per cell; `-` for standard
     /// output), .png or .svg (a picture). Without it, print a summary.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
@@ -586,6 +596,7 @@ impl ReachArgs {
             step_deg: self.step,
             line: !self.no_line,
             threads: self.threads,
+            deflection_load_n: self.deflection_load,
         }
     }
 }

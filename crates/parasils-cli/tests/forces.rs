@@ -1,6 +1,7 @@
 //! `parasils simulate --tip-load-left/--tip-load-right`: the force columns,
 //! checked by the balance of power from the CSV's own rate columns, the
-//! paper's columns unchanged, loads with a procedure, and a malformed load.
+//! paper's columns unchanged, loads with a procedure, a malformed load, and
+//! a robot file with `[dynamics]` against the body's Newton-Euler.
 
 mod common;
 
@@ -203,4 +204,80 @@ fn the_summary_and_the_check_give_each_actuator_s_peak_use_of_its_force_limit() 
     .run()
     .ok();
     assert!(check.contains("force limits, peak use:"), "{check}");
+}
+
+/// `robots/dynamics.toml`.
+fn dynamics_robot() -> String {
+    concat!(env!("CARGO_MANIFEST_DIR"), "/../../robots/dynamics.toml").to_owned()
+}
+
+/// A robot file with `[dynamics]` writes the force columns without a tip
+/// load, and its slider forces are the kinematics' Newton-Euler wrench of
+/// the assumed body, computed here from the CSV's own pose, Euler rate and
+/// acceleration columns (`P` and `phi` held by the paper's turn), through
+/// the transposed Jacobian: within 1e-8 of the largest force, every row.
+#[test]
+fn a_robot_with_dynamics_feeds_forward_its_body_s_newton_euler_wrench() {
+    use parasils::kin::{ParallelRobot, Payload, PlatformState, Pose, PoseRate};
+    let robot = dynamics_robot();
+    let t = Table::parse(
+        &parasils(&["simulate", "--robot", &robot, "--rate", "200", "-o", "-"])
+            .run()
+            .ok(),
+    );
+    assert_eq!(t.header().len(), 74 + 14);
+    assert_eq!(t.header()[74..86], FORCES.map(String::from));
+    let col = |n: &str| t.col(n);
+    let (x, y, z) = (col("x_mm"), col("y_mm"), col("z_mm"));
+    let angles = ["psi_deg", "theta_deg", "phi_deg"].map(&col);
+    let rates = ["psi_rate_deg_s", "theta_rate_deg_s"].map(&col);
+    let accs = ["psi_acc_deg_s2", "theta_acc_deg_s2"].map(&col);
+    let forces: Vec<Vec<f64>> = FORCES[..6].iter().map(|n| col(n)).collect();
+    let module1 = ParallelRobot::<f64>::assumed();
+    let body = Payload::<f64>::assumed();
+    let (mut worst, mut inertial) = (0.0_f64, 0.0_f64);
+    for k in 0..t.rows() {
+        let r = |v: &[f64]| v[k].to_radians();
+        let state = PlatformState {
+            pose: Pose::new(
+                x[k],
+                y[k],
+                z[k],
+                r(&angles[0]),
+                r(&angles[1]),
+                r(&angles[2]),
+            ),
+            velocity: PoseRate::euler(r(&rates[0]), r(&rates[1])),
+            acceleration: PoseRate::euler(r(&accs[0]), r(&accs[1])),
+        };
+        let frame = state.frame().expect("finite");
+        let solution = module1.solve(&frame).expect("solves");
+        let expected = module1
+            .slider_forces(&frame, &solution, &body.moving_wrench(&frame))
+            .expect("forces")
+            .force
+            .0;
+        let weight_only = module1
+            .slider_forces(&frame, &solution, &body.holding_wrench(&frame))
+            .expect("forces")
+            .force
+            .0;
+        let scale = expected.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        for j in 0..6 {
+            worst = worst.max((forces[j][k] - expected[j]).abs() / scale);
+            inertial = inertial.max((expected[j] - weight_only[j]).abs());
+        }
+    }
+    assert!(worst <= 1e-8, "{worst}");
+    // The body's inertia shows: not the weight alone.
+    assert!(inertial > 1e-3, "{inertial}");
+    // Nothing on the tips: the modules hold nothing.
+    assert!(t.col("left_qs3_force_n").iter().all(|v| *v == 0.0));
+    // The summary gives the peak use of each force limit.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let text = parasils(&["simulate", "--robot", &robot, "--rate", "100"])
+        .dir(dir.path())
+        .run()
+        .ok();
+    assert!(text.contains("force limits, peak use:"), "{text}");
 }

@@ -107,3 +107,75 @@ fn a_calibrated_robot_is_labelled_so_in_the_reach_summary_and_the_mcap_metadata(
     let needle = b"calibrated (RMS 0.0125 mm over 40 poses)";
     assert!(bytes.windows(needle.len()).any(|w| w == needle));
 }
+
+/// `--deflection-load`: two more columns, empty where infeasible, the same
+/// map otherwise; the robot file's `[stiffness]` reaches them (every spring
+/// twice as stiff, every deflection half); the summary gives their range.
+#[test]
+fn the_stiffness_map_adds_each_tip_s_deflection() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let run = |extra: &[&str], name: &str| {
+        let path = dir.path().join(name);
+        let mut args = vec!["reach", "--step", "7.5", "--no-line", "-o"];
+        args.push(path.to_str().expect("path"));
+        args.extend_from_slice(extra);
+        ok(&args);
+        Table::read(&path)
+    };
+    let load = ["--deflection-load", "0,0,-10"];
+    let map = run(&load, "stiff.csv");
+    let plain = run(&[], "plain.csv");
+    assert_eq!(
+        map.header()[9..],
+        ["left_tip_deflection_mm", "right_tip_deflection_mm"]
+    );
+    assert_eq!(map.header()[..9], plain.header()[..]);
+    let text = std::fs::read_to_string(dir.path().join("stiff.csv")).expect("csv");
+    let stiffer = dir.path().join("stiffer.toml");
+    let robot = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../robots/default.toml"
+    ))
+    .expect("robots/default.toml")
+        + "\n[stiffness]\nslider_n_mm = [400.0, 400.0, 400.0, 400.0, 400.0, 400.0]\n\
+           left_qs1_nmm_rad = 4e5\nleft_qs2_nmm_rad = 4e5\nleft_qs3_n_mm = 100.0\n\
+           right_qs1_nmm_rad = 4e5\nright_qs2_nmm_rad = 4e5\nright_qs3_n_mm = 100.0\n";
+    std::fs::write(&stiffer, robot).expect("write");
+    let stiff = run(
+        &[&load[..], &["--robot", stiffer.to_str().expect("path")]].concat(),
+        "stiffer.csv",
+    );
+    let mut feasible = 0;
+    for k in 0..map.rows() {
+        let (cells, base) = (map.cells(k), plain.cells(k));
+        assert_eq!(cells[..9], base[..]);
+        let half = stiff.cells(k);
+        if cells[4] == "1" {
+            feasible += 1;
+            for c in 9..11 {
+                let d: f64 = cells[c].parse().expect("deflection");
+                let h: f64 = half[c].parse().expect("deflection");
+                assert!(d > 0.0 && (h - d / 2.0).abs() <= 1e-12 * d, "{d} {h}");
+            }
+        } else {
+            assert_eq!(cells[9..], ["", ""]);
+        }
+    }
+    assert!(feasible > 20 && feasible < map.rows(), "{feasible}");
+    // An infeasible cell's row ends with its two empty fields.
+    assert!(text.lines().any(|l| l.ends_with(",,")));
+    let summary = ok(&[
+        "reach",
+        "--step",
+        "7.5",
+        "--no-line",
+        "--deflection-load",
+        "0,0,-10",
+    ]);
+    assert!(
+        summary.contains(
+            "tip deflection pressing with (0, 0, -10) N, over the reachable cells: left "
+        ),
+        "{summary}"
+    );
+}

@@ -266,6 +266,22 @@ impl<T: Real> Payload<T> {
         }
     }
 
+    /// The **assumed** platform with its two instrument modules and the
+    /// endoscope (the paper gives no masses): 6 kg, its centre of mass
+    /// 120 mm above the ports on the platform's axis, the inertia of a
+    /// solid cylinder of radius 150 mm and height 200 mm about its axis
+    /// `Z'` (`I_zz = M r^2 / 2`, `I_xx = I_yy = M (3 r^2 + h^2) / 12`,
+    /// kg mm^2), under standard gravity along `-Z`.
+    pub fn assumed() -> Self {
+        let (m, r, h) = (6.0, 150.0, 200.0);
+        let side = m * (3.0 * r * r + h * h) / 12.0;
+        let axis = m * r * r / 2.0;
+        let inertia =
+            Matrix3::from_diagonal(&Vector3::new(T::lit(side), T::lit(side), T::lit(axis)));
+        Self::new(T::lit(m), Vector3::new(T::zero(), T::zero(), T::lit(120.0)))
+            .with_inertia(inertia)
+    }
+
     /// The same body with the inertia tensor `inertia` (kg mm^2, about the
     /// centre of mass, platform axes).
     pub fn with_inertia(self, inertia: Matrix3<T>) -> Self {

@@ -112,7 +112,7 @@ pub(crate) fn reach_map<'py>(
     pose: ArrayArg<'py>,
     tips: Option<ArrayArg<'py>>,
     grid_deg: Grid,
-    line: bool,
+    (line, deflection_load_n): (bool, Option<[f64; 3]>),
     anatomy: Option<&Path>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let anatomy = anatomy.map(anatomy_of).transpose()?;
@@ -148,6 +148,8 @@ pub(crate) fn reach_map<'py>(
         robot: robot.geometry,
         supervisor: robot.supervisor,
         bodies: robot.bodies,
+        dynamics: robot.dynamics,
+        stiffness: robot.stiffness,
         anatomy,
         ..paper
     };
@@ -157,6 +159,7 @@ pub(crate) fn reach_map<'py>(
         step_deg: grid_deg.step_deg,
         line,
         threads: crate::batch::threads()?,
+        deflection_load_n,
     };
     let map = py
         .detach(|| ReachMap::compute(&scenario, &options))
@@ -194,6 +197,18 @@ pub(crate) fn reach_map<'py>(
         "margin",
         grid(py, shape, cells.iter().map(|c| c.margin).collect())?,
     )?;
+    if deflection_load_n.is_some() {
+        for (side, key) in [
+            (0, "left_tip_deflection_mm"),
+            (1, "right_tip_deflection_mm"),
+        ] {
+            let values = cells
+                .iter()
+                .map(|c| c.deflection_mm.map_or(f64::NAN, |d| d[side]))
+                .collect();
+            dict.set_item(key, grid(py, shape, values)?)?;
+        }
+    }
     let names: Vec<String> = map
         .constraints()
         .into_iter()

@@ -232,11 +232,18 @@ impl Robot {
     /// endoscope comes closer to a region than the clearance stop threshold
     /// (0.5 mm unless this robot's file gives one) is limited by
     /// "no_go.<region name>", one code per region after the others.
+    /// deflection_load_n: the stiffness measure (as `parasils reach
+    /// --deflection-load`): the force each tip exerts on the tissue, N,
+    /// fixed frame, shape (3,); the dict then has "left_tip_deflection_mm"
+    /// and "right_tip_deflection_mm" (float, (R, C), NaN on an infeasible
+    /// cell): how far each tip gives way pressing with it, the other
+    /// unloaded, with this robot's actuator stiffnesses (its robot file's
+    /// [stiffness], assumed by default).
     ///
-    /// Raises ValueError for a bad grid or anatomy file, OSError for an
+    /// Raises ValueError for a bad grid, deflection load or anatomy file, OSError for an
     /// anatomy file that does not read, KinematicsError for a bad robot or
     /// a non-finite pose or tip.
-    #[pyo3(signature = (pose, tips = None, psi_range = None, theta_range = None, step = None, *, psi_range_deg = (-45.0, 45.0), theta_range_deg = (-45.0, 45.0), step_deg = 0.5, line = true, anatomy = None))]
+    #[pyo3(signature = (pose, tips = None, psi_range = None, theta_range = None, step = None, *, psi_range_deg = (-45.0, 45.0), theta_range_deg = (-45.0, 45.0), step_deg = 0.5, line = true, anatomy = None, deflection_load_n = None))]
     #[allow(clippy::too_many_arguments)]
     fn reach_map<'py>(
         &self,
@@ -251,13 +258,22 @@ impl Robot {
         step_deg: f64,
         line: bool,
         anatomy: Option<std::path::PathBuf>,
+        deflection_load_n: Option<[f64; 3]>,
     ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
         let grid = crate::reach::Grid::of(
             py,
             (psi_range, theta_range, step),
             (psi_range_deg, theta_range_deg, step_deg),
         )?;
-        crate::reach::reach_map(py, self.model(), pose, tips, grid, line, anatomy.as_deref())
+        crate::reach::reach_map(
+            py,
+            self.model(),
+            pose,
+            tips,
+            grid,
+            (line, deflection_load_n),
+            anatomy.as_deref(),
+        )
     }
 
     /// Motion type 4 as a path: from `pose`, psi and theta turn by `dpsi`

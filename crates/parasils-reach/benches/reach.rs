@@ -1,5 +1,7 @@
 //! The default reach map (181 x 181 cells at 0.5 deg, the paper's setup)
-//! with and without the straight lines from the start, on every core.
+//! with and without the straight lines from the start, each with and
+//! without the stiffness measure (both tips' deflection pressing with
+//! 10 N down), on every core.
 
 use core::time::Duration;
 
@@ -12,9 +14,19 @@ fn default_map(c: &mut Criterion) {
     let mut group = c.benchmark_group("reach_default");
     group.sample_size(20);
     group.measurement_time(Duration::from_secs(15));
-    for (name, line) in [("with_line", true), ("without_line", false)] {
+    for (name, line, deflection_load_n) in [
+        ("with_line", true, None),
+        ("without_line", false, None),
+        ("with_line_and_stiffness", true, Some([0.0, 0.0, -10.0])),
+        (
+            "without_line_with_stiffness",
+            false,
+            Some([0.0, 0.0, -10.0]),
+        ),
+    ] {
         let options = ReachOptions {
             line,
+            deflection_load_n,
             ..ReachOptions::default()
         };
         group.bench_function(name, |b| {

@@ -431,29 +431,44 @@ impl Checker {
 
     /// The verdict at `(dpsi, dtheta)` (rad from the start).
     pub fn check(&mut self, dpsi: f64, dtheta: f64) -> Verdict {
+        self.check_step(dpsi, dtheta).0
+    }
+
+    /// The verdict at `(dpsi, dtheta)` (rad from the start), with the
+    /// controller's step there when the orientation is feasible.
+    pub fn check_step(&mut self, dpsi: f64, dtheta: f64) -> (Verdict, Option<ControlStep<f64>>) {
         match self.step(dpsi, dtheta) {
             Ok(step) => match self.gaps(&step) {
                 Some(gaps) => match gaps.iter().find(|g| !(g.1 >= 0.0)) {
-                    Some(&(limiting, margin)) => Verdict {
-                        limiting,
-                        margin,
-                        nearest: limiting,
+                    Some(&(limiting, margin)) => (
+                        Verdict {
+                            limiting,
+                            margin,
+                            nearest: limiting,
+                        },
+                        None,
+                    ),
+                    None => (self.margin_of(&step, &gaps), Some(step)),
+                },
+                None => (
+                    Verdict {
+                        limiting: Constraint::Other,
+                        margin: f64::NAN,
+                        nearest: Constraint::Other,
                     },
-                    None => self.margin_of(&step, &gaps),
-                },
-                None => Verdict {
-                    limiting: Constraint::Other,
-                    margin: f64::NAN,
-                    nearest: Constraint::Other,
-                },
+                    None,
+                ),
             },
             Err(error) => {
                 let limiting = Constraint::of_error(&error);
-                Verdict {
-                    limiting,
-                    margin: self.violation(&error),
-                    nearest: limiting,
-                }
+                (
+                    Verdict {
+                        limiting,
+                        margin: self.violation(&error),
+                        nearest: limiting,
+                    },
+                    None,
+                )
             }
         }
     }

@@ -4,11 +4,13 @@
 
 use std::collections::VecDeque;
 
+use parasils::kin::nalgebra::Vector3;
 use parasils_sim::Scenario;
 
 use crate::boundary;
 use crate::check::Checker;
 use crate::map::{Axis, Boundary, Cell, MAX_CELLS, ReachError, ReachMap, ReachOptions};
+use crate::stiffness::tip_deflections;
 use crate::threads::{parallel_map, threads};
 
 impl ReachMap {
@@ -16,7 +18,7 @@ impl ReachMap {
     /// limits and rate are not used) over `options`' grid.
     ///
     /// # Errors
-    /// [`ReachError`] for an invalid grid or scenario.
+    /// [`ReachError`] for an invalid grid, deflection load or scenario.
     pub fn compute(scenario: &Scenario, options: &ReachOptions) -> Result<Self, ReachError> {
         let step = options.step_deg;
         if !(step.is_finite() && step > 0.0) {
@@ -28,6 +30,13 @@ impl ReachMap {
         if cells > MAX_CELLS as u128 {
             return Err(ReachError::TooManyCells { cells });
         }
+        let load = match options.deflection_load_n {
+            Some(load) if !load.iter().all(|v| v.is_finite()) => {
+                return Err(ReachError::DeflectionLoad { load });
+            }
+            load => load.map(Vector3::from),
+        };
+        let stiffness = scenario.stiffness;
         let base = Checker::new(scenario)?;
         let threads = threads(options);
         let (cols, rows) = (psi.count, theta.count);
@@ -47,7 +56,13 @@ impl ReachMap {
             let dtheta = theta.value_deg(r).to_radians();
             (0..cols)
                 .map(|c| {
-                    let v = checker.check(psi.value_deg(c).to_radians(), dtheta);
+                    let (v, step) = checker.check_step(psi.value_deg(c).to_radians(), dtheta);
+                    let deflection_mm = match (&load, &step) {
+                        (Some(load), Some(step)) => {
+                            tip_deflections(checker.controller(), step, load, &stiffness)
+                        }
+                        _ => None,
+                    };
                     Cell {
                         feasible: v.feasible(),
                         reachable: false,
@@ -55,6 +70,7 @@ impl ReachMap {
                         limiting: v.limiting,
                         nearest: v.nearest,
                         margin: v.margin,
+                        deflection_mm,
                     }
                 })
                 .collect::<Vec<_>>()

@@ -75,6 +75,19 @@
 //! lines then cost about a third of the rest of the map instead of some 50
 //! times it.
 //!
+//! # Stiffness
+//! With a load ([`ReachOptions::deflection_load_n`], `parasils reach
+//! --deflection-load FX,FY,FZ`: the force each tip exerts on the tissue,
+//! N, fixed frame), each feasible cell also gets how far each tip gives
+//! way when it presses with that force, the other tip unloaded
+//! ([`Cell::deflection_mm`]), with the robot file's actuator stiffnesses
+//! (`[stiffness]`, assumed by default): where the robot is stiff and where
+//! it is soft. The measure is the deflection at the tip, not an eigenvalue
+//! of the platform's stiffness matrix (see `stiffness`'s docs: the matrix
+//! mixes N/mm and N mm/rad, and leaves out the modules' own joints). It
+//! costs two small linear solves per tip and cell, on the step the cell's
+//! check has already made.
+//!
 //! # Threads
 //! Rows of cells, rays and boundary edges are shared among threads
 //! ([`ReachOptions::threads`]); each task starts from a fresh controller,
@@ -104,6 +117,7 @@
 //! |---|---|
 //! | `no_go` | the forbidden regions of the scenario's anatomy measured against the bodies' in-body parts |
 //! | `check` | the per-cell check: [`Checker`] (the controller's own step at rest, the bodies' clearance and forbidden regions), [`Constraint`] (what failed, as a stable code), [`Verdict`] (feasible, limiting, normalised margin) |
+//! | `stiffness` | the stiffness measure: each tip's deflection under a stated tip force at a feasible cell ([`tip_deflections`]) |
 //! | `map` | the map's data: [`ReachOptions`], [`Axis`], [`Cell`], [`Boundary`], [`ReachMap`], [`ReachError`] |
 //! | `threads` | rows, rays and edges shared among threads, each with a fresh controller |
 //! | `boundary` | the boundary refined by bisection ([`bisect`]) and joined by marching squares |
@@ -127,6 +141,7 @@ mod map;
 mod no_go;
 #[cfg(feature = "plot")]
 pub mod plot;
+mod stiffness;
 pub mod summary;
 mod threads;
 
@@ -135,4 +150,5 @@ pub use check::{Checker, Constraint, Verdict};
 pub use map::{
     Axis, Boundary, BoundaryPoint, Cell, MAX_CELLS, Polyline, ReachError, ReachMap, ReachOptions,
 };
+pub use stiffness::tip_deflections;
 pub use summary::{AxisExtent, ReachSummary};

@@ -27,6 +27,11 @@ pub struct ReachOptions {
     pub line: bool,
     /// Threads to use; 0 for as many as the machine has.
     pub threads: usize,
+    /// The stiffness measure: the force each tip exerts on the tissue, N,
+    /// fixed frame, under which each feasible cell gets both tips'
+    /// deflections ([`Cell::deflection_mm`]; see the crate docs,
+    /// *Stiffness*); `None`: not computed.
+    pub deflection_load_n: Option<[f64; 3]>,
 }
 
 impl Default for ReachOptions {
@@ -39,6 +44,7 @@ impl Default for ReachOptions {
             step_deg: 0.5,
             line: true,
             threads: 0,
+            deflection_load_n: None,
         }
     }
 }
@@ -47,6 +53,17 @@ impl Default for ReachOptions {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum ReachError {
+    /// The stiffness measure's load is not three finite numbers.
+    #[error(
+        "reach map: the deflection load [{}, {}, {}] N must be three finite numbers",
+        Shortest(load[0]),
+        Shortest(load[1]),
+        Shortest(load[2])
+    )]
+    DeflectionLoad {
+        /// The load, N.
+        load: [f64; 3],
+    },
     /// The step is not a positive finite number.
     #[error("reach map: the step {} deg must be a positive finite number", Shortest(*step))]
     Step {
@@ -165,6 +182,12 @@ pub struct Cell {
     pub limiting: Constraint,
     /// On a feasible cell, the constraint nearest its limit.
     pub nearest: Constraint,
+    /// On a feasible cell of a map with a stiffness measure
+    /// ([`ReachOptions::deflection_load_n`]), how far each tip,
+    /// `[left, right]`, gives way (mm) when it presses with that force, the
+    /// other tip unloaded, with the robot file's actuator stiffnesses;
+    /// `None` otherwise.
+    pub deflection_mm: Option<[f64; 2]>,
     /// The normalised margin (positive feasible, negative infeasible).
     pub margin: f64,
 }

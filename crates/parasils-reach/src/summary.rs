@@ -40,6 +40,9 @@ pub struct ReachSummary {
     /// The constraints violated just outside the reachable region's
     /// boundary, with how many refined boundary points each.
     pub boundary_constraints: Vec<(Constraint, usize)>,
+    /// With a stiffness measure, each tip's deflection over the reachable
+    /// cells, `[left, right]`, each `[least, most]`, mm.
+    pub deflection_mm: Option<[[f64; 2]; 2]>,
 }
 
 impl ReachSummary {
@@ -58,6 +61,18 @@ impl ReachSummary {
                 b[1] = [b[1][0].min(t), b[1][1].max(t)];
             }
         }
+        let mut deflection_mm: Option<[[f64; 2]; 2]> = None;
+        for d in map
+            .cells
+            .iter()
+            .filter(|c| c.reachable)
+            .filter_map(|c| c.deflection_mm)
+        {
+            let range = deflection_mm.get_or_insert([[d[0]; 2], [d[1]; 2]]);
+            for (r, v) in range.iter_mut().zip(d) {
+                *r = [r[0].min(v), r[1].max(v)];
+            }
+        }
         let mut met: BTreeMap<usize, (Constraint, usize)> = BTreeMap::new();
         for p in map.boundary.points.iter().filter(|p| p.reachable) {
             met.entry(p.limiting.index()).or_insert((p.limiting, 0)).1 += 1;
@@ -71,6 +86,7 @@ impl ReachSummary {
             psi_axis: started.then(|| axis_extent(map, false)),
             theta_axis: started.then(|| axis_extent(map, true)),
             boundary_constraints,
+            deflection_mm,
         }
     }
 
@@ -140,6 +156,19 @@ impl ReachSummary {
             for (c, n) in &self.boundary_constraints {
                 let _ = writeln!(s, "  {:<28} {n} points", map.code(*c));
             }
+        }
+        if let (Some([l, r]), Some(f)) = (self.deflection_mm, o.deflection_load_n) {
+            let _ = writeln!(
+                s,
+                "tip deflection pressing with ({}, {}, {}) N, over the reachable cells: left {} to {} mm, right {} to {} mm",
+                Shortest(f[0]),
+                Shortest(f[1]),
+                Shortest(f[2]),
+                Fixed(l[0], 4),
+                Fixed(l[1], 4),
+                Fixed(r[0], 4),
+                Fixed(r[1], 4)
+            );
         }
         if map.module1_assumed || map.module1_provenance.starts_with("calibrated") {
             let _ = writeln!(s, "module 1: {}", map.module1_provenance);

@@ -121,6 +121,7 @@ fn every_cell_follows_the_gaps() {
         step_deg: 2.5,
         line: false,
         threads: 1,
+        deflection_load_n: None,
     };
     let s = scenario(Some(0.5));
     let map = ReachMap::compute(&s, &options).expect("map");

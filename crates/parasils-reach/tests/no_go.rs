@@ -105,6 +105,7 @@ fn exactly_the_cells_the_sphere_comes_too_close_to_carry_its_code() {
         step_deg: 2.5,
         line: false,
         threads: 1,
+        deflection_load_n: None,
     };
     let map = ReachMap::compute(&s, &options).expect("map");
     let free = ReachMap::compute(&plain, &options).expect("map");
@@ -183,6 +184,7 @@ fn a_robot_file_s_stop_threshold_moves_the_limit() {
         step_deg: 5.0,
         line: false,
         threads: 1,
+        deflection_load_n: None,
     };
     let map = ReachMap::compute(&s, &options).expect("map");
     for (k, cell) in map.cells.iter().enumerate() {

@@ -474,6 +474,8 @@ impl Input {
             supervisor: robot.supervisor,
             run,
             bodies: robot.bodies,
+            dynamics: robot.dynamics,
+            stiffness: robot.stiffness,
             tip_load_left_n: self.tip_load_left_n,
             tip_load_right_n: self.tip_load_right_n,
             anatomy: self

@@ -31,11 +31,13 @@
 //!
 //! With a tip load ([`Scenario::tip_load_left_n`],
 //! [`Scenario::tip_load_right_n`]: the force a tip exerts on the tissue, N,
-//! fixed frame), every record carries the twelve actuators' forces holding
-//! it ([`Record::forces`], from `parasils_kin::statics`), written as the
-//! fourteen columns [`columns::FORCES`] after the run's others (the last
-//! two each tip's deflection under the tissue's push, with the assumed
-//! actuator stiffnesses).
+//! fixed frame) or a platform body ([`Scenario::dynamics`], the robot
+//! file's `[dynamics]`), every record carries the twelve actuators' forces
+//! holding the loads and moving the body by Newton-Euler ([`Record::forces`],
+//! from `parasils_kin::statics`), written as the fourteen columns
+//! [`columns::FORCES`] after the run's others (the last two each tip's
+//! deflection under the tissue's push, with [`Scenario::stiffness`], the
+//! robot file's `[stiffness]`) and in MCAP on `/forces`.
 //!
 //! The paper's run, written as CSV in memory:
 //!
@@ -149,8 +151,8 @@ pub use record::{
 };
 pub use robot::Robot;
 pub use robot_file::{
-    BodiesFile, CameraFile, EndoscopeFile, GuideFile, InstrumentFile, LegFile, Module1File,
-    RobotFile, RobotFileError,
+    BodiesFile, CameraFile, DynamicsFile, EndoscopeFile, GuideFile, InstrumentFile, LegFile,
+    Module1File, RobotFile, RobotFileError, StiffnessFile,
 };
 pub use scenario::{
     Command, CommandKind, LibraryUnits, Motions, Online, Retarget, RetargetUnits, Run, Scenario,

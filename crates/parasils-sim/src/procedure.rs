@@ -345,6 +345,8 @@ fn build(
         scenario.robot = robot.geometry;
         scenario.supervisor = robot.supervisor;
         scenario.bodies = robot.bodies;
+        scenario.dynamics = robot.dynamics;
+        scenario.stiffness = robot.stiffness;
     }
     if let Some(anatomy) = &file.anatomy {
         scenario.anatomy = Some(Arc::new(Anatomy::load(base.join(anatomy))?));

@@ -96,8 +96,9 @@ impl ClearanceRecord {
     }
 }
 
-/// Every actuator's force at one instant holding the run's tip loads (zero
-/// in a run without them; see `parasils_kin::statics`).
+/// Every actuator's force at one instant holding the run's tip loads and
+/// moving its platform's body (zero in a run without forces; see
+/// `parasils_kin::statics` and `Scenario::has_forces`).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ForceRecord {
     /// Module 1's slider forces `q1..q6`, N, positive pushing each slider
@@ -108,8 +109,8 @@ pub struct ForceRecord {
     /// The right module's, the same.
     pub right: [f64; 3],
     /// How far each tip, `[left, right]`, gives way under the tissue's
-    /// push (minus its load), mm, with the **assumed** actuator
-    /// stiffnesses (`parasils_kin::ActuatorStiffness::assumed`).
+    /// push (minus its load), mm, with the scenario's actuator stiffnesses
+    /// (the robot file's `[stiffness]`, assumed by default).
     pub deflection: [f64; 2],
 }
 

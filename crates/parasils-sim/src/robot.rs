@@ -1,7 +1,9 @@
 //! The robot a run uses, as one robot file gives it: the geometry (module 1
 //! and both instrument modules, with their limits) and the margin
 //! supervisor's thresholds (`[supervisor]`), and the bodies' sizes for the
-//! clearance checks (`[bodies]`, assumed by default).
+//! clearance checks (`[bodies]`, assumed by default), the platform as one
+//! rigid body (`[dynamics]`, none by default) and the actuators'
+//! stiffness (`[stiffness]`, assumed by default).
 //!
 //! A robot file is read once, into one [`Robot`]
 //! ([`robot_file::load_robot`](crate::robot_file::load_robot)), and that
@@ -10,7 +12,7 @@
 //! key. Nothing reads the file a second time for one of its tables.
 //!
 //! ```
-//! use parasils::kin::{BodyGeometry, RobotGeometry};
+//! use parasils::kin::{ActuatorStiffness, BodyGeometry, Payload, RobotGeometry};
 //! use parasils_sim::Robot;
 //!
 //! let robot = Robot::paper();
@@ -18,7 +20,7 @@
 //! assert!(robot.supervisor.is_empty());
 //! ```
 
-use parasils::kin::{BodyGeometry, RobotGeometry};
+use parasils::kin::{ActuatorStiffness, BodyGeometry, Payload, RobotGeometry};
 
 use crate::supervisor::SupervisorTable;
 
@@ -34,6 +36,13 @@ pub struct Robot {
     /// The `[bodies]` table: the shafts' and the endoscope's sizes (mm;
     /// default [`BodyGeometry::assumed`]).
     pub bodies: BodyGeometry<f64>,
+    /// The `[dynamics]` table: the platform with its modules as one rigid
+    /// body, its weight and inertia loading module 1 every sample; `None`
+    /// without the table (no weight: tip loads alone).
+    pub dynamics: Option<Payload<f64>>,
+    /// The `[stiffness]` table: each actuator's stiffness for the tips'
+    /// deflections (default [`ActuatorStiffness::assumed`]).
+    pub stiffness: ActuatorStiffness<f64>,
 }
 
 impl Robot {
@@ -41,6 +50,15 @@ impl Robot {
     /// thresholds.
     pub fn paper() -> Self {
         Self::from(RobotGeometry::paper())
+    }
+
+    /// The paper's robot with the assumed platform body
+    /// ([`Payload::assumed`]): what `robots/dynamics.toml` holds.
+    pub fn paper_with_dynamics() -> Self {
+        Self {
+            dynamics: Some(Payload::assumed()),
+            ..Self::paper()
+        }
     }
 }
 
@@ -58,6 +76,8 @@ impl From<RobotGeometry<f64>> for Robot {
             geometry,
             supervisor: SupervisorTable::default(),
             bodies: BodyGeometry::assumed(),
+            dynamics: None,
+            stiffness: ActuatorStiffness::assumed(),
         }
     }
 }

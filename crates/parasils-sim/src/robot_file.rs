@@ -32,12 +32,14 @@
 //! text; parameters that parse but do not make a valid robot are a
 //! [`RobotFileError::Invalid`] naming the parameter.
 
+mod dynamics;
 mod error;
 mod locate;
 mod read;
 mod schema;
 mod write;
 
+pub use dynamics::{DynamicsFile, StiffnessFile};
 pub use error::RobotFileError;
 pub use read::{load, load_robot, parse, parse_robot, save};
 pub use schema::{

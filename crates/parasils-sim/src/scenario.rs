@@ -14,7 +14,9 @@ use std::sync::Arc;
 
 use nalgebra::Vector3;
 use parasils::kin::presets;
-use parasils::kin::{BodyGeometry, Pose, RobotGeometry, TipTargets, default_right_tip};
+use parasils::kin::{
+    ActuatorStiffness, BodyGeometry, Payload, Pose, RobotGeometry, TipTargets, default_right_tip,
+};
 use parasils::paper;
 use parasils::traj::{Limits, Synchronization};
 use parasils_anatomy::Anatomy;
@@ -76,9 +78,18 @@ pub struct Scenario {
     /// The shafts' and the endoscope's sizes for the clearance columns (the
     /// robot file's `[bodies]`; assumed by default).
     pub bodies: BodyGeometry<f64>,
+    /// The platform with its modules as one rigid body (the robot file's
+    /// `[dynamics]`; `None` by default): with it, every sample's actuator
+    /// forces hold its weight and move its inertia (Newton-Euler), and the
+    /// run writes the force columns ([`Scenario::has_forces`]).
+    pub dynamics: Option<Payload<f64>>,
+    /// Each actuator's stiffness for the tips' deflections (the robot
+    /// file's `[stiffness]`; assumed by default).
+    pub stiffness: ActuatorStiffness<f64>,
     /// The force the left tip exerts on the tissue, N, fixed frame; `None`
-    /// when not given (zero). With either tip's load the run writes every
-    /// actuator's force ([`columns::FORCES`](crate::columns::FORCES)).
+    /// when not given (zero). With either tip's load (or the robot's
+    /// `[dynamics]`) the run writes every actuator's force
+    /// ([`columns::FORCES`](crate::columns::FORCES)).
     pub tip_load_left_n: Option<[f64; 3]>,
     /// The force the right tip exerts, N, fixed frame; `None` when not given.
     pub tip_load_right_n: Option<[f64; 3]>,
@@ -350,6 +361,8 @@ impl Scenario {
             supervisor: SupervisorTable::default(),
             run: Run::turn(Turn::paper()),
             bodies: BodyGeometry::assumed(),
+            dynamics: None,
+            stiffness: ActuatorStiffness::assumed(),
             tip_load_left_n: None,
             tip_load_right_n: None,
             anatomy: None,
@@ -394,6 +407,14 @@ impl Scenario {
             }) => m,
             _ => &[],
         }
+    }
+
+    /// Whether the run writes every actuator's force
+    /// ([`columns::FORCES`](crate::columns::FORCES)): with a tip load, or
+    /// with the robot file's `[dynamics]` (even of mass 0: the table asks
+    /// for the forces; they are then the tips' alone).
+    pub fn has_forces(&self) -> bool {
+        self.tip_load_left_n.is_some() || self.tip_load_right_n.is_some() || self.dynamics.is_some()
     }
 
     /// Whether the run is a procedure's (its output names each motion and

@@ -322,10 +322,9 @@ impl fmt::Display for Usage<'_> {
     }
 }
 
-/// Whether `sim`'s run has tip loads, and so forces.
+/// Whether `sim`'s run has forces (tip loads or the platform's dynamics).
 fn has_loads(sim: &Simulation) -> bool {
-    let s = sim.scenario();
-    s.tip_load_left_n.is_some() || s.tip_load_right_n.is_some()
+    sim.scenario().has_forces()
 }
 
 /// Each actuator's peak use of its force limit.

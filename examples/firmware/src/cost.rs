@@ -103,6 +103,7 @@ pub fn breakdown(out: &mut Out, calibration: u32) {
         Cost::new(),
         Cost::new(),
         Cost::new(),
+        Cost::new(),
     ];
     let [
         plan,
@@ -113,7 +114,9 @@ pub fn breakdown(out: &mut Out, calibration: u32) {
         fk,
         watch,
         trig,
+        forces,
     ] = &mut parts;
+    let loads = scenario::loads::<f32>();
     let mut previous: Option<Margins<f32>> = None;
     let mut next = 0usize;
     for k in 0..reference::CYCLES {
@@ -179,6 +182,10 @@ pub fn breakdown(out: &mut Out, calibration: u32) {
             right,
         });
         let t0 = systick();
+        let _ = black_box(scenario::forces(&c, black_box(&step), black_box(&loads)));
+        let t1 = systick();
+        forces.add(elapsed(t0, t1));
+        let t0 = systick();
         let now = Margins::of(&step);
         let mut rates = Margins::splat(0.0f32);
         if let Some(p) = previous {
@@ -203,6 +210,10 @@ pub fn breakdown(out: &mut Out, calibration: u32) {
         (", both instrument modules ", &parts[4]),
         (", both tips FK ", &parts[5]),
         (", supervisor ", &parts[6]),
+        (
+            ", feedforward forces (both tips loaded, weight, Newton-Euler) ",
+            &parts[8],
+        ),
         ("; one f32 sin_cos (libm) ", &parts[7]),
     ] {
         let mean = part.sum.checked_div(part.n).unwrap_or(0);

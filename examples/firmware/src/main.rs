@@ -9,8 +9,10 @@
 //! module 1 (actuators, rates, accelerations, margins), both instrument
 //! modules (joints, rates, accelerations, margins), the three clearance gaps
 //! between the shafts and the endoscope, and the supervisor; it then
-//! recomputes both tips from the joints (forward kinematics), all in `f32`. The command stream is that of
-//! [`scenario`]: the paper's goal at 0 s, a new goal at 1.2 s while turning,
+//! recomputes both tips from the joints (forward kinematics) and computes
+//! the twelve actuators' feedforward forces (both tips loaded, the
+//! platform's weight and its Newton-Euler inertia), all in `f32`. The
+//! command stream is that of [`scenario`]: the paper's goal at 0 s, a new goal at 1.2 s while turning,
 //! a stop at 3.0 s, a third goal at 3.5 s, a look at the tips' midpoint at
 //! 5.0 s, until rest.
 //!
@@ -81,6 +83,9 @@ pub struct Runtime {
     /// `(cycle, order)`: a goal `[psi, theta]` in rad, the stop, or a
     /// look-at target in mm.
     orders: [(usize, scenario::Order<f32>); COMMAND_COUNT],
+    /// What the feedforward forces hold every cycle (see
+    /// [`scenario::loads`]).
+    loads: parasils::kin::Loads<f32>,
     /// The next command to give.
     next: usize,
     /// The next cycle.
@@ -102,6 +107,9 @@ pub struct Cycle {
     pub command: Option<Option<Synchronization>>,
     /// Distance of each tip, recomputed from the joints, to its target, mm.
     pub drift_mm: [f32; 2],
+    /// The twelve actuators' feedforward forces: `q1..q6` N, each module's
+    /// `qs1`, `qs2` N mm and `qs3` N.
+    pub forces: [f32; 12],
 }
 
 /// One control cycle: the command due now, if any; the controller's tick
@@ -126,11 +134,13 @@ pub fn parasils_control_step(rt: &mut Runtime) -> Result<Cycle, Fault> {
     let kin = |e| Fault(Error::Kinematics(e));
     let left = c.left.fk(pose, &setpoint.step.left.q).map_err(kin)?;
     let right = c.right.fk(pose, &setpoint.step.right.q).map_err(kin)?;
+    let forces = scenario::forces(c, &setpoint.step, &rt.loads).map_err(Fault)?;
     Ok(Cycle {
         index,
         setpoint,
         command,
         drift_mm: [distance(&left, &tips.left), distance(&right, &tips.right)],
+        forces,
     })
 }
 
@@ -159,6 +169,7 @@ fn tolerance(kind: Kind, peak: f64) -> f64 {
         Kind::Length => 2e-3,
         Kind::Rate => 1e-4 * peak.max(1e-6),
         Kind::Margin => 1e-4,
+        Kind::Force => 1e-4 * peak.max(1e-6),
     }
 }
 
@@ -174,11 +185,12 @@ struct Worst {
 }
 
 /// Per kind, in the order of [`kind_index`]: label, unit printed, scale to it.
-const KINDS: [(&str, &str, f64); 4] = [
+const KINDS: [(&str, &str, f64); 5] = [
     ("angles", " urad", 1e6),
     ("lengths", " um", 1e3),
     ("rates and accelerations", " ppm of the peak", 1e6),
     ("margins", " ppm", 1e6),
+    ("forces", " ppm of the peak", 1e6),
 ];
 
 fn kind_index(kind: Kind) -> usize {
@@ -187,6 +199,7 @@ fn kind_index(kind: Kind) -> usize {
         Kind::Length => 1,
         Kind::Rate => 2,
         Kind::Margin => 3,
+        Kind::Force => 4,
     }
 }
 
@@ -337,6 +350,7 @@ fn run(out: &mut Out) -> bool {
     let mut rt = black_box(Runtime {
         online,
         orders: scenario::orders(),
+        loads: scenario::loads(),
         next: 0,
         cycle: 0,
     });
@@ -362,7 +376,7 @@ fn run(out: &mut Out) -> bool {
         ratio: 0.0,
         field: 0,
         index: 0,
-    }; 4];
+    }; 5];
     let mut ok = true;
     let mut at_rest = false;
     for _ in 0..MAX_CYCLES {
@@ -613,9 +627,9 @@ fn compare(
     out: &mut Out,
     c: &Cycle,
     expected: &[f64; FIELD_COUNT],
-    worst: &mut [Worst; 4],
+    worst: &mut [Worst; 5],
 ) -> bool {
-    let got = scenario::fields(&c.setpoint);
+    let got = scenario::fields(&c.setpoint, &c.forces);
     let mut ok = true;
     let fields = got
         .iter()
@@ -642,7 +656,11 @@ fn compare(
             && !(ratio <= w.ratio)
         {
             *w = Worst {
-                error: if kind == Kind::Rate { err / peak } else { err },
+                error: if matches!(kind, Kind::Rate | Kind::Force) {
+                    err / peak
+                } else {
+                    err
+                },
                 ratio,
                 field,
                 index: c.index,

@@ -17,6 +17,11 @@
 //! and the loop runs until the platform rests on the look-at goal. See
 //! `docs/model.md`, *Trajectories* and *Check values*.
 //!
+//! Every cycle also computes the twelve actuators' feedforward forces
+//! ([`forces`]) holding both tips' loads ([`TIP_LOADS_N`]) and moving the
+//! assumed platform body ([`loads`]), compared with the references like the
+//! rest.
+//!
 //! The controller watches the clearance of the assumed bodies (shafts of 5
 //! mm, the endoscope of 10 mm at depth 0): every cycle computes the three
 //! gaps between them and checks them ahead, and they are compared with the
@@ -26,7 +31,7 @@
 //! its cost, it does not stop on it.
 
 use parasils::kin::nalgebra::Vector3;
-use parasils::kin::{BodyGeometry, ControlStep, Controller, Pose, TipTargets};
+use parasils::kin::{BodyGeometry, ControlStep, Controller, Loads, Payload, Pose, TipTargets};
 use parasils::supervisor::ClearanceThresholds;
 use parasils::traj::{Limits, Synchronization};
 use parasils::{ClearanceWatch, Error, OnlineController, Real, Setpoint, Supervisor};
@@ -183,8 +188,40 @@ pub fn give<T: Real>(
     }
 }
 
+/// The force each tip exerts on the tissue, N, fixed frame, `[left,
+/// right]`: what the feedforward forces hold every cycle, with the
+/// platform's body ([`loads`]).
+pub const TIP_LOADS_N: [[f64; 3]; 2] = [[2.0, -3.0, -5.0], [-1.5, 2.0, -4.0]];
+
+/// What every cycle's feedforward forces hold: both tips pressing with
+/// [`TIP_LOADS_N`], and the assumed platform body
+/// ([`Payload::assumed`]: 6 kg, its weight and its Newton-Euler inertia in
+/// the cycle's motion).
+pub fn loads<T: Real>() -> Loads<T> {
+    let tip = |f: [f64; 3]| Vector3::new(T::lit(f[0]), T::lit(f[1]), T::lit(f[2]));
+    Loads {
+        payload: Payload::assumed(),
+        ..Loads::tips(tip(TIP_LOADS_N[0]), tip(TIP_LOADS_N[1]))
+    }
+}
+
+/// The twelve actuators' feedforward forces of the cycle `step` holding
+/// `loads` (`Controller::forces`): `q1..q6` N, each module's `qs1`, `qs2`
+/// N mm and `qs3` N.
+#[inline(always)]
+pub fn forces<T: Real>(
+    controller: &Controller<T>,
+    step: &ControlStep<T>,
+    loads: &Loads<T>,
+) -> Result<[T; 12], Error> {
+    controller
+        .forces(step, loads)
+        .map(|f| f.to_array())
+        .map_err(Error::Kinematics)
+}
+
 /// How many values of a cycle are compared, see [`fields`].
-pub const FIELD_COUNT: usize = 49;
+pub const FIELD_COUNT: usize = 61;
 
 /// The names of the values of [`fields`], in order (units: mm, rad, s).
 pub const FIELD_NAMES: [&str; FIELD_COUNT] = [
@@ -236,7 +273,19 @@ pub const FIELD_NAMES: [&str; FIELD_COUNT] = [
     "right.cos_qs2", //
     "clearance.left_right",
     "clearance.left_endoscope",
-    "clearance.right_endoscope",
+    "clearance.right_endoscope", //
+    "force.q1",
+    "force.q2",
+    "force.q3",
+    "force.q4",
+    "force.q5",
+    "force.q6", //
+    "force.left.qs1",
+    "force.left.qs2",
+    "force.left.qs3",
+    "force.right.qs1",
+    "force.right.qs2",
+    "force.right.qs3",
 ];
 
 /// How a field is compared (see `tolerance` in `main.rs`).
@@ -251,25 +300,29 @@ pub enum Kind {
     Rate,
     /// A dimensionless margin: absolute tolerance.
     Margin,
+    /// A force or a torque: tolerance relative to the field's peak
+    /// magnitude over the whole run.
+    Force,
 }
 
 /// The kind of each field of [`fields`].
 pub const FIELD_KINDS: [Kind; FIELD_COUNT] = {
-    use Kind::{Angle as A, Length as L, Margin as M, Rate as R};
+    use Kind::{Angle as A, Force as F, Length as L, Margin as M, Rate as R};
     [
         A, A, R, R, R, R, //
         L, L, L, L, L, L, R, R, R, R, R, R, R, R, R, R, R, R, //
         A, A, L, R, R, R, R, R, R, //
         A, A, L, R, R, R, R, R, R, //
         M, M, M, M, //
-        L, L, L,
+        L, L, L, //
+        F, F, F, F, F, F, F, F, F, F, F, F,
     ]
 };
 
 /// The values of one cycle that the firmware compares with the host's, in
-/// the order of [`FIELD_NAMES`] (`build.rs` checks that there are exactly
-/// [`FIELD_COUNT`]).
-pub fn values<T: Real>(s: &Setpoint<T>) -> impl Iterator<Item = T> {
+/// the order of [`FIELD_NAMES`], the cycle's feedforward `forces` last
+/// (`build.rs` checks that there are exactly [`FIELD_COUNT`]).
+pub fn values<T: Real>(s: &Setpoint<T>, forces: &[T; 12]) -> impl Iterator<Item = T> {
     let p = &s.state;
     [
         p.pose.psi,
@@ -282,6 +335,7 @@ pub fn values<T: Real>(s: &Setpoint<T>) -> impl Iterator<Item = T> {
     .into_iter()
     .chain(step_values(&s.step))
     .chain(gaps(s))
+    .chain(*forces)
 }
 
 /// The three clearance gaps of a cycle, mm (NaN, which matches nothing,
@@ -318,9 +372,9 @@ fn step_values<T: Real>(out: &ControlStep<T>) -> impl Iterator<Item = T> {
 }
 
 /// [`values`] as an array.
-pub fn fields<T: Real>(s: &Setpoint<T>) -> [T; FIELD_COUNT] {
+pub fn fields<T: Real>(s: &Setpoint<T>, forces: &[T; 12]) -> [T; FIELD_COUNT] {
     let mut v = [T::zero(); FIELD_COUNT];
-    for (slot, x) in v.iter_mut().zip(values(s)) {
+    for (slot, x) in v.iter_mut().zip(values(s, forces)) {
         *slot = x;
     }
     v

@@ -170,8 +170,12 @@ def simulate(
       ``left_qs2_torque_nmm`` (N mm), ``left_qs3_force_n`` (N), the same for
       the right module, then ``left_tip_deflection_mm`` and
       ``right_tip_deflection_mm``: how far each tip gives way under the
-      tissue's push with the assumed actuator stiffnesses (see
-      docs/model.md, "Forces"). Allowed with a procedure.
+      tissue's push with the robot's actuator stiffnesses (its file's
+      [stiffness], assumed by default; see docs/model.md, "Forces").
+      Allowed with a procedure. A robot whose file has a [dynamics] table
+      (the platform as one rigid body) gives the same columns without a
+      load: every actuator's force holding its weight and moving its
+      inertia, the tips' loads added when given.
     - anatomy: a path to an anatomy file of forbidden regions (--anatomy):
       spheres, boxes, capsules and STL/OBJ meshes, fixed frame, mm. Every
       cycle checks the in-body part of each shaft and of the endoscope

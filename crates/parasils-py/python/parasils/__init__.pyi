@@ -66,14 +66,19 @@ class Robot:
         step_deg: float = 0.5,
         line: bool = True,
         anatomy: Optional[Union[str, os.PathLike]] = None,
+        deflection_load_n: Optional[Sequence[float]] = None,
     ) -> Dict[str, Any]:
         """The reach map from `pose` (mm, rad) with both tips (2, 3) held, on
         the grid psi_range_deg x theta_range_deg by step_deg (deg, as
         `parasils reach`): "dpsi", "dtheta" (rad), "feasible", "reachable",
         "line", "limiting" (indices into "codes"), "margin",
         "boundary_points" (rad), "boundary_limiting", "boundary"
-        (polylines), "module1_assumed". psi_range, theta_range, step: the
-        deprecated names, in rad (a DeprecationWarning)."""
+        (polylines), "module1_assumed". deflection_load_n: the force each
+        tip exerts, (fx, fy, fz) N (`parasils reach --deflection-load`): the
+        dict then has "left_tip_deflection_mm" and "right_tip_deflection_mm"
+        ((R, C), NaN where infeasible), how far each tip gives way pressing
+        with it, with this robot's [stiffness]. psi_range, theta_range, step:
+        the deprecated names, in rad (a DeprecationWarning)."""
     def reorientation_path(
         self,
         pose: _Array,
@@ -288,7 +293,9 @@ def simulate(
     actuator's force (``q1_force_n`` .. ``q6_force_n``, N;
     ``left_qs1_torque_nmm``, ``left_qs2_torque_nmm``, N mm;
     ``left_qs3_force_n``, N; the same for the right) and each tip's
-    deflection (``left_tip_deflection_mm``, ``right_tip_deflection_mm``).
+    deflection (``left_tip_deflection_mm``, ``right_tip_deflection_mm``);
+    a robot whose file has a ``[dynamics]`` table gives the same columns
+    without a load, with its body's weight and inertia.
     ``look_at``: a point [x, y, z] mm or ``"tips"``, ``"left"``,
     ``"right"`` for the camera to look at instead of the angles
     (``--look-at``). Every table has the camera's columns (``left_tip_u`` ..

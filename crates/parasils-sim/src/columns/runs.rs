@@ -141,7 +141,7 @@ pub const CSV_WITH_PROCEDURE: [Column; CSV_COUNT + 12] = {
 /// procedure, [`CSV_WITH_COMMAND`] with commands, [`CSV`] otherwise; with
 /// a tip load given, the same followed by [`FORCES`].
 pub fn csv_columns_of(scenario: &crate::scenario::Scenario) -> &'static [Column] {
-    let loads = scenario.tip_load_left_n.is_some() || scenario.tip_load_right_n.is_some();
+    let loads = scenario.has_forces();
     match (scenario.is_procedure(), loads) {
         (true, false) => &CSV_WITH_PROCEDURE,
         (true, true) => &CSV_WITH_PROCEDURE_AND_FORCES,
@@ -165,13 +165,15 @@ const fn force(name: &'static str, unit: &'static str, get: fn(&Record) -> f64) 
     }
 }
 
-/// The columns a run with tip loads adds after its others: every
-/// actuator's force holding the loads ([`Record::forces`], see
-/// `docs/model.md`, *Forces*): module 1's slider forces `q1_force_n` ..
-/// `q6_force_n` (N, positive pushing the slider along its guide's direction
-/// `u`), then each instrument module's `qs1`, `qs2` torques (N mm) and
-/// `qs3` force (N), then how far each tip gives way under the tissue's push
-/// with the assumed actuator stiffnesses (mm). CSV and Python only.
+/// The columns a run with forces (a tip load, or the robot's `[dynamics]`)
+/// adds after its others: every actuator's force holding the loads and
+/// moving the platform's body ([`Record::forces`], see `docs/model.md`,
+/// *Forces*): module 1's slider forces `q1_force_n` .. `q6_force_n` (N,
+/// positive pushing the slider along its guide's direction `u`), then each
+/// instrument module's `qs1`, `qs2` torques (N mm) and `qs3` force (N),
+/// then how far each tip gives way under the tissue's push with the
+/// robot's actuator stiffnesses (mm). In the CSV and Python; in MCAP on
+/// their own channel, `/forces` (no column channel of the table).
 pub const FORCES: [Column; 14] = [
     force("q1_force_n", N, |r| r.forces.module1[0]),
     force("q2_force_n", N, |r| r.forces.module1[1]),

@@ -5,9 +5,7 @@
 use super::procedure::ProcedurePlan;
 use nalgebra::Vector3;
 use parasils::kin::MarginTracker;
-use parasils::kin::{
-    ActuatorStiffness, Bodies, ClearancePair, ControlStep, Controller, Loads, Side,
-};
+use parasils::kin::{Bodies, ClearancePair, ControlStep, Controller, Loads, Payload, Side};
 use parasils::supervisor::Margins;
 use parasils::traj::{Sampler, Synchronization};
 use parasils::{MotionKind, OnlineController};
@@ -170,21 +168,24 @@ pub(super) fn with_no_go(
     Ok((record, no_go))
 }
 
-/// The tip loads of `scenario` (`None` when neither is given), the
-/// endoscope's tip and the payload unloaded.
+/// What `scenario` has its actuators hold (`None` without forces,
+/// [`Scenario::has_forces`]): its tip loads and its platform's body, the
+/// endoscope's tip unloaded.
 fn loads(scenario: &Scenario) -> Option<Loads<f64>> {
     let (left, right) = (scenario.tip_load_left_n, scenario.tip_load_right_n);
-    (left.is_some() || right.is_some()).then(|| {
-        Loads::tips(
+    scenario.has_forces().then(|| Loads {
+        payload: scenario.dynamics.unwrap_or_else(Payload::none),
+        ..Loads::tips(
             Vector3::from(left.unwrap_or_default()),
             Vector3::from(right.unwrap_or_default()),
         )
     })
 }
 
-/// Every actuator's force in `step` holding `scenario`'s tip loads
-/// (`parasils_kin::statics`), checked against the actuators' force limits;
-/// zero without loads.
+/// Every actuator's force in `step` holding `scenario`'s tip loads and
+/// moving its platform's body (`parasils_kin::statics`; the step's frame
+/// carries the platform's closed-form angular velocity and acceleration),
+/// checked against the actuators' force limits; zero without forces.
 pub(super) fn forces(
     scenario: &Scenario,
     controller: &Controller<f64>,
@@ -202,10 +203,10 @@ pub(super) fn forces(
             sample: Some(k),
             error,
         })?;
-    let stiffness = ActuatorStiffness::assumed();
+    let stiffness = &scenario.stiffness;
     let deflection = [(Side::Left, loads.left), (Side::Right, loads.right)].map(|(side, load)| {
         controller
-            .tip_deflection(step, side, &-load, &stiffness)
+            .tip_deflection(step, side, &-load, stiffness)
             .map(|d| d.norm())
     });
     let [left_d, right_d] = deflection;

@@ -39,6 +39,15 @@
 //! the CSV's codes ([`crate::teleop`]), and the state (`ENABLED`), the
 //! limit held at and the fault in words (empty strings when none).
 //!
+//! A run with forces ([`Scenario::has_forces`](crate::Scenario::has_forces):
+//! a tip load or the robot file's `[dynamics]`) has one more channel after
+//! every other, `/forces` (schema `parasils.Forces`), one message per
+//! record: `t_s` and the fourteen force columns
+//! ([`columns::FORCES`](crate::columns::FORCES)); and its `/scene` draws
+//! the forces as arrows (entity `forces`: each slider's force along its
+//! guide from the slider, each tip's load from the tip, at
+//! [`FORCE_ARROW_MM_PER_N`], 2 mm per newton).
+//!
 //! For the 3D view, in metres as Foxglove expects:
 //! - `/tf`, `foxglove.FrameTransforms`: `world -> platform` (`P` and `R`),
 //!   `platform -> left_rcm`, `platform -> right_rcm` (the ports), and
@@ -108,7 +117,8 @@
 //! builder), `schema` (the data channels' fields and schemas from the
 //! column table, and the Foxglove schemas), `scene` (the `/tf` frames and
 //! the `/scene` drawing),
-//! `regions` (the forbidden regions in the scene),
+//! `regions` (the forbidden regions in the scene), `forces` (`/forces` and
+//! the force arrows),
 //! `writer` (the writer thread), and `sink` ([`McapSink`], which ties them
 //! together).
 //!
@@ -119,6 +129,7 @@
 
 mod camera;
 mod error;
+mod forces;
 mod json;
 mod regions;
 mod scene;
@@ -131,6 +142,7 @@ pub use camera::{
     write_annotations, write_calibration,
 };
 pub use error::McapError;
+pub use forces::{FORCE_ARROW_MM_PER_N, FORCES_TOPIC};
 pub use json::{log_time, push_num};
 pub use scene::{ProcedureScene, SCENE_TOPIC, SceneGeometry, TF_TOPIC, write_scene, write_tf};
 pub use schema::{

@@ -31,12 +31,22 @@ pub struct Field {
 /// The fields of `channel`'s messages: `t_s`, then the channel's columns in
 /// the table's order.
 pub fn fields(channel: Channel) -> Vec<Field> {
+    fields_of(
+        columns::ALL
+            .into_iter()
+            .filter(|c| c.channel == Some(channel)),
+    )
+}
+
+/// The fields of `/forces`' messages: `t_s`, then [`columns::FORCES`].
+pub(crate) fn forces_fields() -> Vec<Field> {
+    fields_of(columns::FORCES.into_iter())
+}
+
+/// `t_s`, then `columns`, as fields.
+fn fields_of(columns: impl Iterator<Item = Column>) -> Vec<Field> {
     core::iter::once(columns::T_S)
-        .chain(
-            columns::ALL
-                .into_iter()
-                .filter(|c| c.channel == Some(channel)),
-        )
+        .chain(columns)
         .enumerate()
         .map(|(k, column)| Field {
             key: format!("{}\"{}\":", if k == 0 { "{" } else { "," }, column.name).into_bytes(),
@@ -48,6 +58,23 @@ pub fn fields(channel: Channel) -> Vec<Field> {
 /// The JSON Schema of `channel`'s messages: an object of the numbers in
 /// `fields`, all required, none other allowed.
 pub fn data_schema(channel: Channel, fields: &[Field]) -> serde_json::Value {
+    numbers_schema(channel.schema_name(), channel.description(), fields)
+}
+
+/// The name of `/forces`' JSON schema.
+pub(crate) const FORCES_SCHEMA_NAME: &str = "parasils.Forces";
+
+/// The JSON Schema of `/forces`' messages.
+pub(crate) fn forces_schema(fields: &[Field]) -> serde_json::Value {
+    numbers_schema(
+        FORCES_SCHEMA_NAME,
+        "Every actuator's force holding the tip loads and moving the platform's body: module 1's slider forces (positive pushing the slider along its guide), each module's joint torques and insertion force, each tip's deflection",
+        fields,
+    )
+}
+
+/// An object of the numbers in `fields`, all required, none other allowed.
+fn numbers_schema(title: &str, description: &str, fields: &[Field]) -> serde_json::Value {
     let mut properties = serde_json::Map::new();
     for f in fields {
         properties.insert(
@@ -61,8 +88,8 @@ pub fn data_schema(channel: Channel, fields: &[Field]) -> serde_json::Value {
     let required: Vec<&str> = fields.iter().map(|f| f.column.name).collect();
     serde_json::json!({
         "$schema": "https://json-schema.org/draft/2020-12/schema",
-        "title": channel.schema_name(),
-        "description": channel.description(),
+        "title": title,
+        "description": description,
         "type": "object",
         "properties": properties,
         "required": required,
@@ -74,18 +101,11 @@ pub fn data_schema(channel: Channel, fields: &[Field]) -> serde_json::Value {
 /// the teleoperation columns on no other channel (each device's axes and
 /// buttons, the codes), in [`crate::teleop::TELEOP`]'s order.
 pub(crate) fn teleop_fields() -> Vec<Field> {
-    core::iter::once(columns::T_S)
-        .chain(
-            crate::teleop::TELEOP
-                .into_iter()
-                .filter(|c| c.channel.is_none()),
-        )
-        .enumerate()
-        .map(|(k, column)| Field {
-            key: format!("{}\"{}\":", if k == 0 { "{" } else { "," }, column.name).into_bytes(),
-            column,
-        })
-        .collect()
+    fields_of(
+        crate::teleop::TELEOP
+            .into_iter()
+            .filter(|c| c.channel.is_none()),
+    )
 }
 
 /// The name of `/teleop`'s JSON schema.

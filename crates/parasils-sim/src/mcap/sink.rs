@@ -17,6 +17,7 @@ pub const TELEOP_TOPIC: &str = "/teleop";
 
 use super::camera::{self, ANNOTATIONS_TOPIC, CALIBRATION_TOPIC, CameraImage};
 use super::error::McapError;
+use super::forces::{self, FORCES_TOPIC};
 use super::json::{log_time, push_num};
 use super::regions;
 use super::scene::{self, SCENE_TOPIC, SceneGeometry, TF_TOPIC};
@@ -102,6 +103,9 @@ pub struct McapSink<W: Write + Seek> {
     /// `/motion`'s channel id and next sequence number, in a run with
     /// commands.
     motion: Option<(u16, u32)>,
+    /// `/forces`, in a run that has forces, and the tip loads its arrows
+    /// draw (N, fixed frame, left then right).
+    forces: Option<(DataChannel, [Vector3<f64>; 2])>,
     /// `/teleop`'s channel id, next sequence number and numeric fields, in
     /// a teleoperation run.
     teleop: Option<(u16, u32, Vec<Field>)>,
@@ -322,6 +326,29 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
             None
         };
 
+        // After every other channel, so that theirs keep their ids.
+        let forces = if scenario.has_forces() {
+            let fields = schema::forces_fields();
+            let schema = serde_json::to_vec_pretty(&schema::forces_schema(&fields))?;
+            let schema_id = writer.add_schema(schema::FORCES_SCHEMA_NAME, "jsonschema", &schema)?;
+            let id = writer.add_channel(schema_id, FORCES_TOPIC, "json", &no_meta)?;
+            let load = |l: Option<[f64; 3]>| Vector3::from(l.unwrap_or_default());
+            Some((
+                DataChannel {
+                    id,
+                    topic: FORCES_TOPIC,
+                    fields,
+                    sequence: 0,
+                },
+                [
+                    load(scenario.tip_load_left_n),
+                    load(scenario.tip_load_right_n),
+                ],
+            ))
+        } else {
+            None
+        };
+        // A teleoperation run's, last of all.
         let teleop = if teleop {
             let fields = schema::teleop_fields();
             let schema = serde_json::to_vec_pretty(&schema::teleop_schema(&fields))?;
@@ -344,6 +371,7 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
             annotations: (annotations, 0),
             image: CameraImage::of(&geometry.camera),
             motion,
+            forces,
             teleop,
             commands: Vec::new(),
             motion_names: procedure.then(|| {
@@ -476,6 +504,21 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
         self.write(id, seq, ns);
         self.scene.1 = seq.wrapping_add(1);
 
+        if let Some((_, loads)) = &self.forces {
+            self.buf.clear();
+            forces::write_arrows(
+                &self.geometry,
+                loads,
+                record,
+                ns,
+                &mut self.buf,
+                &mut self.ryu,
+            )?;
+            let (id, seq) = self.scene;
+            self.write(id, seq, ns);
+            self.scene.1 = seq.wrapping_add(1);
+        }
+
         self.buf.clear();
         camera::write_calibration(&self.image, ns, record.t, &mut self.buf, &mut self.ryu)?;
         let (id, seq) = self.calibration;
@@ -533,6 +576,27 @@ impl<W: Write + Seek + Send + 'static> Sink for McapSink<W> {
             let (id, seq) = (ch.id, ch.sequence);
             self.write(id, seq, ns);
             self.data[k].sequence = seq.wrapping_add(1);
+        }
+
+        if let Some((ch, _)) = &self.forces {
+            self.buf.clear();
+            for f in &ch.fields {
+                self.buf.extend_from_slice(&f.key);
+                if let Err(value) = push_num(&mut self.buf, &mut self.ryu, f.column.value(record)) {
+                    return Err(McapError::NonFinite {
+                        topic: FORCES_TOPIC,
+                        field: f.column.name,
+                        t: record.t,
+                        value,
+                    });
+                }
+            }
+            self.buf.push(b'}');
+            let (id, seq) = (ch.id, ch.sequence);
+            self.write(id, seq, ns);
+            if let Some((ch, _)) = &mut self.forces {
+                ch.sequence = seq.wrapping_add(1);
+            }
         }
 
         if let (Some((id, seq)), Some(names)) = (self.motion, &self.motion_names) {

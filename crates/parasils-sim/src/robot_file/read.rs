@@ -19,7 +19,7 @@ pub fn parse(text: &str) -> Result<RobotGeometry<f64>, RobotFileError> {
 }
 
 /// The whole robot in a robot file's text, validated: its geometry and its
-/// `[supervisor]` thresholds and its `[bodies]`, read in one pass. Errors name `"robot file"`
+/// `[supervisor]` thresholds, its `[bodies]`, `[dynamics]` and `[stiffness]`, read in one pass. Errors name `"robot file"`
 /// as their origin; see [`load_robot`] for a path.
 pub fn parse_robot(text: &str) -> Result<Robot, RobotFileError> {
     parse_from(text, "robot file")
@@ -91,11 +91,29 @@ fn parse_from(text: &str, origin: &str) -> Result<Robot, RobotFileError> {
             error,
         });
     }
+    if let Some((what, value)) = file.dynamics.as_ref().and_then(|d| d.inertia_problem()) {
+        return Err(RobotFileError::Invalid {
+            origin: origin.into(),
+            line: line_of(text, "platform_inertia_kg_mm2"),
+            key: Some("[dynamics] platform_inertia_kg_mm2".into()),
+            text: None,
+            error: parasils::kin::Error::InvalidParameter { what, value },
+        });
+    }
     Ok(Robot {
         geometry,
         supervisor,
         bodies,
+        dynamics: file.dynamics.map(|d| d.to_payload()),
+        stiffness: file.stiffness.unwrap_or_default().to_stiffness(),
     })
+}
+
+/// The line (1-based) of the first line that sets `key`.
+fn line_of(text: &str, key: &str) -> Option<usize> {
+    text.lines()
+        .position(|l| l.split_once('=').is_some_and(|(k, _)| k.trim() == key))
+        .map(|k| k + 1)
 }
 
 /// A [`RobotFileError::Parse`] with the line, column, key and text of the

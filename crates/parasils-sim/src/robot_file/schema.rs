@@ -11,6 +11,7 @@ use parasils::kin::{
 };
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
+use super::dynamics::{DynamicsFile, StiffnessFile};
 use crate::supervisor::SupervisorTable;
 
 /// The whole robot as the file holds it.
@@ -41,6 +42,15 @@ pub struct RobotFile {
     /// assumed default).
     #[serde(default, skip_serializing)]
     pub bodies: Option<BodiesFile>,
+    /// `[dynamics]`: the platform as one rigid body (see [`DynamicsFile`];
+    /// not part of the geometry; missing, no weight and no inertia, and no
+    /// force columns without a tip load).
+    #[serde(default, skip_serializing)]
+    pub dynamics: Option<DynamicsFile>,
+    /// `[stiffness]`: each actuator's stiffness (see [`StiffnessFile`]; not
+    /// part of the geometry; each key missing keeps its assumed default).
+    #[serde(default, skip_serializing)]
+    pub stiffness: Option<StiffnessFile>,
 }
 
 /// The bodies in the file: `[bodies]`, the instrument shafts and the
@@ -505,6 +515,8 @@ impl RobotFile {
             camera: CameraFile::from_camera(&g.endoscope.camera),
             supervisor: None,
             bodies: None,
+            dynamics: None,
+            stiffness: None,
         }
     }
 

@@ -1,8 +1,9 @@
 //! A geometry written as a robot file: the header, the file's keys with a
 //! comment each, numbers that read back exactly.
 
-use parasils::kin::{BodyGeometry, RobotGeometry};
+use parasils::kin::{ActuatorStiffness, BodyGeometry, RobotGeometry};
 
+use super::dynamics::{DynamicsFile, StiffnessFile};
 use super::error::RobotFileError;
 use super::schema::{BodiesFile, RobotFile};
 use crate::robot::Robot;
@@ -101,7 +102,9 @@ pub fn to_toml_string(geometry: &RobotGeometry<f64>) -> Result<String, RobotFile
 
 /// The TOML text of a whole robot: [`to_toml_string`] of its geometry, then
 /// its `[supervisor]` table with the thresholds it gives (none: no table)
-/// and its `[bodies]` when they are not the assumed ones, so
+/// and its `[bodies]` when they are not the assumed ones, its `[dynamics]`
+/// when it has them and its `[stiffness]` with them or when not the
+/// assumed ones, so
 /// that [`parse_robot`](crate::robot_file::parse_robot) reads back the same [`Robot`].
 pub fn robot_to_toml_string(robot: &Robot) -> Result<String, RobotFileError> {
     let mut out = to_toml_string(&robot.geometry)?;
@@ -112,6 +115,23 @@ pub fn robot_to_toml_string(robot: &Robot) -> Result<String, RobotFileError> {
     if robot.bodies != BodyGeometry::assumed() {
         out.push_str("\n[bodies]\n");
         out.push_str(&toml::to_string(&BodiesFile::from_bodies(&robot.bodies))?);
+    }
+    if let Some(payload) = &robot.dynamics {
+        out.push_str(
+            "\n# The platform with its modules as one rigid body: mass, centre of mass\n\
+             # (platform frame), inertia about the centre of mass (platform axes),\n\
+             # gravity (fixed frame). ASSUMED: the paper gives no masses.\n[dynamics]\n",
+        );
+        out.push_str(&toml::to_string(&DynamicsFile::from_payload(payload))?);
+    }
+    if robot.dynamics.is_some() || robot.stiffness != ActuatorStiffness::assumed() {
+        out.push_str(
+            "\n# Each actuator as a spring, the links rigid: sliders along their guides\n\
+             # N/mm, qs1 and qs2 N mm/rad, qs3 N/mm. ASSUMED.\n[stiffness]\n",
+        );
+        out.push_str(&toml::to_string(&StiffnessFile::from_stiffness(
+            &robot.stiffness,
+        ))?);
     }
     Ok(out)
 }
