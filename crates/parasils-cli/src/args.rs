@@ -716,8 +716,7 @@ impl ToleranceArgs {
 /// Where the live inputs come from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum DeviceArg {
-    /// The SpaceMouse devices attached: the first two for the left and the
-    /// right hand, a third (if any) for the camera.
+    /// The SpaceMouse devices attached: two for the hands, a third (if any) for the camera.
     Auto,
 }
 
@@ -740,8 +739,7 @@ pub struct TeleopArgs {
     /// Cycles per second, Hz [default: 1000].
     #[arg(long, value_name = "HZ")]
     pub rate: Option<f64>,
-    /// How long the replay runs on after the recording's last row, s
-    /// [default: 1].
+    /// How long the replay runs on after the recording's last row, s [default: 1].
     #[arg(long, value_name = "S")]
     pub settle: Option<f64>,
     /// The start pose and the tips.
@@ -750,8 +748,7 @@ pub struct TeleopArgs {
     /// The robot.
     #[command(flatten)]
     pub robot: RobotArg,
-    /// Write the cycles to FILE: .csv or .mcap. Without it, print the
-    /// summary.
+    /// Write the cycles to FILE: .csv or .mcap. Without it, print the summary.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub output: Option<PathBuf>,
     /// The output's format, when the extension does not say it.
@@ -760,8 +757,7 @@ pub struct TeleopArgs {
 }
 
 impl TeleopArgs {
-    /// The scenario: the paper's start, tips and robot unless given, at the
-    /// rate given.
+    /// The scenario: the paper's start, tips and robot unless given, at the rate given.
     pub fn scenario(&self) -> Result<Scenario> {
         resolve(self.place.fill(Input {
             robot: self.robot.source(),
