@@ -139,7 +139,7 @@ pub use interval::Interval;
 pub use limits::{ACTUATOR_COUNT, Actuator, ActuatorLimits, LimitError, RateKind};
 pub use nalgebra;
 pub use parallel::{
-    Actuators, Branch, Calibration, FkOptions, FkSolution, Guide, MAX_OFFSET_LINKS, MarginTracker,
+    Actuators, Branch, Calibration, FkChord, FkOptions, FkSolution, Guide, MAX_OFFSET_LINKS, MarginTracker,
     ParallelGeometry, ParallelMargins, ParallelRobot, ParallelSolution, ParallelThresholds,
     Provenance, SymmetricLayout,
 };
