@@ -9,16 +9,18 @@
 //! [`Study`](crate::Study) runs, uses what the nominal robot already knows:
 //! the scaled Jacobian at every commanded pose, inverted once for the whole
 //! study ([`FkChord`]), drives a chord iteration (simplified Newton) from
-//! the commanded pose shifted by the error extrapolated from the two
-//! previous samples, to the same residual tolerance; a sample where the
-//! chord does not contract falls back to Newton. Both reach poses that meet
+//! the commanded pose shifted by the pose error extrapolated (quadratically)
+//! from the three previous samples, to the same residual tolerance; a
+//! sample where the chord does not contract falls back to Newton. The tips
+//! come from the platform's rotation of the module 1's last iterate and the
+//! joints' sines and cosines computed once for all robots. Both reach poses that meet
 //! the same tolerance, so their deviations agree to about 1e-11 mm (the
 //! tests hold them within 1e-9 mm over random robots); the plan is 8 to 10
 //! times faster (see `BENCHMARKS.md`).
 
 use nalgebra::{Matrix3, Vector3};
 use parasils_kin::{
-    Actuators, Error, FkChord, Instrument, Joints, ParallelRobot, Pose, RobotGeometry,
+    Actuators, Error, FkChord, Instrument, Joints, JointsTrig, ParallelRobot, Pose, RobotGeometry,
 };
 
 use crate::trace::Trace;
@@ -121,13 +123,15 @@ pub fn replay(robot: &RobotGeometry<f64>, trace: &Trace) -> Result<Deviation, Re
 
 /// What every robot's replay of one trace shares: the trace, the nominal
 /// robot's inverted Jacobian at each commanded pose (`None` where the
-/// nominal robot is too near a parallel singularity for the chord method)
-/// and each commanded rotation.
+/// nominal robot is too near a parallel singularity for the chord method),
+/// each commanded rotation and the sines and cosines of each command's
+/// instrument joints.
 #[derive(Debug, Clone)]
 pub struct ReplayPlan {
     trace: Trace,
     chords: Vec<Option<FkChord<f64>>>,
     rotations: Vec<Matrix3<f64>>,
+    joints: Vec<[JointsTrig<f64>; 2]>,
 }
 
 impl ReplayPlan {
@@ -141,10 +145,16 @@ impl ReplayPlan {
             .map(|c| nominal.and_then(|m| m.fk_chord_at(&c.pose).ok()))
             .collect();
         let rotations = trace.commands().iter().map(|c| c.pose.rotation()).collect();
+        let joints = trace
+            .commands()
+            .iter()
+            .map(|c| [JointsTrig::of(&c.left), JointsTrig::of(&c.right)])
+            .collect();
         Self {
             trace,
             chords,
             rotations,
+            joints,
         }
     }
 
@@ -178,15 +188,16 @@ impl ReplayPlan {
         let options = module1.geometry().fk;
         let mut worst = Deviation::default();
         let mut guess: Option<Pose<f64>> = None;
-        // The pose errors (real minus commanded) of the two previous samples.
-        let mut errors: [Option<[f64; 6]>; 2] = [None, None];
+        // The pose errors (real minus commanded) of the three previous samples.
+        let mut errors: [Option<[f64; 6]>; 3] = [None, None, None];
         let samples = self
             .trace
             .commands()
             .iter()
             .zip(&self.chords)
-            .zip(&self.rotations);
-        for (k, ((c, chord), commanded)) in samples.enumerate() {
+            .zip(&self.rotations)
+            .zip(&self.joints);
+        for (k, (((c, chord), commanded), [trig_left, trig_right])) in samples.enumerate() {
             let fail = |error| ReplayFailure {
                 index: Some(k),
                 t_s: c.t_s,
@@ -194,27 +205,34 @@ impl ReplayPlan {
             };
             let nominal = c.pose.to_array();
             let start = match errors {
-                [Some(e1), Some(e2)] => {
+                [Some(e1), Some(e2), Some(e3)] => Pose::from_array(core::array::from_fn(|i| {
+                    nominal[i] + (3.0 * e1[i] - 3.0 * e2[i] + e3[i])
+                })),
+                [Some(e1), Some(e2), None] => {
                     Pose::from_array(core::array::from_fn(|i| nominal[i] + (2.0 * e1[i] - e2[i])))
                 }
-                [Some(e1), None] => Pose::from_array(core::array::from_fn(|i| nominal[i] + e1[i])),
+                [Some(e1), None, None] => {
+                    Pose::from_array(core::array::from_fn(|i| nominal[i] + e1[i]))
+                }
                 _ => c.pose,
             };
             let q = Actuators(c.q_mm);
             let by_chord = chord
                 .as_ref()
                 .and_then(|chord| module1.fk_chord(&q, &start, chord, &options));
-            let pose = match by_chord {
-                Some(solution) => solution.pose,
+            let (pose, rotation) = match by_chord {
+                Some((solution, rotation)) => (solution.pose, rotation),
                 None => {
                     let from = guess.unwrap_or(c.pose);
-                    module1.fk(&q, &from).map_err(fail)?.pose
+                    let pose = module1.fk(&q, &from).map_err(fail)?.pose;
+                    (pose, pose.rotation())
                 }
             };
-            let rotation = pose.rotation();
             let position = pose.position();
-            let tip_left = tip(&left, &rotation, &position, &pose, &c.left).map_err(fail)?;
-            let tip_right = tip(&right, &rotation, &position, &pose, &c.right).map_err(fail)?;
+            let tip_left =
+                tip(&left, &rotation, &position, &pose, &c.left, trig_left).map_err(fail)?;
+            let tip_right =
+                tip(&right, &rotation, &position, &pose, &c.right, trig_right).map_err(fail)?;
             worst.max(&Deviation {
                 left_tip_dev_mm: (tip_left - c.tip_left_mm).norm(),
                 right_tip_dev_mm: (tip_right - c.tip_right_mm).norm(),
@@ -225,6 +243,7 @@ impl ReplayPlan {
             errors = [
                 Some(core::array::from_fn(|i| real[i] - nominal[i])),
                 errors[0],
+                errors[1],
             ];
             guess = Some(pose);
         }
@@ -232,17 +251,18 @@ impl ReplayPlan {
     }
 }
 
-/// [`Instrument::fk`] with the platform's rotation computed once for both
-/// modules: the same expression, so the same bits; a non-finite tip is
-/// reported by `Instrument::fk` itself.
+/// [`Instrument::fk`] from the platform's rotation and the joints' sines
+/// and cosines computed beforehand: the same expressions, so the same bits;
+/// a non-finite tip is reported by `Instrument::fk` itself.
 fn tip(
     instrument: &Instrument<f64>,
     rotation: &Matrix3<f64>,
     position: &Vector3<f64>,
     pose: &Pose<f64>,
     q: &Joints<f64>,
+    trig: &JointsTrig<f64>,
 ) -> Result<Vector3<f64>, Error> {
-    let tip = rotation * instrument.fk_platform(q) + position;
+    let tip = rotation * instrument.fk_platform_trig(trig) + position;
     if tip.iter().all(|v| v.is_finite()) && q.check_finite().is_ok() {
         Ok(tip)
     } else {

@@ -87,5 +87,8 @@ fn a_plan_keeps_the_trace_it_was_made_from() {
     assert_eq!(plan.trace(), &trace);
     // The nominal robot on its own commands: no deviation.
     let d = plan.replay(trace.robot()).expect("followed");
-    assert!(d.tip_dev_mm() < 1e-9 && d.pose_rotation_err_deg < 1e-9, "{d:?}");
+    assert!(
+        d.tip_dev_mm() < 1e-9 && d.pose_rotation_err_deg < 1e-9,
+        "{d:?}"
+    );
 }

@@ -3,13 +3,13 @@
 //! the solution, possibly of a slightly different robot (see the
 //! [module docs](crate::parallel), *Forward kinematics by the chord method*).
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 
 use super::geometry::FkOptions;
 use super::ik::ParallelRobot;
 use super::types::{Actuators, FkSolution};
 use crate::error::{Error, ParallelSingularity};
-use crate::frame::Pose;
+use crate::frame::{Pose, rotation_from_sin_cos};
 use crate::linalg::{Mat6, Svd6, mul, transpose};
 use crate::real::Real;
 
@@ -106,14 +106,16 @@ impl<T: Real> ParallelRobot<T> {
     /// step, `options.max_iterations` steps, an iterate at the Euler angles'
     /// singularity, a solution with a link on the other branch or a
     /// non-finite one. A solution returned satisfies the tolerance;
-    /// `FkSolution::iterations` counts the chord steps.
+    /// `FkSolution::iterations` counts the chord steps. It comes with its
+    /// rotation matrix `R` (platform to fixed frame), which the iteration
+    /// computed last.
     pub fn fk_chord(
         &self,
         q: &Actuators<T>,
         start: &Pose<T>,
         chord: &FkChord<T>,
         options: &FkOptions<T>,
-    ) -> Option<FkSolution<T>> {
+    ) -> Option<(FkSolution<T>, Matrix3<T>)> {
         let thresholds = &self.geometry().thresholds;
         let usable = q.check_finite().is_ok()
             && start.check_finite().is_ok()
@@ -128,21 +130,33 @@ impl<T: Real> ParallelRobot<T> {
             g.point + g.direction * (q[j] - g.encoder_offset)
         });
         let inv_scale = T::one() / chord.length_scale;
+        // The constraints at `x`, with the sines and cosines of its angles
+        // (the rotation's, reused by the Euler-rate map).
+        let at = |x: &Pose<T>| {
+            let (s1, c1) = x.psi.sincos();
+            let (s2, c2) = x.theta.sincos();
+            let (s3, c3) = x.phi.sincos();
+            let r = rotation_from_sin_cos(s1, c1, s2, c2, s3, c3);
+            (
+                self.constraints_at(&x.position(), &r, &sliders),
+                r,
+                [s1, c1, s2, c2],
+            )
+        };
         let mut x = *start;
-        let mut c = self.constraints(&x, &sliders);
+        let (mut c, mut r, mut trig) = at(&x);
         let mut iterations = 0;
         loop {
             if !c.residual.finite() {
                 return None;
             }
             if c.residual <= options.tolerance {
-                return self.fk_solution(x, &c, iterations).ok();
+                return self.fk_solution(x, &c, iterations).ok().map(|s| (s, r));
             }
             if iterations >= options.max_iterations {
                 return None;
             }
-            let (s1, c1) = x.psi.sin_cos();
-            let (s2, c2) = x.theta.sin_cos();
+            let [s1, c1, s2, c2] = trig;
             if !(c2.abs() >= thresholds.euler) {
                 return None;
             }
@@ -156,7 +170,7 @@ impl<T: Real> ParallelRobot<T> {
             x = Pose::from_array(core::array::from_fn(|k| x0[k] + dx[k]));
             iterations += 1;
             let previous = c.residual;
-            c = self.constraints(&x, &sliders);
+            (c, r, trig) = at(&x);
             if !(c.residual <= T::lit(CHORD_MAX_RATIO) * previous) && c.residual > options.tolerance
             {
                 return None;
@@ -180,7 +194,10 @@ mod tests {
         let chord = robot.fk_chord_at(&pose).expect("regular");
         let start = Pose::from_mm_deg(3.5, -2.2, -495.3, 4.2, -3.1, -56.9);
         let options = robot.geometry().fk;
-        let by_chord = robot.fk_chord(&q, &start, &chord, &options).expect("converges");
+        let (by_chord, r) = robot
+            .fk_chord(&q, &start, &chord, &options)
+            .expect("converges");
+        assert_eq!(r, by_chord.pose.rotation());
         let by_newton = robot.fk(&q, &start).expect("converges");
         let (a, b) = (by_chord.pose.to_array(), by_newton.pose.to_array());
         for k in 0..3 {
@@ -200,7 +217,7 @@ mod tests {
         let chord = robot.fk_chord_at(&far).expect("regular");
         let q = robot.ik(&pose).expect("reachable");
         let options = robot.geometry().fk;
-        if let Some(s) = robot.fk_chord(&q, &far, &chord, &options) {
+        if let Some((s, _)) = robot.fk_chord(&q, &far, &chord, &options) {
             // If it did converge, it is the true solution.
             let back = robot.ik(&s.pose).expect("reachable");
             for j in 0..6 {

@@ -2,7 +2,7 @@
 //! constraints, globalised by continuation from the guess (see the
 //! [module docs](crate::parallel), *Forward kinematics*).
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 
 use super::geometry::FkOptions;
 use super::ik::ParallelRobot;
@@ -246,8 +246,20 @@ impl<T: Real> ParallelRobot<T> {
     /// The constraints of the forward kinematics at the pose `x`, with the
     /// sliders at `sliders` (mm, fixed frame).
     pub(super) fn constraints(&self, x: &Pose<T>, sliders: &[Vector3<T>; 6]) -> Constraints<T> {
-        let rho = self.node_arms(&x.rotation());
-        let p = x.position();
+        self.constraints_at(&x.position(), &x.rotation(), sliders)
+    }
+
+    /// [`Self::constraints`] at the position `p` and the rotation `r`
+    /// computed beforehand.
+    #[inline]
+    pub(super) fn constraints_at(
+        &self,
+        p: &Vector3<T>,
+        r: &Matrix3<T>,
+        sliders: &[Vector3<T>; 6],
+    ) -> Constraints<T> {
+        let rho = self.node_arms(r);
+        let p = *p;
         let mut e = [Vector3::zeros(); 6];
         let mut f = [T::zero(); 6];
         let mut residual = T::zero();
