@@ -49,11 +49,14 @@ impl<T: Real> OnlineController<T> {
         if with_regions && self.clearance.is_none() {
             return Err(Error::NoClearanceWatch);
         }
-        // The follow law's cycle, kept apart until the cycle succeeds.
-        let mut law = self.follow;
+        // The follow law's cycle, on a copy kept apart until the cycle
+        // succeeds; without a law nothing is copied (the law is large, and
+        // most cycles have none).
+        let mut followed = None;
         let mut adopted: Option<(OnlineMulti<T, 2>, T)> = None;
-        let angles = match &mut law {
-            Some(law) => {
+        let angles = match &self.follow {
+            Some(current) => {
+                let law = followed.insert(*current);
                 let step = law.step(t, &[self.tips.left, self.tips.right])?;
                 if step.replanned
                     && let Some((profile, start)) = law.recentring()
@@ -136,7 +139,9 @@ impl<T: Real> OnlineController<T> {
             self.motion = motion;
             self.start = start;
         }
-        self.follow = law;
+        if followed.is_some() {
+            self.follow = followed;
+        }
         let stop_time = self.stop_time(&angles);
         let verdict = self
             .supervisor
