@@ -398,6 +398,7 @@ mod tests {
 
     /// The whole square is the triangle summed and mirrored, bit for bit.
     #[test]
+    #[allow(clippy::needless_range_loop)]
     fn gram_is_the_mirrored_triangle_to_the_bit() {
         for seed in 0..200 {
             let r = rows(seed);

@@ -83,9 +83,9 @@ fn median(mut v: Vec<f64>) -> f64 {
     }
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() -> Result<(), Box<dyn core::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let arg = |i: usize, default: f64| -> Result<f64, Box<dyn std::error::Error>> {
+    let arg = |i: usize, default: f64| -> Result<f64, Box<dyn core::error::Error>> {
         Ok(args
             .get(i)
             .map(|s| s.parse::<f64>())
