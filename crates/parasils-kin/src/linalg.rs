@@ -71,20 +71,42 @@ pub(crate) fn mul<T: Real>(a: &Mat6<T>, v: &Vec6<T>) -> Vec6<T> {
 }
 
 /// `A = J^T J` (both triangles) from the rows `r_j` of `J`: `sum_j r_j r_j^T`,
-/// every entry summed over the rows in order. The whole square rather than
-/// one triangle and its mirror: `r_i r_k` and `r_k r_i` are the same
-/// product, so the result is the same bits, and the six products of a row
-/// of `A` form whole vectors, which the compiler keeps in SIMD registers
-/// (two `f64` lanes on the x86-64 baseline: 330 instructions fewer a
-/// control step, see `BENCHMARKS.md`).
+/// every entry summed over the rows in order.
+///
+/// Where the processor has SIMD registers (x86, x86-64, AArch64) the whole
+/// square is summed: `r_i r_k` and `r_k r_i` are the same product, so the
+/// result is the same bits as the triangle's mirror, and the six products of
+/// a row of `A` form whole vectors (two `f64` lanes on the x86-64 baseline:
+/// 330 instructions fewer a control step, see `BENCHMARKS.md`). Elsewhere
+/// (the Cortex-M4F of the firmware, scalar) the lower triangle is summed and
+/// mirrored, 21 products a row instead of 36.
 #[allow(clippy::needless_range_loop)]
 pub(crate) fn gram<T: Real>(rows: &Mat6<T>) -> Mat6<T> {
     let mut a = [[T::zero(); 6]; 6];
-    for r in rows {
+    if cfg!(any(
+        target_arch = "x86_64",
+        target_arch = "x86",
+        target_arch = "aarch64"
+    )) {
+        for r in rows {
+            for i in 0..6 {
+                let ri = r[i];
+                for k in 0..6 {
+                    a[i][k] += ri * r[k];
+                }
+            }
+        }
+    } else {
+        for r in rows {
+            for i in 0..6 {
+                for k in 0..=i {
+                    a[i][k] += r[i] * r[k];
+                }
+            }
+        }
         for i in 0..6 {
-            let ri = r[i];
-            for k in 0..6 {
-                a[i][k] += ri * r[k];
+            for k in 0..i {
+                a[k][i] = a[i][k];
             }
         }
     }
