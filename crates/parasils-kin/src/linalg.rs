@@ -80,34 +80,36 @@ pub(crate) fn mul<T: Real>(a: &Mat6<T>, v: &Vec6<T>) -> Vec6<T> {
 /// 330 instructions fewer a control step, see `BENCHMARKS.md`). Elsewhere
 /// (the Cortex-M4F of the firmware, scalar) the lower triangle is summed and
 /// mirrored, 21 products a row instead of 36.
+#[cfg(any(target_arch = "x86_64", target_arch = "x86", target_arch = "aarch64"))]
 #[allow(clippy::needless_range_loop)]
 pub(crate) fn gram<T: Real>(rows: &Mat6<T>) -> Mat6<T> {
     let mut a = [[T::zero(); 6]; 6];
-    if cfg!(any(
-        target_arch = "x86_64",
-        target_arch = "x86",
-        target_arch = "aarch64"
-    )) {
-        for r in rows {
-            for i in 0..6 {
-                let ri = r[i];
-                for k in 0..6 {
-                    a[i][k] += ri * r[k];
-                }
-            }
-        }
-    } else {
-        for r in rows {
-            for i in 0..6 {
-                for k in 0..=i {
-                    a[i][k] += r[i] * r[k];
-                }
-            }
-        }
+    for r in rows {
         for i in 0..6 {
-            for k in 0..i {
-                a[k][i] = a[i][k];
+            let ri = r[i];
+            for k in 0..6 {
+                a[i][k] += ri * r[k];
             }
+        }
+    }
+    a
+}
+
+/// [`gram`] on a scalar processor: the lower triangle summed and mirrored.
+#[cfg(not(any(target_arch = "x86_64", target_arch = "x86", target_arch = "aarch64")))]
+#[allow(clippy::needless_range_loop)]
+pub(crate) fn gram<T: Real>(rows: &Mat6<T>) -> Mat6<T> {
+    let mut a = [[T::zero(); 6]; 6];
+    for r in rows {
+        for i in 0..6 {
+            for k in 0..=i {
+                a[i][k] += r[i] * r[k];
+            }
+        }
+    }
+    for i in 0..6 {
+        for k in 0..i {
+            a[k][i] = a[i][k];
         }
     }
     a
