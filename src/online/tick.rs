@@ -49,14 +49,11 @@ impl<T: Real> OnlineController<T> {
         if with_regions && self.clearance.is_none() {
             return Err(Error::NoClearanceWatch);
         }
-        // The follow law's cycle, on a copy kept apart until the cycle
-        // succeeds; without a law nothing is copied (the law is large, and
-        // most cycles have none).
-        let mut followed = None;
+        // The follow law's cycle, kept apart until the cycle succeeds.
+        let mut law = self.follow;
         let mut adopted: Option<(OnlineMulti<T, 2>, T)> = None;
-        let angles = match &self.follow {
-            Some(current) => {
-                let law = followed.insert(*current);
+        let angles = match &mut law {
+            Some(law) => {
                 let step = law.step(t, &[self.tips.left, self.tips.right])?;
                 if step.replanned
                     && let Some((profile, start)) = law.recentring()
@@ -139,9 +136,7 @@ impl<T: Real> OnlineController<T> {
             self.motion = motion;
             self.start = start;
         }
-        if followed.is_some() {
-            self.follow = followed;
-        }
+        self.follow = law;
         let stop_time = self.stop_time(&angles);
         let verdict = self
             .supervisor
