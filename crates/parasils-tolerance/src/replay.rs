@@ -12,11 +12,11 @@
 //! the commanded pose shifted by the pose error extrapolated (quadratically)
 //! from the three previous samples, to the same residual tolerance; a
 //! sample where the chord does not contract falls back to Newton. The tips
-//! come from the platform's rotation of the module 1's last iterate and the
-//! joints' sines and cosines computed once for all robots. Both reach poses that meet
-//! the same tolerance, so their deviations agree to about 1e-11 mm (the
-//! tests hold them within 1e-9 mm over random robots); the plan is 8 to 10
-//! times faster (see `BENCHMARKS.md`).
+//! come from the rotation of module 1's last iterate and the joints' sines
+//! and cosines computed once for all robots. Both reach poses that meet the
+//! same tolerance, so their deviations agree to about 1e-10 mm (the tests
+//! hold them within 1e-9 mm over random robots); the plan is about 15 times
+//! faster (see `BENCHMARKS.md`).
 
 use nalgebra::{Matrix3, Vector3};
 use parasils_kin::{
