@@ -384,7 +384,14 @@ pub fn rotation<T: Real>(psi: T, theta: T, phi: T) -> Matrix3<T> {
 }
 
 #[inline]
-fn rotation_from_sin_cos<T: Real>(s1: T, c1: T, s2: T, c2: T, s3: T, c3: T) -> Matrix3<T> {
+pub(crate) fn rotation_from_sin_cos<T: Real>(
+    s1: T,
+    c1: T,
+    s2: T,
+    c2: T,
+    s3: T,
+    c3: T,
+) -> Matrix3<T> {
     // R_X(psi) R_Y(theta) R_Z(phi) multiplied out.
     Matrix3::new(
         c2 * c3,

@@ -133,15 +133,15 @@ pub use error::{Error, InstrumentSingularity, Joint, ParallelSingularity};
 pub use frame::{PlatformFrame, PlatformState, Pose, PoseRate};
 pub use instrument::{
     AssemblyMode, Instrument, InstrumentGeometry, InstrumentMargins, InstrumentSolution,
-    JointLimits, JointMotion, Joints, Thresholds, TipMotion,
+    JointLimits, JointMotion, Joints, JointsTrig, Thresholds, TipMotion,
 };
 pub use interval::Interval;
 pub use limits::{ACTUATOR_COUNT, Actuator, ActuatorLimits, LimitError, RateKind};
 pub use nalgebra;
 pub use parallel::{
-    Actuators, Branch, Calibration, FkOptions, FkSolution, Guide, MAX_OFFSET_LINKS, MarginTracker,
-    ParallelGeometry, ParallelMargins, ParallelRobot, ParallelSolution, ParallelThresholds,
-    Provenance, SymmetricLayout,
+    Actuators, Branch, Calibration, FkChord, FkOptions, FkSolution, Guide, MAX_OFFSET_LINKS,
+    MarginTracker, ParallelGeometry, ParallelMargins, ParallelRobot, ParallelSolution,
+    ParallelThresholds, Provenance, SymmetricLayout,
 };
 pub use real::Real;
 pub use side::Side;

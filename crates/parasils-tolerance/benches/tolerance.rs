@@ -1,13 +1,16 @@
 //! One perturbed robot along the paper's reorientation at 100 Hz (451
-//! samples): the Monte Carlo's unit of work (`replay`: module 1's forward
-//! kinematics from the previous pose and both instruments' at every
-//! sample), beside the first-order model's prediction of the same robot
-//! and the nominal trace's own cost. `cargo bench -p parasils-tolerance`.
+//! samples): the Monte Carlo's unit of work, the study's replay (module 1's
+//! forward kinematics by the chord method from the nominal Jacobians, both
+//! instruments' at every sample) beside the reference replay (Newton's
+//! method from the previous pose at every sample) on the same robots, the
+//! first-order model's prediction of the same robot and the nominal
+//! trace's own cost. `cargo bench -p parasils-tolerance`; for a whole study
+//! both ways, `--example replay_speed`.
 
 use core::hint::black_box;
 use criterion::{Criterion, criterion_group, criterion_main};
 use parasils_sim::Scenario;
-use parasils_tolerance::{Spec, Study, Trace};
+use parasils_tolerance::{Spec, Study, Trace, replay};
 
 fn paper_trace() -> Trace {
     let mut scenario = Scenario::paper();
@@ -24,6 +27,13 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             i += 1;
             black_box(study.sample(black_box(i)))
+        });
+    });
+    let mut k = 0u64;
+    g.bench_function("replay_one_robot_newton_reference", |b| {
+        b.iter(|| {
+            k += 1;
+            black_box(replay(&study.robot(black_box(k)), study.trace()))
         });
     });
     g.bench_function("first_order_one_robot", |b| {

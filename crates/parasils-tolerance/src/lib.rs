@@ -6,8 +6,10 @@
 //! [`Trace`]: module 1's six actuators and both modules' joints at every
 //! sample), draws perturbed robots from a [`Spec`] (one distribution per
 //! parameter family, named like the robot file's keys), and replays the
-//! commands on each ([`replay()`]): module 1's forward kinematics from the
-//! previous pose, then each instrument's forward kinematics with its own
+//! commands on each ([`ReplayPlan::replay`]): module 1's forward kinematics
+//! by the chord method from the nominal robot's Jacobian at the same sample
+//! (the reference, [`replay()`], solves it by Newton's method from the
+//! previous pose), then each instrument's forward kinematics with its own
 //! perturbed parameters. Per robot, the result is the largest deviation of
 //! each tip from the commanded one and of the platform from its commanded
 //! pose. Sample `i`'s robot depends only on the seed and `i`
@@ -42,7 +44,7 @@
 //! | [`spec`] | the tolerance specification (TOML or JSON) |
 //! | [`perturbation`] | one perturbed robot, from a counter-based generator |
 //! | [`trace`] | the nominal commands along a motion |
-//! | [`replay`](mod@replay) | the commands replayed on a perturbed robot: its model error |
+//! | [`replay`](mod@replay) | the commands replayed on a perturbed robot: its model error (the reference by Newton, the study's plan by the chord method) |
 //! | [`linear`] | the first-order model and the sensitivity ranking |
 //! | [`study`] | a study and its threaded runs |
 //! | [`report`] | percentiles, histogram, ranking |
@@ -63,7 +65,7 @@ pub mod trace;
 pub use linear::{LinearError, Linearisation, Sensitivity};
 pub use output::TableFormat;
 pub use perturbation::{InstrumentDeviation, Perturbation};
-pub use replay::{Deviation, ReplayFailure, replay};
+pub use replay::{Deviation, ReplayFailure, ReplayPlan, replay};
 pub use report::{Histogram, Report, Stats};
 pub use spec::{Distribution, Family, Spec, SpecError};
 pub use study::{Interrupted, Results, Study, StudyError};

@@ -12,7 +12,7 @@ use thiserror::Error;
 
 use crate::linear::{LinearError, Linearisation, family_of};
 use crate::perturbation::Perturbation;
-use crate::replay::{Deviation, ReplayFailure, replay};
+use crate::replay::{Deviation, ReplayFailure, ReplayPlan};
 use crate::spec::{Family, Spec};
 use crate::trace::Trace;
 
@@ -159,7 +159,7 @@ const CHUNK: usize = 16;
 #[derive(Debug, Clone)]
 pub struct Study {
     spec: Spec,
-    trace: Trace,
+    plan: ReplayPlan,
     seed: u64,
     map: ParameterMap,
 }
@@ -184,7 +184,7 @@ impl Study {
         check_extremes(&spec, &trace, &map, &robot)?;
         Ok(Self {
             spec,
-            trace,
+            plan: ReplayPlan::new(trace),
             seed,
             map,
         })
@@ -197,7 +197,12 @@ impl Study {
 
     /// The motion's commands.
     pub fn trace(&self) -> &Trace {
-        &self.trace
+        self.plan.trace()
+    }
+
+    /// What every sample's replay shares (the nominal Jacobians).
+    pub fn plan(&self) -> &ReplayPlan {
+        &self.plan
     }
 
     /// The seed.
@@ -213,7 +218,7 @@ impl Study {
     /// The perturbed robot of sample `sample`.
     pub fn robot(&self, sample: u64) -> RobotGeometry<f64> {
         self.perturbation(sample)
-            .apply(&self.map, self.trace.robot())
+            .apply(&self.map, self.trace().robot())
     }
 
     /// The model error of sample `sample`.
@@ -221,7 +226,7 @@ impl Study {
     /// # Errors
     /// Its [`ReplayFailure`].
     pub fn sample(&self, sample: u64) -> Result<Deviation, ReplayFailure> {
-        replay(&self.robot(sample), &self.trace)
+        self.plan.replay(&self.robot(sample))
     }
 
     /// The first-order model of this study's motion.
@@ -229,7 +234,7 @@ impl Study {
     /// # Errors
     /// [`LinearError`].
     pub fn linearisation(&self) -> Result<Linearisation, LinearError> {
-        Linearisation::new(self.trace.robot(), &self.trace)
+        Linearisation::new(self.trace().robot(), self.trace())
     }
 
     /// The samples `samples`, on `threads` threads (the calling one and

@@ -59,7 +59,7 @@
 //! ([`Instrument::jacobian_inverse`]).
 //!
 //! # Layout
-//! The value types ([`Joints`], [`JointLimits`], [`Thresholds`], the
+//! The value types ([`Joints`], [`JointsTrig`], [`JointLimits`], [`Thresholds`], the
 //! solutions) are defined in `types`, the module's parameters
 //! ([`InstrumentGeometry`]) in `geometry`, and the solver ([`Instrument`]) in
 //! `solver`; all are re-exported here. [`Side`] and [`Interval`] are the
@@ -75,5 +75,5 @@ pub use geometry::InstrumentGeometry;
 pub use solver::Instrument;
 pub use types::{
     AssemblyMode, InstrumentMargins, InstrumentSolution, JointLimits, JointMotion, Joints,
-    Thresholds, TipMotion,
+    JointsTrig, Thresholds, TipMotion,
 };

@@ -81,6 +81,38 @@ impl<T: Real> Joints<T> {
     }
 }
 
+/// A configuration's joints with the sines and cosines of `qs1` and `qs2`:
+/// what the forward kinematics needs of them
+/// ([`Instrument::fk_platform_trig`](super::Instrument::fk_platform_trig)),
+/// computed once for several modules at the same joints (the perturbed
+/// robots of a tolerance study replaying one command).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointsTrig<T> {
+    /// `sin qs1`, `cos qs1`, `sin qs2`, `cos qs2`.
+    pub(super) s1: T,
+    pub(super) c1: T,
+    pub(super) s2: T,
+    pub(super) c2: T,
+    /// The insertion `qs3`, mm.
+    pub(super) qs3: T,
+}
+
+impl<T: Real> JointsTrig<T> {
+    /// The sines and cosines of `q`'s angles (the crate's
+    /// [`Real::sincos`], as every solver of the module), with its `qs3`.
+    pub fn of(q: &Joints<T>) -> Self {
+        let (s1, c1) = q.qs1.sincos();
+        let (s2, c2) = q.qs2.sincos();
+        Self {
+            s1,
+            c1,
+            s2,
+            c2,
+            qs3: q.qs3,
+        }
+    }
+}
+
 /// Joint limits of an instrument module.
 ///
 /// The defaults are **assumed** (the paper gives none; see `docs/model.md`,

@@ -2,7 +2,7 @@
 //! constraints, globalised by continuation from the guess (see the
 //! [module docs](crate::parallel), *Forward kinematics*).
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 
 use super::geometry::FkOptions;
 use super::ik::ParallelRobot;
@@ -116,7 +116,7 @@ impl<T: Real> ParallelRobot<T> {
     }
 
     /// The converged pose, after the check of every link's branch.
-    fn fk_solution(
+    pub(super) fn fk_solution(
         &self,
         pose: Pose<T>,
         c: &Constraints<T>,
@@ -245,9 +245,21 @@ impl<T: Real> ParallelRobot<T> {
 
     /// The constraints of the forward kinematics at the pose `x`, with the
     /// sliders at `sliders` (mm, fixed frame).
-    fn constraints(&self, x: &Pose<T>, sliders: &[Vector3<T>; 6]) -> Constraints<T> {
-        let rho = self.node_arms(&x.rotation());
-        let p = x.position();
+    pub(super) fn constraints(&self, x: &Pose<T>, sliders: &[Vector3<T>; 6]) -> Constraints<T> {
+        self.constraints_at(&x.position(), &x.rotation(), sliders)
+    }
+
+    /// [`Self::constraints`] at the position `p` and the rotation `r`
+    /// computed beforehand.
+    #[inline]
+    pub(super) fn constraints_at(
+        &self,
+        p: &Vector3<T>,
+        r: &Matrix3<T>,
+        sliders: &[Vector3<T>; 6],
+    ) -> Constraints<T> {
+        let rho = self.node_arms(r);
+        let p = *p;
         let mut e = [Vector3::zeros(); 6];
         let mut f = [T::zero(); 6];
         let mut residual = T::zero();
@@ -271,17 +283,17 @@ impl<T: Real> ParallelRobot<T> {
 }
 
 /// The forward kinematics' constraints at one iterate.
-struct Constraints<T: Real> {
+pub(super) struct Constraints<T: Real> {
     /// `R a_i`, mm, fixed frame.
-    rho: [Vector3<T>; 3],
+    pub(super) rho: [Vector3<T>; 3],
     /// `e_j = A_i - B_j`, mm, fixed frame.
-    e: [Vector3<T>; 6],
+    pub(super) e: [Vector3<T>; 6],
     /// `f_j = (|e_j|^2 - l_j^2) / (2 l_j)`, mm.
-    f: Vec6<T>,
+    pub(super) f: Vec6<T>,
     /// `max_j |f_j| / l_j`.
-    residual: T,
+    pub(super) residual: T,
     /// `sum_j (f_j / l_j)^2`, the line search's merit.
-    merit: T,
+    pub(super) merit: T,
 }
 
 /// The most halvings of a Newton step in the line search (a step of 2^-30).

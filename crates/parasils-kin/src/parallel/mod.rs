@@ -122,13 +122,31 @@
 //! a link on the other [`Branch`] than the geometry's is
 //! [`Error::BranchMismatch`].
 //!
+//! # Forward kinematics by the chord method
+//! A tolerance study solves the forward kinematics of thousands of robots
+//! that differ from the nominal one by manufacturing errors, at poses where
+//! the nominal robot's Jacobian is known. [`ParallelRobot::fk_chord`] solves
+//! them by the chord method (simplified Newton): every step
+//! `dx = -J_0^-1 f(x)` uses one Jacobian `J_0`, the nominal robot's at the
+//! commanded pose, inverted once ([`ParallelRobot::fk_chord_at`], an
+//! [`FkChord`]), and only the constraints `f` of the robot solved are
+//! evaluated at each iterate. The iteration converges linearly, each step
+//! multiplying the error by about `|I - J_0^-1 J|`, the relative difference
+//! of the two Jacobians (of the order of the perturbation, 1e-3 for
+//! tolerances of a tenth of a millimetre), and stops by the same rule as
+//! Newton's method, a residual at most [`FkOptions::tolerance`]. It refuses
+//! (returns `None`, the caller then solves by Newton) a residual that does
+//! not at least halve at each step, an `FkChord` whose margin is less than
+//! twice the parallel threshold, and a solution on the other [`Branch`].
+//!
 //! # Layout
 //! The parameters ([`ParallelGeometry`], [`Guide`], [`SymmetricLayout`], the
 //! thresholds and [`FkOptions`]) and their validation are defined in
 //! `geometry`; the values the solvers take and return ([`Actuators`],
 //! [`ParallelMargins`], [`ParallelSolution`], [`FkSolution`]) in `types`;
 //! the solver [`ParallelRobot`] with its inverse kinematics, rates, margins
-//! and Jacobian in `ik`, and its forward kinematics in `fk`; the parallel
+//! and Jacobian in `ik`, its forward kinematics in `fk` and by the chord
+//! method in `chord`; the parallel
 //! margin from one control cycle to the next in [`margin`]. All are
 //! re-exported here and at the crate root.
 //!
@@ -138,12 +156,14 @@
 //! [`PlatformFrame::point_acceleration`]: crate::PlatformFrame::point_acceleration
 //! [`PlatformFrame::point_velocity`]: crate::PlatformFrame::point_velocity
 
+mod chord;
 mod fk;
 mod geometry;
 mod ik;
 pub mod margin;
 mod types;
 
+pub use chord::FkChord;
 pub use geometry::{
     Branch, Calibration, FkOptions, Guide, MAX_OFFSET_LINKS, ParallelGeometry, ParallelThresholds,
     Provenance, SymmetricLayout,
