@@ -15,6 +15,16 @@ use parasils_device::Held;
 use parasils_sim::{Scenario, TeleopRun};
 use serde_json::{Value, json};
 
+/// One session at a time: each runs a 1 kHz loop and a client reading it,
+/// and two at once on a two-core machine measure each other.
+static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
+    ONE_AT_A_TIME
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
 /// The log times (ns) the publisher gives each topic kind, computed again
 /// here from the schedule: every `every`-th cycle of `cycles` (and the
 /// last), `/tf`-like topics every `scene_s` of those, `/diagnostics` every
@@ -128,16 +138,19 @@ fn delivery(publish_hz: f64, duration_s: f64) {
 
 #[test]
 fn a_subscriber_receives_999_per_mille_at_100_hz_publishing_for_10_s() {
+    let _serial = one_at_a_time();
     delivery(100.0, 10.0);
 }
 
 #[test]
 fn a_subscriber_receives_999_per_mille_at_1_khz_publishing_for_10_s() {
+    let _serial = one_at_a_time();
     delivery(1000.0, 10.0);
 }
 
 #[test]
 fn an_input_moves_the_setpoint_within_two_cycles_of_its_arrival() {
+    let _serial = one_at_a_time();
     let rate_hz = 1000.0;
     // The module the left hand drives once enabled: the core's mapping
     // (each hand drives the tip on its side of the endoscope's image; at
@@ -273,6 +286,7 @@ fn an_input_moves_the_setpoint_within_two_cycles_of_its_arrival() {
 
 #[test]
 fn commands_follow_crtk_s_table_and_bad_messages_are_refused() {
+    let _serial = one_at_a_time();
     let s = session(1000.0, 100.0, 6.0);
     let address = s.address().to_string();
     let waiter = std::thread::spawn(move || s.wait());
@@ -362,6 +376,7 @@ fn commands_follow_crtk_s_table_and_bad_messages_are_refused() {
 
 #[test]
 fn with_a_token_only_a_client_that_sent_it_drives() {
+    let _serial = one_at_a_time();
     let s = session_with(1000.0, 100.0, 3.0, Some("s3cret"));
     let address = s.address().to_string();
     let waiter = std::thread::spawn(move || s.wait());
@@ -418,6 +433,7 @@ fn with_a_token_only_a_client_that_sent_it_drives() {
 
 #[test]
 fn a_legacy_client_is_refused_with_http_400() {
+    let _serial = one_at_a_time();
     let s = session(1000.0, 100.0, 2.0);
     let address = s.address().to_string();
     let rt = tokio::runtime::Builder::new_current_thread()
