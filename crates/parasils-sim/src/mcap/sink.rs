@@ -561,17 +561,7 @@ impl<W: Write + Seek + Send + 'static> Sink for McapSink<W> {
         for k in 0..self.data.len() {
             self.buf.clear();
             let ch = &self.data[k];
-            for f in &ch.fields {
-                self.buf.extend_from_slice(&f.key);
-                if let Err(value) = push_num(&mut self.buf, &mut self.ryu, f.column.value(record)) {
-                    return Err(McapError::NonFinite {
-                        topic: ch.topic,
-                        field: f.column.name,
-                        t: record.t,
-                        value,
-                    });
-                }
-            }
+            write_fields(&mut self.buf, &mut self.ryu, &ch.fields, record, ch.topic)?;
             self.buf.push(b'}');
             let (id, seq) = (ch.id, ch.sequence);
             self.write(id, seq, ns);
@@ -580,17 +570,13 @@ impl<W: Write + Seek + Send + 'static> Sink for McapSink<W> {
 
         if let Some((ch, _)) = &self.forces {
             self.buf.clear();
-            for f in &ch.fields {
-                self.buf.extend_from_slice(&f.key);
-                if let Err(value) = push_num(&mut self.buf, &mut self.ryu, f.column.value(record)) {
-                    return Err(McapError::NonFinite {
-                        topic: FORCES_TOPIC,
-                        field: f.column.name,
-                        t: record.t,
-                        value,
-                    });
-                }
-            }
+            write_fields(
+                &mut self.buf,
+                &mut self.ryu,
+                &ch.fields,
+                record,
+                FORCES_TOPIC,
+            )?;
             self.buf.push(b'}');
             let (id, seq) = (ch.id, ch.sequence);
             self.write(id, seq, ns);
@@ -634,29 +620,7 @@ impl<W: Write + Seek + Send + 'static> Sink for McapSink<W> {
         if let Some((id, seq, fields)) = &self.teleop {
             let (id, seq) = (*id, *seq);
             self.buf.clear();
-            for f in fields {
-                self.buf.extend_from_slice(&f.key);
-                let value = f.column.value(record);
-                // The codes and bit masks as JSON integers (`2`, not `2.0`).
-                let whole = f.column.integer && value.fract() == 0.0 && value.abs() < 1e15;
-                let written = if whole {
-                    #[allow(clippy::cast_possible_truncation)]
-                    let n = value as i64;
-                    self.buf
-                        .extend_from_slice(itoa::Buffer::new().format(n).as_bytes());
-                    Ok(())
-                } else {
-                    push_num(&mut self.buf, &mut self.ryu, value)
-                };
-                if let Err(value) = written {
-                    return Err(McapError::NonFinite {
-                        topic: TELEOP_TOPIC,
-                        field: f.column.name,
-                        t: record.t,
-                        value,
-                    });
-                }
-            }
+            write_fields(&mut self.buf, &mut self.ryu, fields, record, TELEOP_TOPIC)?;
             let r = &record.teleop;
             let words = [
                 ("state", r.state.to_string()),
@@ -694,6 +658,42 @@ impl<W: Write + Seek + Send + 'static> Sink for McapSink<W> {
         }
         Ok(())
     }
+}
+
+/// The keys and values of `fields` for `record` into `buf` (the message's
+/// opening brace is the first key's): whole-number columns (codes, bit
+/// masks) as JSON integers, the others as shortest round-trip decimals.
+///
+/// # Errors
+/// [`McapError::NonFinite`] naming `topic` and the field.
+fn write_fields(
+    buf: &mut Vec<u8>,
+    ryu: &mut ryu::Buffer,
+    fields: &[Field],
+    record: &Record,
+    topic: &'static str,
+) -> Result<(), McapError> {
+    for f in fields {
+        buf.extend_from_slice(&f.key);
+        let value = f.column.value(record);
+        let written = if f.column.integer && value.fract() == 0.0 && value.abs() < 1e15 {
+            #[allow(clippy::cast_possible_truncation, reason = "a whole number below 1e15")]
+            let n = value as i64;
+            buf.extend_from_slice(itoa::Buffer::new().format(n).as_bytes());
+            Ok(())
+        } else {
+            push_num(buf, ryu, value)
+        };
+        if let Err(value) = written {
+            return Err(McapError::NonFinite {
+                topic,
+                field: f.column.name,
+                t: record.t,
+                value,
+            });
+        }
+    }
+    Ok(())
 }
 
 /// A procedure's `/motion` message for `record`: the motion under way (its
