@@ -42,7 +42,8 @@
 //! A candidate cycle is solved and checked at its setpoint and at the point
 //! where a stop at the acceleration limits would end: every supervised
 //! margin and gap must be at or above its stop threshold (or not below its
-//! current value). If not, the cycle's change of velocity is reduced to a
+//! current value), and every actuator's velocity and acceleration within
+//! its limit. If not, the cycle's change of velocity is reduced to a
 //! fraction between the controlled stop and the candidate, predicted from
 //! the limiting slack by regula falsi and verified by the same checks, and the cycle
 //! reports the limit it holds at ([`HoldAt`]). A non-finite input or a
