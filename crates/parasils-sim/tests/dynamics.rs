@@ -8,19 +8,21 @@ use std::path::PathBuf;
 
 use nalgebra::{Matrix3, Vector3};
 use parasils::kin::{
-    ActuatorStiffness, Controller, ParallelRobot, Payload, PlatformState, Pose, PoseRate,
-    RobotGeometry, Side,
+    ActuatorStiffness, Controller, ParallelRobot, Payload, PlatformState, Pose, RobotGeometry, Side,
 };
 use parasils_sim::robot_file::{self, RobotFileError};
-use parasils_sim::{Record, Robot, Run, Scenario, Simulation, Turn, columns};
+use parasils_sim::{Record, Robot, Run, Scenario, Turn, columns};
 
 fn dynamics_path() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../robots/dynamics.toml")
 }
 
+#[path = "common/turn.rs"]
+mod turn;
+use turn::turn_state;
+
 fn records(scenario: Scenario) -> Vec<Record> {
-    let sim = Simulation::new(scenario).expect("valid");
-    sim.samples().collect::<Result<Vec<_>, _>>().expect("runs")
+    turn::records(scenario).1
 }
 
 fn with_robot(robot: Robot) -> Scenario {
@@ -236,26 +238,7 @@ fn a_run_with_dynamics_moves_the_body_by_newton_euler() {
     let module1 = ParallelRobot::<f64>::assumed();
     let (mut worst, mut inertial) = (0.0f64, 0.0f64);
     for r in &records {
-        let [x, y, z, psi, theta, phi] = r.pose;
-        let state = PlatformState {
-            pose: Pose::new(x, y, z, psi, theta, phi),
-            velocity: PoseRate::new(
-                0.0,
-                0.0,
-                0.0,
-                r.euler_dot[0],
-                r.euler_dot[1],
-                r.euler_dot[2],
-            ),
-            acceleration: PoseRate::new(
-                0.0,
-                0.0,
-                0.0,
-                r.euler_ddot[0],
-                r.euler_ddot[1],
-                r.euler_ddot[2],
-            ),
-        };
+        let state = turn_state(r, true);
         let frame = state.frame().expect("finite");
         let solution = module1.solve(&frame).expect("solves");
         let moving = module1

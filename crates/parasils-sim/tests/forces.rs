@@ -5,10 +5,14 @@
 //! demo procedure.
 
 use nalgebra::Vector3;
-use parasils::kin::{Instrument, Joints, PlatformState, Pose, PoseRate};
+use parasils::kin::{Instrument, Joints, Pose};
 use parasils_sim::input::{Input, ProcedureSource};
 use parasils_sim::scenario::Retarget;
 use parasils_sim::{Online, Record, Run, Scenario, Simulation, Turn, columns};
+
+#[path = "common/turn.rs"]
+mod turn;
+use turn::{records, turn_state};
 
 const LEFT_N: [f64; 3] = [4.0, -6.0, 9.0];
 const RIGHT_N: [f64; 3] = [-3.0, 2.5, -12.0];
@@ -19,12 +23,6 @@ fn loaded(scenario: Scenario) -> Scenario {
         tip_load_right_n: Some(RIGHT_N),
         ..scenario
     }
-}
-
-fn records(scenario: Scenario) -> (Simulation, Vec<Record>) {
-    let sim = Simulation::new(scenario).expect("valid");
-    let records = sim.samples().collect::<Result<Vec<_>, _>>().expect("runs");
-    (sim, records)
 }
 
 /// The twelve actuators' power at `r` (N mm/s), and the sum of the terms'
@@ -101,18 +99,7 @@ fn the_paper_turn_under_tip_loads_balances_power() {
     // the wrench's on the platform's twist, from the record's Euler rates.
     let tips = sim.scenario().tips();
     for r in records.iter().step_by(37) {
-        let state = PlatformState {
-            pose: Pose::from_array(r.pose),
-            velocity: PoseRate::new(
-                0.0,
-                0.0,
-                0.0,
-                r.euler_dot[0],
-                r.euler_dot[1],
-                r.euler_dot[2],
-            ),
-            acceleration: PoseRate::zero(),
-        };
+        let state = turn_state(r, false);
         let frame = state.frame().expect("finite");
         let p = frame.position;
         let wrench_force = Vector3::from(LEFT_N) + Vector3::from(RIGHT_N);
@@ -131,7 +118,7 @@ fn the_paper_turn_under_tip_loads_balances_power() {
         }
     }
     // The paper's columns are those of the run without loads, to the bit.
-    let (_, plain) = self::records(Scenario::paper());
+    let (_, plain) = turn::records(Scenario::paper());
     for (a, b) in plain.iter().zip(&records) {
         assert_eq!(columns::csv_row(a), columns::csv_row(b));
         assert_eq!(a.forces, Default::default());
@@ -194,25 +181,7 @@ fn one_load_given_loads_that_tip_alone() {
     let step = sim
         .controller()
         .step(
-            &PlatformState {
-                pose: Pose::from_array(r.pose),
-                velocity: PoseRate::new(
-                    0.0,
-                    0.0,
-                    0.0,
-                    r.euler_dot[0],
-                    r.euler_dot[1],
-                    r.euler_dot[2],
-                ),
-                acceleration: PoseRate::new(
-                    0.0,
-                    0.0,
-                    0.0,
-                    r.euler_ddot[0],
-                    r.euler_ddot[1],
-                    r.euler_ddot[2],
-                ),
-            },
+            &turn_state(r, true),
             &sim.scenario().tips(),
             &mut parasils::kin::MarginTracker::new(),
         )
@@ -273,7 +242,7 @@ fn the_summary_gives_each_actuator_s_peak_use_of_its_force_limit() {
         .map(|r| r.forces.module1[0].abs())
         .fold(0.0, f64::max);
     assert!(line.contains(&format!("q1 {:.3}", peak / 200.0)), "{line}");
-    let (plain_sim, plain) = self::records(Scenario::paper());
+    let (plain_sim, plain) = turn::records(Scenario::paper());
     let mut summary = parasils_sim::Summary::for_simulation(&plain_sim);
     for r in &plain {
         parasils_sim::Sink::push(&mut summary, r).expect("infallible");
