@@ -267,61 +267,52 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
         writer.write_metadata(&scenario_metadata(scenario, &geometry, period)?)?;
 
         let no_meta = BTreeMap::new();
+        // One schema and the channel on it, in the order the ids are given.
+        let mut add = |name: &str, schema: &[u8], topic: &str| -> Result<u16, McapError> {
+            let schema_id = writer.add_schema(name, "jsonschema", schema)?;
+            Ok(writer.add_channel(schema_id, topic, "json", &no_meta)?)
+        };
         let mut data = Vec::with_capacity(Channel::ALL.len());
         for channel in Channel::ALL {
             let fields = schema::fields(channel);
             let schema = serde_json::to_vec_pretty(&schema::data_schema(channel, &fields))?;
-            let schema_id = writer.add_schema(channel.schema_name(), "jsonschema", &schema)?;
-            let id = writer.add_channel(schema_id, channel.topic(), "json", &no_meta)?;
             data.push(DataChannel {
-                id,
+                id: add(channel.schema_name(), &schema, channel.topic())?,
                 topic: channel.topic(),
                 fields,
                 sequence: 0,
             });
         }
-        let tf_schema = writer.add_schema(
+        let tf = add(
             "foxglove.FrameTransforms",
-            "jsonschema",
             FRAME_TRANSFORMS_SCHEMA.as_bytes(),
+            TF_TOPIC,
         )?;
-        let tf = writer.add_channel(tf_schema, TF_TOPIC, "json", &no_meta)?;
-        let scene_schema = writer.add_schema(
+        let scene = add(
             "foxglove.SceneUpdate",
-            "jsonschema",
             SCENE_UPDATE_SCHEMA.as_bytes(),
+            SCENE_TOPIC,
         )?;
-        let scene = writer.add_channel(scene_schema, SCENE_TOPIC, "json", &no_meta)?;
-        let calibration_schema = writer.add_schema(
+        let calibration = add(
             "foxglove.CameraCalibration",
-            "jsonschema",
             CAMERA_CALIBRATION_SCHEMA.as_bytes(),
+            CALIBRATION_TOPIC,
         )?;
-        let calibration =
-            writer.add_channel(calibration_schema, CALIBRATION_TOPIC, "json", &no_meta)?;
-        let annotations_schema = writer.add_schema(
+        let annotations = add(
             "foxglove.ImageAnnotations",
-            "jsonschema",
             IMAGE_ANNOTATIONS_SCHEMA.as_bytes(),
+            ANNOTATIONS_TOPIC,
         )?;
-        let annotations =
-            writer.add_channel(annotations_schema, ANNOTATIONS_TOPIC, "json", &no_meta)?;
         let procedure = scenario.is_procedure();
         let motion = if procedure {
             let schema = serde_json::to_vec_pretty(&schema::procedure_motion_schema())?;
-            let schema_id =
-                writer.add_schema(schema::PROCEDURE_MOTION_SCHEMA_NAME, "jsonschema", &schema)?;
             Some((
-                writer.add_channel(schema_id, MOTION_TOPIC, "json", &no_meta)?,
+                add(schema::PROCEDURE_MOTION_SCHEMA_NAME, &schema, MOTION_TOPIC)?,
                 0,
             ))
         } else if scenario.has_commands() {
             let schema = serde_json::to_vec_pretty(&schema::motion_schema())?;
-            let schema_id = writer.add_schema(schema::MOTION_SCHEMA_NAME, "jsonschema", &schema)?;
-            Some((
-                writer.add_channel(schema_id, MOTION_TOPIC, "json", &no_meta)?,
-                0,
-            ))
+            Some((add(schema::MOTION_SCHEMA_NAME, &schema, MOTION_TOPIC)?, 0))
         } else {
             None
         };
@@ -330,8 +321,7 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
         let forces = if scenario.has_forces() {
             let fields = schema::forces_fields();
             let schema = serde_json::to_vec_pretty(&schema::forces_schema(&fields))?;
-            let schema_id = writer.add_schema(schema::FORCES_SCHEMA_NAME, "jsonschema", &schema)?;
-            let id = writer.add_channel(schema_id, FORCES_TOPIC, "json", &no_meta)?;
+            let id = add(schema::FORCES_SCHEMA_NAME, &schema, FORCES_TOPIC)?;
             let load = |l: Option<[f64; 3]>| Vector3::from(l.unwrap_or_default());
             Some((
                 DataChannel {
@@ -352,8 +342,7 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
         let teleop = if teleop {
             let fields = schema::teleop_fields();
             let schema = serde_json::to_vec_pretty(&schema::teleop_schema(&fields))?;
-            let schema_id = writer.add_schema(schema::TELEOP_SCHEMA_NAME, "jsonschema", &schema)?;
-            let id = writer.add_channel(schema_id, TELEOP_TOPIC, "json", &no_meta)?;
+            let id = add(schema::TELEOP_SCHEMA_NAME, &schema, TELEOP_TOPIC)?;
             Some((id, 0, fields))
         } else {
             None
