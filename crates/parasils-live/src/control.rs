@@ -8,13 +8,22 @@
 //! came. What it computes leaves through another bounded queue, one frame
 //! per published cycle: when the publisher is behind, the frame is dropped
 //! and counted, and the loop goes on. Acknowledgements go through a third
-//! queue, unbounded (one per command: a client cannot make them faster
-//! than its commands, which the first queue bounds).
+//! bounded queue (one per command, and the commands waiting are bounded by
+//! [`PENDING_COMMANDS`]). Every hand-off is a `try_send` or a `try_recv`
+//! on a queue allocated before the loop: the loop never allocates, never
+//! blocks on a lock another thread holds, and never wakes the publisher
+//! (which polls its queue), so a cycle's only system calls are its sleep
+//! and its clock reads.
+//!
+//! Each cycle waits for its deadline with [`wait_until`]: a sleep to
+//! [`LoopSettings::spin_margin`] before it, then a spin, so that the
+//! wake-up's jitter does not make it late.
 
 use core::sync::atomic::{AtomicBool, Ordering};
 use core::time::Duration;
 use std::sync::Arc;
-use std::sync::mpsc::{Receiver, Sender, SyncSender, TrySendError};
+use std::collections::VecDeque;
+use std::sync::mpsc::{Receiver, SyncSender, TrySendError};
 use std::time::Instant;
 
 use parasils::teleop::OperatingState;
@@ -22,7 +31,12 @@ use parasils_device::Held;
 use parasils_sim::{Record, TeleopRun};
 
 use crate::message::{CommandRequest, DeviceInput, InputDevice};
-use crate::timing::CycleStats;
+use crate::timing::{CycleStats, wait_until};
+
+/// The commands that may wait for their cycle (one is taken per cycle);
+/// when that many wait, the loop leaves the rest in the input queue, whose
+/// bound then refuses a client's next message.
+pub const PENDING_COMMANDS: usize = 256;
 
 /// Who sent a message: the WebSocket client's id.
 pub type ClientTag = u32;
@@ -97,6 +111,9 @@ pub struct LoopSettings {
     pub publish_every: u64,
     /// Cycles to run (`None`: until stopped).
     pub cycles: Option<u64>,
+    /// How long before each deadline the loop stops sleeping and spins
+    /// (see [`wait_until`]).
+    pub spin_margin: Duration,
 }
 
 /// The queues the loop talks through.
@@ -106,8 +123,8 @@ pub struct Queues {
     pub events: Receiver<Event>,
     /// Frames out (bounded: full means dropped).
     pub frames: SyncSender<Frame>,
-    /// Acknowledgements out.
-    pub acks: Sender<Ack>,
+    /// Acknowledgements out (bounded: at least [`PENDING_COMMANDS`]).
+    pub acks: SyncSender<Ack>,
 }
 
 /// Runs `run` until `cycles` are done or `stop` is set; the final timing.
@@ -125,8 +142,8 @@ pub fn run_loop(
     let period = Duration::from_secs_f64(1.0 / run.rate_hz());
     let mut stats = CycleStats::default();
     let mut held = [Held::REST; 3];
-    let mut pending: std::collections::VecDeque<(CommandRequest, ClientTag)> =
-        std::collections::VecDeque::new();
+    let mut pending: VecDeque<(CommandRequest, ClientTag)> =
+        VecDeque::with_capacity(PENDING_COMMANDS);
     let mut fresh: [Option<(DeviceInput, Instant)>; 3] = [None; 3];
     // When each device's input lapses (a twist's), back to rest with
     // enable held.
@@ -145,12 +162,11 @@ pub fn run_loop(
         // Absolute deadlines: `start + k / rate`, so that a late cycle does
         // not push every later one.
         let due = start + Duration::from_secs_f64(k as f64 / run.rate_hz());
-        let now = Instant::now();
-        if let Some(wait) = due.checked_duration_since(now) {
-            std::thread::sleep(wait);
-        }
-        let woke = Instant::now();
-        while let Ok(event) = queues.events.try_recv() {
+        let woke = wait_until(due, settings.spin_margin);
+        // A full list of commands leaves the rest queued (no allocation).
+        while pending.len() < PENDING_COMMANDS
+            && let Ok(event) = queues.events.try_recv()
+        {
             match event {
                 Event::Input(input, at) => {
                     let d = input.device.index();
@@ -196,8 +212,9 @@ pub fn run_loop(
             let accepted = before
                 .after(request.command, after == OperatingState::Enabled)
                 .accepted;
-            // The receiver gone means the session is ending: nothing to tell.
-            let _ = queues.acks.send(Ack {
+            // Full cannot be (one per command, bounded like them); the
+            // receiver gone means the session is ending: nothing to tell.
+            let _ = queues.acks.try_send(Ack {
                 client,
                 request,
                 before,

@@ -42,8 +42,9 @@
 //! # Modules
 //! In import order: `error` ([`LiveError`]), `message` (what clients send:
 //! [`ClientMessage`], [`parse`]), `crtk` (the CRTK topics' schemas and
-//! builders: [`Arm`], [`Crtk`]), `timing` ([`CycleStats`]), `control` (the
-//! loop: [`run_loop`], [`Frame`], [`Ack`]), `publish` (the channels and the
+//! builders: [`Arm`], [`Crtk`]), `realtime` (the control thread's
+//! scheduling: [`Scheduling`]), `timing` ([`CycleStats`], [`wait_until`]),
+//! `control` (the loop: [`run_loop`], [`Frame`], [`Ack`]), `publish` (the channels and the
 //! publisher: [`Channels`], [`run_publisher`]), `session` ([`Session`],
 //! [`LiveOptions`]).
 
@@ -52,10 +53,13 @@ pub mod crtk;
 mod error;
 pub mod message;
 pub mod publish;
+mod realtime;
 mod session;
 mod timing;
 
-pub use control::{Ack, AppliedInput, ClientTag, Event, Frame, LoopSettings, Queues, run_loop};
+pub use control::{
+    Ack, AppliedInput, ClientTag, Event, Frame, LoopSettings, PENDING_COMMANDS, Queues, run_loop,
+};
 pub use crtk::{Arm, Crtk};
 pub use error::LiveError;
 pub use message::{
@@ -67,4 +71,5 @@ pub use publish::{
 pub use session::{
     AUTH_TOPIC, DEFAULT_PORT, LEGACY_SUBPROTOCOL, LiveOptions, SUBPROTOCOL, Session, SessionReport,
 };
-pub use timing::CycleStats;
+pub use realtime::{Scheduling, schedule_current_thread};
+pub use timing::{CycleStats, LATE_TOLERANCE, wait_until};

@@ -8,7 +8,7 @@ use std::collections::{HashMap, HashSet};
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::PathBuf;
-use std::sync::mpsc::{SyncSender, TrySendError, channel, sync_channel};
+use std::sync::mpsc::{SyncSender, TrySendError, sync_channel};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::Instant;
@@ -17,10 +17,11 @@ use foxglove::websocket::{Capability, Client, ClientChannel, ServerListener, Sta
 use foxglove::{Context, McapWriterHandle, WebSocketServerHandle};
 use parasils_sim::{CameraImage, SceneGeometry, TeleopRun};
 
-use crate::control::{Event, LoopSettings, Queues, run_loop};
+use crate::control::{Event, LoopSettings, PENDING_COMMANDS, Queues, run_loop};
 use crate::error::LiveError;
 use crate::message::{COMMAND_TOPIC, ClientMessage, InputDevice, parse};
 use crate::publish::{Channels, Clients, PublishReport, PublishSettings, run_publisher};
+use crate::realtime::{Scheduling, schedule_current_thread};
 use crate::timing::CycleStats;
 
 /// The WebSocket subprotocol the server speaks (the Foxglove SDK's); the
@@ -57,13 +58,22 @@ pub struct LiveOptions {
     /// before its inputs and commands are taken (`None`: none needed).
     /// Watching needs no token.
     pub token: Option<String>,
+    /// The control thread's `SCHED_FIFO` priority, 1 to 99, when the
+    /// system allows it (`None`: the ordinary policy); see
+    /// [`Session::scheduling`] for what it got.
+    pub realtime_priority: Option<u8>,
+    /// How long before each deadline the control loop stops sleeping and
+    /// spins, s (see [`crate::wait_until`]).
+    pub spin_margin_s: f64,
 }
 
 impl Default for LiveOptions {
     /// Loopback on 8765, 100 Hz publishing, 20 ms scenes, no end, no
     /// recording, 1024 frames (1 s of frames at 1 kHz publishing), 32768
     /// messages per client (about 1.5 s of every channel at 1 kHz
-    /// publishing, some 10 MB), no token.
+    /// publishing, some 10 MB), no token, `SCHED_FIFO` priority 80 where
+    /// allowed, a spin of the last 100 us before each deadline (the
+    /// wake-up's measured jitter: BENCHMARKS.md, *Live*).
     fn default() -> Self {
         Self {
             bind: "127.0.0.1".to_owned(),
@@ -75,6 +85,8 @@ impl Default for LiveOptions {
             queue_frames: 1024,
             client_backlog: 32768,
             token: None,
+            realtime_priority: Some(80),
+            spin_margin_s: 100e-6,
         }
     }
 }
@@ -206,6 +218,7 @@ pub struct Session {
     server: Option<WebSocketServerHandle>,
     mcap: Option<McapWriterHandle<BufWriter<File>>>,
     record: Option<PathBuf>,
+    scheduling: Scheduling,
     /// The channels' context: the server and the recording hold it weakly,
     /// so it lives as long as the session.
     _context: Arc<Context>,
@@ -224,6 +237,7 @@ impl core::fmt::Debug for Session {
         f.debug_struct("Session")
             .field("address", &self.address)
             .field("record", &self.record)
+            .field("scheduling", &self.scheduling)
             .finish_non_exhaustive()
     }
 }
@@ -268,6 +282,13 @@ impl Session {
         if let Some(d) = options.duration_s {
             positive("duration_s", d)?;
         }
+        if !(options.spin_margin_s.is_finite() && (0.0..=1.0).contains(&options.spin_margin_s)) {
+            return Err(LiveError::InvalidOption {
+                what: "spin_margin_s",
+                value: options.spin_margin_s,
+                expected: "a finite number from 0 to 1 s",
+            });
+        }
         if options.queue_frames == 0 || options.client_backlog == 0 {
             return Err(LiveError::InvalidOption {
                 what: "queue size",
@@ -293,12 +314,13 @@ impl Session {
             .and_then(|g| g.with_bodies(scenario.bodies))
             .map_err(|e| LiveError::Message(parasils_sim::McapError::Geometry(e)))?;
         let tips = scenario.tips();
-        let settings = PublishSettings {
+        let mut settings = PublishSettings {
             rate_hz,
             publish_hz: rate_hz / publish_every as f64,
             scene_period_s: options.scene_period_s,
             targets: [tips.left, tips.right],
             image: CameraImage::of(&scenario.robot.endoscope.camera),
+            scheduling: String::new(),
         };
 
         let ctx = Context::new();
@@ -317,7 +339,7 @@ impl Session {
 
         let (events_in, events) = sync_channel(1024);
         let (frames, frames_out) = sync_channel(options.queue_frames);
-        let (acks, acks_out) = channel();
+        let (acks, acks_out) = sync_channel(PENDING_COMMANDS);
         let clients: Clients = Arc::new(Mutex::new(HashMap::new()));
         let listener = Arc::new(Listener {
             events: events_in,
@@ -348,6 +370,42 @@ impl Session {
         let address = SocketAddr::new(ip, server.port());
 
         let stop = Arc::new(AtomicBool::new(false));
+        let loop_stop = Arc::clone(&stop);
+        let (scheduled, scheduling) = sync_channel(1);
+        let priority = options.realtime_priority;
+        let spin_margin = core::time::Duration::from_secs_f64(options.spin_margin_s);
+        let start = Instant::now();
+        let control = std::thread::Builder::new()
+            .name("parasils-control".to_owned())
+            .spawn(move || {
+                // Told before the first cycle; the session waits for it.
+                let _ = scheduled.send(schedule_current_thread(priority));
+                let queues = Queues {
+                    events,
+                    frames,
+                    acks,
+                };
+                run_loop(
+                    run,
+                    LoopSettings {
+                        publish_every,
+                        cycles,
+                        spin_margin,
+                    },
+                    &queues,
+                    &loop_stop,
+                    start,
+                )
+            })
+            .map_err(|_| LiveError::Thread {
+                which: "control",
+                what: "could not start",
+            })?;
+        let scheduling = scheduling.recv().map_err(|_| LiveError::Thread {
+            which: "control",
+            what: "ended before its first cycle",
+        })?;
+        settings.scheduling = scheduling.to_string();
         let publisher = std::thread::Builder::new()
             .name("parasils-publish".to_owned())
             .spawn(move || {
@@ -364,31 +422,6 @@ impl Session {
                 which: "publisher",
                 what: "could not start",
             })?;
-        let loop_stop = Arc::clone(&stop);
-        let start = Instant::now();
-        let control = std::thread::Builder::new()
-            .name("parasils-control".to_owned())
-            .spawn(move || {
-                let queues = Queues {
-                    events,
-                    frames,
-                    acks,
-                };
-                run_loop(
-                    run,
-                    LoopSettings {
-                        publish_every,
-                        cycles,
-                    },
-                    &queues,
-                    &loop_stop,
-                    start,
-                )
-            })
-            .map_err(|_| LiveError::Thread {
-                which: "control",
-                what: "could not start",
-            })?;
         Ok(Self {
             address,
             topics,
@@ -398,6 +431,7 @@ impl Session {
             server: Some(server),
             mcap,
             record: options.record.clone(),
+            scheduling,
             _context: ctx,
         })
     }
@@ -411,6 +445,12 @@ impl Session {
     /// Every topic served, in the order the channels were made.
     pub fn topics(&self) -> &[String] {
         &self.topics
+    }
+
+    /// How the control thread is scheduled: `SCHED_FIFO` when asked for
+    /// and allowed, the ordinary policy otherwise (with the reason).
+    pub fn scheduling(&self) -> &Scheduling {
+        &self.scheduling
     }
 
     /// Whether the control loop has ended (its duration run, or a failure).

@@ -81,6 +81,7 @@ fn one_delivery(publish_hz: f64, duration_s: f64) -> (f64, (f64, String)) {
     let s = session(rate_hz, publish_hz, duration_s);
     let address = s.address().to_string();
     let topics = s.topics().to_vec();
+    let scheduling = s.scheduling().to_string();
     let waiter = std::thread::spawn(move || s.wait());
     let rt = tokio::runtime::Builder::new_current_thread()
         .enable_all()
@@ -94,6 +95,7 @@ fn one_delivery(publish_hz: f64, duration_s: f64) -> (f64, (f64, String)) {
         c
     });
     let report = waiter.join().expect("join").expect("session");
+    diagnostics_agree(&client.received["/diagnostics"], &report.stats, &scheduling);
     let every = (rate_hz / publish_hz).round() as u64;
     let cycles = (duration_s * rate_hz).round() as u64 + 1;
     assert_eq!(report.stats.cycles, cycles);
@@ -142,16 +144,50 @@ fn one_delivery(publish_hz: f64, duration_s: f64) -> (f64, (f64, String)) {
     }
     let share = got_all as f64 / want_all as f64;
     println!(
-        "delivery at {rate_hz} Hz control, {publish_hz} Hz publishing, {duration_s} s: {got_all} of {want_all} messages ({:.4} %) on {} topics, worst topic {} at {:.4} %; loop: {} deadline misses, worst cycle {:.1} us, {} frames dropped",
+        "delivery at {rate_hz} Hz control, {publish_hz} Hz publishing, {duration_s} s: {got_all} of {want_all} messages ({:.4} %) on {} topics, worst topic {} at {:.4} %; loop ({scheduling}): {} deadline misses ({} late starts, {} overruns), worst start {:.1} us late, worst cycle {:.1} us, {} frames dropped",
         share * 100.0,
         topics.len() - 1,
         worst.1,
         worst.0 * 100.0,
         report.stats.deadline_misses,
+        report.stats.late_starts,
+        report.stats.overruns,
+        report.stats.worst_late_s * 1e6,
         report.stats.worst_cycle_s * 1e6,
         report.stats.dropped_frames,
     );
     (share, worst)
+}
+
+/// The loop's counts as `/diagnostics` published them: a miss is a late
+/// start, an overrun or both, so the misses lie between the larger of the
+/// two and their sum; the counts never fall from one message to the next;
+/// the last message (the last frame's, taken before that cycle was
+/// counted) is one cycle short of the session's report and at most its
+/// counts; the scheduling is the session's.
+fn diagnostics_agree(
+    messages: &[(u64, serde_json::Value)],
+    report: &parasils_live::CycleStats,
+    scheduling: &str,
+) {
+    let count = |v: &serde_json::Value, k: &str| {
+        v[k].as_u64()
+            .unwrap_or_else(|| panic!("/diagnostics: {k} is not a count: {v}"))
+    };
+    let mut last = [0u64; 4];
+    for (_, v) in messages {
+        let c = ["cycles", "deadline_misses", "late_starts", "overruns"].map(|k| count(v, k));
+        let [_, misses, late, overruns] = c;
+        assert!(misses >= late.max(overruns) && misses <= late + overruns, "{v}");
+        assert!(c.iter().zip(&last).all(|(now, before)| now >= before), "{v}");
+        assert_eq!(v["scheduling"], scheduling);
+        let tolerance = v["late_tolerance_us"].as_f64().expect("number");
+        assert!((tolerance - 50.0).abs() < 1e-9, "{v}");
+        last = c;
+    }
+    assert_eq!(last[0] + 1, report.cycles);
+    assert!(last[1] <= report.deadline_misses);
+    assert!(last[2] <= report.late_starts && last[3] <= report.overruns);
 }
 
 #[test]

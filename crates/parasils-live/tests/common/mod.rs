@@ -33,19 +33,26 @@ pub fn session_with(
     duration_s: f64,
     token: Option<&str>,
 ) -> Session {
+    session_options(
+        rate_hz,
+        &LiveOptions {
+            port: 0,
+            publish_hz,
+            duration_s: Some(duration_s),
+            token: token.map(str::to_owned),
+            ..LiveOptions::default()
+        },
+    )
+}
+
+/// A session of the paper's robot at `rate_hz` with `options`.
+pub fn session_options(rate_hz: f64, options: &LiveOptions) -> Session {
     let scenario = Scenario {
         rate_hz,
         ..Scenario::paper()
     };
     let run = TeleopRun::new(scenario, TeleopParams::assumed()).expect("run");
-    let options = LiveOptions {
-        port: 0,
-        publish_hz,
-        duration_s: Some(duration_s),
-        token: token.map(str::to_owned),
-        ..LiveOptions::default()
-    };
-    Session::start(run, &options).expect("session")
+    Session::start(run, options).expect("session")
 }
 
 /// Connects offering `subprotocol`.
