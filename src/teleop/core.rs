@@ -88,8 +88,11 @@ pub struct Teleop<T: Real> {
     pub(super) mid_tracker: MarginTracker<T>,
     pub(super) last: Option<T>,
     pub(super) state: OperatingState,
-    /// The home move and its start time, s.
+    /// The planned move under way (home, look-at, move-to) and its start
+    /// time, s.
     pub(super) homing: Option<(OnlineMulti<T, 8>, T)>,
+    /// A `stop` under way: the controlled stop to rest while ENABLED.
+    pub(super) stopping: bool,
     pub(super) follow: Option<Follow<T>>,
     /// The tremor filters: each hand's velocity (fixed frame), the view's.
     pub(super) filters: [LowPass<T, 3>; 2],
@@ -158,6 +161,7 @@ impl<T: Real> Teleop<T> {
             last: None,
             state: OperatingState::Disabled,
             homing: None,
+            stopping: false,
             follow: None,
             filters: [LowPass::new(params.cutoff_hz); 2],
             camera_filter: LowPass::new(params.cutoff_hz),
@@ -215,9 +219,9 @@ impl<T: Real> Teleop<T> {
         self.state
     }
 
-    /// CRTK's `is_busy`: the home move is under way.
+    /// CRTK's `is_busy`: a planned move or a `stop` is under way.
     pub fn is_busy(&self) -> bool {
-        self.homing.is_some()
+        self.homing.is_some() || self.stopping
     }
 
     /// CRTK's `is_homed`: always true (see the [state docs](crate::teleop::OperatingState)).
@@ -304,6 +308,7 @@ impl<T: Real> Teleop<T> {
         let enabled = self.state == OperatingState::Enabled;
         let (candidate, from_home) = match (enabled, self.homing) {
             (true, Some((plan, start))) => (self.home_velocity(t, dt, &plan, start), true),
+            (true, None) if self.stopping => (self.brake(dt), false),
             (true, None) => (self.input_velocity(t, dt, inputs), false),
             (false, _) => (self.brake(dt), false),
         };
@@ -330,9 +335,15 @@ impl<T: Real> Teleop<T> {
             && let Some((plan, start)) = self.homing
             && t - start >= plan.duration()
         {
-            // Home: the hands start again from rest and re-anchor (the
-            // velocity is the last cycle's, which the next one brings to 0).
+            // A move's end: the hands start again from rest and re-anchor
+            // (the velocity is the last cycle's, which the next one brings
+            // to 0).
             self.homing = None;
+            self.reset_inputs();
+        }
+        if self.stopping && self.is_at_rest() {
+            // A stop's end: at rest; the hands re-anchor from here.
+            self.stopping = false;
             self.reset_inputs();
         }
         Ok(self.cycle(t, command, hold))
@@ -353,15 +364,26 @@ impl<T: Real> Teleop<T> {
                     self.reset_inputs();
                 }
                 Command::Resume => self.reset_inputs(),
-                Command::Home if !self.plan_home(previous) => {
-                    return CommandOutcome {
-                        command,
-                        accepted: false,
-                    };
+                Command::Home | Command::LookAtTips => {
+                    if self.plan_command(previous, command).is_err() {
+                        return CommandOutcome {
+                            command,
+                            accepted: false,
+                        };
+                    }
+                }
+                Command::Stop => {
+                    // In ENABLED, the controlled stop to rest (busy); in
+                    // the other states the robot is already stopping or
+                    // held, and stays so.
+                    self.homing = None;
+                    self.follow = None;
+                    self.stopping = before == OperatingState::Enabled;
                 }
                 Command::Disable | Command::Pause => {
                     self.homing = None;
                     self.follow = None;
+                    self.stopping = false;
                     if command == Command::Disable {
                         self.fault = None;
                     }
@@ -389,6 +411,7 @@ impl<T: Real> Teleop<T> {
         self.state = OperatingState::Fault;
         self.fault = Some(fault);
         self.homing = None;
+        self.stopping = false;
         self.follow = None;
     }
 
@@ -439,47 +462,6 @@ impl<T: Real> Teleop<T> {
             [Side::Right, Side::Left]
         } else {
             [Side::Left, Side::Right]
-        }
-    }
-
-    /// The plan of the home move from the current state, starting at `t0`
-    /// (s); false when it cannot be planned.
-    fn plan_home(&mut self, t0: T) -> bool {
-        let root3 = T::lit(3.0).sqrt();
-        let tip = crate::traj::Limits::new(
-            self.params.tip_speed_mm_s / root3,
-            self.params.tip_accel_mm_s2 / root3,
-        );
-        let mut start = [crate::traj::State::rest(T::zero()); 8];
-        let mut goal = [T::zero(); 8];
-        let mut limits = [tip; 8];
-        for k in 0..3 {
-            for m in 0..2 {
-                start[3 * m + k] = crate::traj::State {
-                    position: self.tips[m][k],
-                    velocity: self.velocity.tips[m][k],
-                    acceleration: T::zero(),
-                };
-                goal[3 * m + k] = self.home.1[m][k];
-            }
-        }
-        let angles = [self.pose.psi, self.pose.theta];
-        for a in 0..2 {
-            start[6 + a] = crate::traj::State {
-                position: angles[a],
-                velocity: self.velocity.angles[a],
-                acceleration: T::zero(),
-            };
-            goal[6 + a] = self.home.0[a];
-            limits[6 + a] = self.params.camera;
-        }
-        match OnlineMulti::new(start, goal, limits, crate::traj::Synchronization::Phase) {
-            Ok(plan) => {
-                self.homing = Some((plan, t0));
-                self.follow = None;
-                true
-            }
-            Err(_) => false,
         }
     }
 
