@@ -21,16 +21,17 @@
 
 use core::sync::atomic::{AtomicBool, Ordering};
 use core::time::Duration;
-use std::sync::Arc;
 use std::collections::VecDeque;
+use std::sync::Arc;
 use std::sync::mpsc::{Receiver, SyncSender, TrySendError};
 use std::time::Instant;
 
-use parasils::teleop::OperatingState;
+use nalgebra::Vector3;
+use parasils::teleop::{Goal, MoveRefused, OperatingState};
 use parasils_device::Held;
 use parasils_sim::{Record, TeleopRun};
 
-use crate::message::{CommandRequest, DeviceInput, InputDevice};
+use crate::message::{CommandRequest, DeviceInput, InputDevice, LiveCommand};
 use crate::timing::{CycleStats, wait_until};
 
 /// The commands that may wait for their cycle (one is taken per cycle);
@@ -85,8 +86,11 @@ pub struct Ack {
     pub before: OperatingState,
     /// The state after its cycle.
     pub after: OperatingState,
-    /// Whether CRTK's table accepts it in the state it came in.
+    /// Whether it was accepted: CRTK's table for the core's commands, the
+    /// core's answer for a planned move.
     pub accepted: bool,
+    /// Why a planned move was refused (the core's reason).
+    pub refusal: Option<MoveRefused>,
     /// The cycle's time, s.
     pub t_s: f64,
 }
@@ -125,6 +129,24 @@ pub struct Queues {
     pub frames: SyncSender<Frame>,
     /// Acknowledgements out (bounded: at least [`PENDING_COMMANDS`]).
     pub acks: SyncSender<Ack>,
+}
+
+/// The core's goal for a planned move on `/command` (`tips`: where the
+/// tips are, for those a `move_to` does not give; a core command, which is
+/// not a move here, maps to home).
+fn goal(command: LiveCommand, tips: [Vector3<f64>; 2]) -> Goal<f64> {
+    match command {
+        LiveCommand::LookAtTips => Goal::LookAtTips,
+        LiveCommand::LookAt(p) => Goal::LookAt(Vector3::from(p)),
+        LiveCommand::MoveTo {
+            angles_deg,
+            tips_mm,
+        } => Goal::Pose {
+            angles: angles_deg.map(f64::to_radians),
+            tips: [0, 1].map(|m| tips_mm[m].map_or(tips[m], Vector3::from)),
+        },
+        LiveCommand::Core(_) => Goal::Home,
+    }
 }
 
 /// Runs `run` until `cycles` are done or `stop` is set; the final timing.
@@ -205,13 +227,21 @@ pub fn run_loop(
         last_read = read;
         let before = run.teleop().state();
         let command = pending.pop_front();
-        let record = run.step(held, command.map(|(r, _)| r.command))?;
+        // The core's commands go through the cycle; a planned move starts
+        // from the last cycle's setpoint, and this cycle is its first.
+        let (core, refusal) = match command.map(|(r, _)| r.command) {
+            Some(LiveCommand::Core(c)) => (Some(c), None),
+            Some(other) => (None, run.start_move(goal(other, run.teleop().tips())).err()),
+            None => (None, None),
+        };
+        let record = run.step(held, core)?;
         let busy = run.teleop().is_busy();
         if let Some((request, client)) = command {
             let after = record.teleop.state;
-            let accepted = before
-                .after(request.command, after == OperatingState::Enabled)
-                .accepted;
+            let accepted = match request.command {
+                LiveCommand::Core(c) => before.after(c, after == OperatingState::Enabled).accepted,
+                _ => refusal.is_none(),
+            };
             // Full cannot be (one per command, bounded like them); the
             // receiver gone means the session is ending: nothing to tell.
             let _ = queues.acks.try_send(Ack {
@@ -220,6 +250,7 @@ pub fn run_loop(
                 before,
                 after,
                 accepted,
+                refusal,
                 t_s: t,
             });
         }

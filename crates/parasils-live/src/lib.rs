@@ -63,13 +63,14 @@ pub use control::{
 pub use crtk::{Arm, Crtk};
 pub use error::LiveError;
 pub use message::{
-    COMMAND_TOPIC, ClientMessage, CommandRequest, DeviceInput, InputDevice, MessageError, parse,
+    COMMAND_TOPIC, ClientMessage, CommandRequest, DeviceInput, InputDevice, LiveCommand,
+    MessageError, parse,
 };
 pub use publish::{
     ACK_TOPIC, Channels, Clients, DIAGNOSTICS_TOPIC, PublishReport, PublishSettings, run_publisher,
 };
+pub use realtime::{Scheduling, schedule_current_thread};
 pub use session::{
     AUTH_TOPIC, DEFAULT_PORT, LEGACY_SUBPROTOCOL, LiveOptions, SUBPROTOCOL, Session, SessionReport,
 };
-pub use realtime::{Scheduling, schedule_current_thread};
 pub use timing::{CycleStats, LATE_TOLERANCE, wait_until};

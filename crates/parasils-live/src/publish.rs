@@ -88,7 +88,7 @@ pub fn ack_schema() -> serde_json::Value {
         "type": "object",
         "properties": {
             "t_s": {"type": "number", "description": "unit: s (the cycle that took it)"},
-            "command": {"type": "string", "enum": ["enable", "disable", "pause", "resume", "home"]},
+            "command": {"type": "string", "enum": crate::message::LiveCommand::NAMES},
             "id": {"type": ["integer", "null"]},
             "accepted": {"type": "boolean"},
             "before": {"type": "string", "enum": ["DISABLED", "ENABLED", "PAUSED", "FAULT"]},
@@ -412,14 +412,20 @@ impl Publisher {
     }
 
     fn ack(&mut self, a: &Ack, clients: &Clients) {
-        let reason = (!a.accepted).then(|| {
-            format!(
+        let reason = match (a.accepted, a.refusal) {
+            (true, _) => None,
+            (false, Some(why)) => Some(format!(
+                "{} refused: {why}; the state stays {}",
+                a.request.command.name(),
+                a.after.name()
+            )),
+            (false, None) => Some(format!(
                 "{} is not valid in {} (CRTK's table); the state stays {}",
                 a.request.command.name(),
                 a.before.name(),
                 a.after.name()
-            )
-        });
+            )),
+        };
         let v = json!({
             "t_s": a.t_s,
             "command": a.request.command.name(),

@@ -76,7 +76,10 @@ impl CycleStats {
 /// late. Returns at once when `due` has passed. The instant it returned.
 pub fn wait_until(due: Instant, margin: Duration) -> Instant {
     let now = Instant::now();
-    if let Some(sleep) = due.checked_sub(margin).and_then(|w| w.checked_duration_since(now)) {
+    if let Some(sleep) = due
+        .checked_sub(margin)
+        .and_then(|w| w.checked_duration_since(now))
+    {
         std::thread::sleep(sleep);
     }
     loop {

@@ -14,8 +14,8 @@ use std::time::Instant;
 
 use parasils::teleop::{Command, TeleopParams};
 use parasils_live::{
-    CommandRequest, DeviceInput, Event, InputDevice, LoopSettings, PENDING_COMMANDS, Queues,
-    run_loop,
+    CommandRequest, DeviceInput, Event, InputDevice, LiveCommand, LoopSettings, PENDING_COMMANDS,
+    Queues, run_loop,
 };
 use parasils_sim::{Scenario, TeleopRun};
 
@@ -62,7 +62,14 @@ fn allocations(cycles: u64) -> u64 {
     let now = Instant::now();
     for command in [Command::Enable, Command::Pause, Command::Resume] {
         events_in
-            .try_send(Event::Command(CommandRequest { command, id: Some(1) }, 1, now))
+            .try_send(Event::Command(
+                CommandRequest {
+                    command: LiveCommand::Core(command),
+                    id: Some(1),
+                },
+                1,
+                now,
+            ))
             .expect("room");
     }
     let input = DeviceInput {

@@ -178,8 +178,14 @@ fn diagnostics_agree(
     for (_, v) in messages {
         let c = ["cycles", "deadline_misses", "late_starts", "overruns"].map(|k| count(v, k));
         let [_, misses, late, overruns] = c;
-        assert!(misses >= late.max(overruns) && misses <= late + overruns, "{v}");
-        assert!(c.iter().zip(&last).all(|(now, before)| now >= before), "{v}");
+        assert!(
+            misses >= late.max(overruns) && misses <= late + overruns,
+            "{v}"
+        );
+        assert!(
+            c.iter().zip(&last).all(|(now, before)| now >= before),
+            "{v}"
+        );
         assert_eq!(v["scheduling"], scheduling);
         let tolerance = v["late_tolerance_us"].as_f64().expect("number");
         assert!((tolerance - 50.0).abs() < 1e-9, "{v}");
@@ -335,6 +341,115 @@ fn an_input_moves_the_setpoint_within_two_cycles_of_its_arrival() {
     assert!(arrival <= read, "{previous} {arrival} {read}");
     assert!(m <= 1, "moved {m} cycles after the one that read it");
     assert_eq!(still, 0.0, "the setpoint moved before the input");
+}
+
+/// The acknowledgement of the command numbered `id`, read until it comes.
+async fn ack_of(c: &mut Client, command: Value, id: u64) -> Value {
+    let mut command = command;
+    command["id"] = json!(id);
+    c.publish("/command", &command).await;
+    let got = c
+        .read_until(Duration::from_secs(2), |c| {
+            c.received
+                .get("/command_ack")
+                .is_some_and(|v| v.iter().any(|(_, a)| a["id"] == id))
+        })
+        .await;
+    assert!(got, "no acknowledgement of {command}");
+    let ack = c.received["/command_ack"]
+        .iter()
+        .find(|(_, a)| a["id"] == id)
+        .expect("ack")
+        .1
+        .clone();
+    println!("{command}: {ack}");
+    ack
+}
+
+#[test]
+fn the_planned_moves_and_stop_are_served_and_acknowledged() {
+    let _serial = one_at_a_time();
+    let s = session(1000.0, 100.0, 8.0);
+    let address = s.address().to_string();
+    let waiter = std::thread::spawn(move || s.wait());
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("runtime");
+    rt.block_on(async {
+        let mut c = Client::new(&address).await;
+        c.subscribe(|t| t == "/command_ack" || t == "/platform")
+            .await;
+        c.advertise("/command").await;
+        let look = json!({"command": "look_at", "point_mm": [20, 30, -600]});
+        // DISABLED: a move is refused with the core's reason.
+        let a = ack_of(&mut c, look.clone(), 1).await;
+        assert_eq!(
+            (a["accepted"].clone(), a["state"].clone()),
+            (json!(false), json!("DISABLED"))
+        );
+        let reason = a["reason"].as_str().expect("a reason");
+        assert!(reason.contains("ENABLED only"), "{reason}");
+        let a = ack_of(&mut c, json!({"command": "enable"}), 2).await;
+        assert_eq!(a["state"], "ENABLED");
+        // The port itself (the endoscope is at depth 0): no view aims at it.
+        let behind = json!({"command": "look_at", "point_mm": [15, 20, -500]});
+        let a = ack_of(&mut c, behind, 3).await;
+        assert_eq!(a["accepted"], false);
+        assert!(
+            a["reason"].as_str().is_some_and(|r| r.contains("camera:")),
+            "{a}"
+        );
+        // A move to the view at psi -13 deg, theta 10 deg (2 deg from the
+        // start's psi), the tips held: /platform ends there, at rest.
+        let a = ack_of(
+            &mut c,
+            json!({"command": "move_to", "psi_deg": -13, "theta_deg": 10}),
+            4,
+        )
+        .await;
+        assert_eq!(
+            (a["accepted"].clone(), a["state"].clone()),
+            (json!(true), json!("ENABLED"))
+        );
+        let arrived = c
+            .read_until(Duration::from_secs(5), |c| {
+                c.received.get("/platform").is_some_and(|v| {
+                    v.last().is_some_and(|(_, p)| {
+                        let psi = p["psi_deg"].as_f64().unwrap_or(f64::NAN);
+                        let rate = p["psi_rate_deg_s"].as_f64().unwrap_or(f64::NAN);
+                        (psi + 13.0).abs() < 1e-9 && rate == 0.0
+                    })
+                })
+            })
+            .await;
+        let last = c
+            .received
+            .get("/platform")
+            .and_then(|v| v.last())
+            .map(|(_, p)| p.clone());
+        assert!(arrived, "the view did not reach psi = -13 deg: {last:?}");
+        let theta = last
+            .as_ref()
+            .and_then(|p| p["theta_deg"].as_f64())
+            .expect("theta");
+        assert!((theta - 10.0).abs() < 1e-9, "{theta}");
+        // Looking at a point, then a stop: both accepted, ENABLED.
+        let a = ack_of(&mut c, look, 5).await;
+        assert_eq!(
+            (a["accepted"].clone(), a["state"].clone()),
+            (json!(true), json!("ENABLED"))
+        );
+        let a = ack_of(&mut c, json!({"command": "stop"}), 6).await;
+        assert_eq!(
+            (a["accepted"].clone(), a["state"].clone()),
+            (json!(true), json!("ENABLED"))
+        );
+        let a = ack_of(&mut c, json!({"command": "look_at_tips"}), 7).await;
+        assert_eq!(a["accepted"], true);
+        c.read_to_end(Duration::from_secs(10)).await;
+    });
+    waiter.join().expect("join").expect("session");
 }
 
 #[test]
