@@ -56,6 +56,17 @@ impl<T: Real> Velocities<T> {
     }
 }
 
+/// What keeps the core busy (CRTK's `is_busy`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Busy<T: Real> {
+    /// Nothing: the hands drive.
+    Idle,
+    /// A planned move (home, look-at, move-to) and its start time, s.
+    Move(OnlineMulti<T, 8>, T),
+    /// A `stop`: the controlled stop to rest while ENABLED.
+    Stop,
+}
+
 /// The teleoperation core (see the [module docs](crate::teleop)).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Teleop<T: Real> {
@@ -88,11 +99,8 @@ pub struct Teleop<T: Real> {
     pub(super) mid_tracker: MarginTracker<T>,
     pub(super) last: Option<T>,
     pub(super) state: OperatingState,
-    /// The planned move under way (home, look-at, move-to) and its start
-    /// time, s.
-    pub(super) homing: Option<(OnlineMulti<T, 8>, T)>,
-    /// A `stop` under way: the controlled stop to rest while ENABLED.
-    pub(super) stopping: bool,
+    /// What keeps the core busy: a planned move, or a `stop`.
+    pub(super) busy: Busy<T>,
     pub(super) follow: Option<Follow<T>>,
     /// The tremor filters: each hand's velocity (fixed frame), the view's.
     pub(super) filters: [LowPass<T, 3>; 2],
@@ -160,8 +168,7 @@ impl<T: Real> Teleop<T> {
             mid_tracker: tracker,
             last: None,
             state: OperatingState::Disabled,
-            homing: None,
-            stopping: false,
+            busy: Busy::Idle,
             follow: None,
             filters: [LowPass::new(params.cutoff_hz); 2],
             camera_filter: LowPass::new(params.cutoff_hz),
@@ -221,7 +228,7 @@ impl<T: Real> Teleop<T> {
 
     /// CRTK's `is_busy`: a planned move or a `stop` is under way.
     pub fn is_busy(&self) -> bool {
-        self.homing.is_some() || self.stopping
+        !matches!(self.busy, Busy::Idle)
     }
 
     /// CRTK's `is_homed`: always true (see the [state docs](crate::teleop::OperatingState)).
@@ -306,18 +313,20 @@ impl<T: Real> Teleop<T> {
             self.enter_fault(fault);
         }
         let enabled = self.state == OperatingState::Enabled;
-        let (candidate, from_home) = match (enabled, self.homing) {
-            (true, Some((plan, start))) => (self.home_velocity(t, dt, &plan, start), true),
-            (true, None) if self.stopping => (self.brake(dt), false),
-            (true, None) => (self.input_velocity(t, dt, inputs), false),
+        let (candidate, from_home) = match (enabled, self.busy) {
+            (true, Busy::Move(plan, start)) => (self.home_velocity(t, dt, &plan, start), true),
+            (true, Busy::Stop) => (self.brake(dt), false),
+            (true, Busy::Idle) => (self.input_velocity(t, dt, inputs), false),
             (false, _) => (self.brake(dt), false),
         };
         let hold = self.advance(dt, &candidate, enabled);
         if hold.is_some() {
             // A held plan or law no longer describes the setpoint; the
             // filters of what was reduced restart from the velocities held
-            // (no wind-up: a reversal acts at once).
-            self.homing = None;
+            // (no wind-up: a reversal acts at once). A stop goes on.
+            if from_home {
+                self.busy = Busy::Idle;
+            }
             self.follow = None;
             for h in 0..2 {
                 let m = match self.hands[h] {
@@ -332,18 +341,17 @@ impl<T: Real> Teleop<T> {
                 self.camera_filter.hold_at(self.velocity.angles);
             }
         } else if from_home
-            && let Some((plan, start)) = self.homing
+            && let Busy::Move(plan, start) = self.busy
             && t - start >= plan.duration()
         {
             // A move's end: the hands start again from rest and re-anchor
             // (the velocity is the last cycle's, which the next one brings
             // to 0).
-            self.homing = None;
+            self.busy = Busy::Idle;
             self.reset_inputs();
-        }
-        if self.stopping && self.is_at_rest() {
+        } else if matches!(self.busy, Busy::Stop) && self.is_at_rest() {
             // A stop's end: at rest; the hands re-anchor from here.
-            self.stopping = false;
+            self.busy = Busy::Idle;
             self.reset_inputs();
         }
         Ok(self.cycle(t, command, hold))
@@ -364,26 +372,28 @@ impl<T: Real> Teleop<T> {
                     self.reset_inputs();
                 }
                 Command::Resume => self.reset_inputs(),
-                Command::Home | Command::LookAtTips => {
-                    if self.plan_command(previous, command).is_err() {
-                        return CommandOutcome {
-                            command,
-                            accepted: false,
-                        };
-                    }
+                Command::Home | Command::LookAtTips
+                    if self.plan_command(previous, command).is_err() =>
+                {
+                    return CommandOutcome {
+                        command,
+                        accepted: false,
+                    };
                 }
                 Command::Stop => {
                     // In ENABLED, the controlled stop to rest (busy); in
                     // the other states the robot is already stopping or
                     // held, and stays so.
-                    self.homing = None;
                     self.follow = None;
-                    self.stopping = before == OperatingState::Enabled;
+                    self.busy = if before == OperatingState::Enabled {
+                        Busy::Stop
+                    } else {
+                        Busy::Idle
+                    };
                 }
                 Command::Disable | Command::Pause => {
-                    self.homing = None;
+                    self.busy = Busy::Idle;
                     self.follow = None;
-                    self.stopping = false;
                     if command == Command::Disable {
                         self.fault = None;
                     }
@@ -410,8 +420,7 @@ impl<T: Real> Teleop<T> {
     pub(super) fn enter_fault(&mut self, fault: Fault) {
         self.state = OperatingState::Fault;
         self.fault = Some(fault);
-        self.homing = None;
-        self.stopping = false;
+        self.busy = Busy::Idle;
         self.follow = None;
     }
 

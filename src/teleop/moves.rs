@@ -24,7 +24,7 @@ use crate::kin::nalgebra::Vector3;
 use crate::kin::{CameraError, Real};
 use crate::traj::{Limits, OnlineMulti, State, Synchronization};
 
-use super::core::Teleop;
+use super::core::{Busy, Teleop};
 use super::input::Command;
 use super::state::OperatingState;
 
@@ -206,9 +206,8 @@ impl<T: Real> Teleop<T> {
         }
         let plan = OnlineMulti::new(start, target, limits, Synchronization::Phase)
             .map_err(|_| MoveRefused::Plan)?;
-        self.homing = Some((plan, t0));
+        self.busy = Busy::Move(plan, t0);
         self.follow = None;
-        self.stopping = false;
         Ok(())
     }
 }
