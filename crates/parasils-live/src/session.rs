@@ -92,6 +92,25 @@ impl Default for LiveOptions {
 }
 
 impl LiveOptions {
+    /// The options as the recording's `parasils.scenario` metadata gives
+    /// them (`live_options`, JSON): the control rate (Hz) and every option
+    /// but the token, of which only whether one is needed.
+    pub fn metadata(&self, rate_hz: f64) -> serde_json::Value {
+        serde_json::json!({
+            "rate_hz": rate_hz,
+            "bind": self.bind,
+            "port": self.port,
+            "publish_hz": self.publish_hz,
+            "scene_period_s": self.scene_period_s,
+            "duration_s": self.duration_s,
+            "queue_frames": self.queue_frames,
+            "client_backlog": self.client_backlog,
+            "token_required": self.token.is_some(),
+            "realtime_priority": self.realtime_priority,
+            "spin_margin_s": self.spin_margin_s,
+        })
+    }
+
     /// Whether the address is this machine's loopback only.
     pub fn is_loopback(&self) -> bool {
         matches!(self.bind.as_str(), "127.0.0.1" | "localhost" | "::1")
@@ -334,6 +353,20 @@ impl Session {
                     },
                 )?),
             };
+        if let (Some(handle), Some(path)) = (&mcap, &options.record) {
+            let mut meta =
+                parasils_sim::mcap::scenario_metadata(scenario, &geometry, options.scene_period_s)?;
+            meta.insert(
+                "live_options".to_owned(),
+                options.metadata(rate_hz).to_string(),
+            );
+            handle
+                .write_metadata(parasils_sim::mcap::SCENARIO_METADATA, meta)
+                .map_err(|e| LiveError::Recording {
+                    path: path.clone(),
+                    reason: e.to_string(),
+                })?;
+        }
         let channels = Channels::new(&ctx)?;
         let topics = channels.topics();
 
