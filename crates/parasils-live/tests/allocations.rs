@@ -5,9 +5,10 @@
 
 #![allow(unsafe_code, reason = "a counting global allocator, for the test")]
 
+use core::alloc::{GlobalAlloc, Layout};
+use core::cell::Cell;
 use core::sync::atomic::AtomicBool;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
+use std::alloc::System;
 use std::sync::Arc;
 use std::sync::mpsc::sync_channel;
 use std::time::Instant;
