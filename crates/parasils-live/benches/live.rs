@@ -18,7 +18,7 @@ use core::time::Duration;
 use std::collections::BTreeSet;
 use std::time::Instant;
 
-use common::{Client, session_options};
+use common::{Client, drive, session_options};
 use parasils_live::{LiveOptions, schedule_current_thread};
 
 /// The sessions' options from the environment.
@@ -79,15 +79,9 @@ fn run(publish_hz: f64, reading: bool) {
     let duration_s = 10.0;
     let s = session_options(1000.0, &options(publish_hz, duration_s));
     let scheduling = s.scheduling().to_string();
-    let address = s.address().to_string();
     let topics = s.topics().len();
-    let waiter = std::thread::spawn(move || s.wait());
-    let rt = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .expect("runtime");
-    let received = rt.block_on(async {
-        let mut c = Client::new(&address).await;
+    let (received, report) = drive(s, async |address| {
+        let mut c = Client::new(address).await;
         c.subscribe(|_| true).await;
         if reading {
             c.read_to_end(Duration::from_secs_f64(duration_s + 15.0))
@@ -99,7 +93,6 @@ fn run(publish_hz: f64, reading: bool) {
         }
         c.received
     });
-    let report = waiter.join().expect("join").expect("session");
     let st = &report.stats;
     let got: usize = received.values().map(Vec::len).sum();
     let first = received

@@ -8,7 +8,7 @@ mod common;
 use core::time::Duration;
 use std::collections::{BTreeSet, HashMap};
 
-use common::{Client, connect, session, session_with};
+use common::{Client, connect, drive, session, session_with};
 use parasils::kin::Side;
 use parasils::teleop::{Command, TeleopParams};
 use parasils_device::Held;
@@ -79,22 +79,15 @@ fn delivery(publish_hz: f64, duration_s: f64) {
 fn one_delivery(publish_hz: f64, duration_s: f64) -> (f64, (f64, String)) {
     let rate_hz = 1000.0;
     let s = session(rate_hz, publish_hz, duration_s);
-    let address = s.address().to_string();
     let topics = s.topics().to_vec();
     let scheduling = s.scheduling().to_string();
-    let waiter = std::thread::spawn(move || s.wait());
-    let rt = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .expect("runtime");
-    let client = rt.block_on(async {
-        let mut c = Client::new(&address).await;
+    let (client, report) = drive(s, async |address| {
+        let mut c = Client::new(address).await;
         c.subscribe(|_| true).await;
         c.read_to_end(Duration::from_secs_f64(duration_s + 15.0))
             .await;
         c
     });
-    let report = waiter.join().expect("join").expect("session");
     diagnostics_agree(&client.received["/diagnostics"], &report.stats, &scheduling);
     let every = (rate_hz / publish_hz).round() as u64;
     let cycles = (duration_s * rate_hz).round() as u64 + 1;
@@ -231,14 +224,8 @@ fn an_input_moves_the_setpoint_within_two_cycles_of_its_arrival() {
         _ => "/right/setpoint_js".to_owned(),
     };
     let s = session(rate_hz, 1000.0, 4.0);
-    let address = s.address().to_string();
-    let waiter = std::thread::spawn(move || s.wait());
-    let rt = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .expect("runtime");
-    let client = rt.block_on(async {
-        let mut c = Client::new(&address).await;
+    let (client, _) = drive(s, async |address| {
+        let mut c = Client::new(address).await;
         c.subscribe(|t| [driven.as_str(), "/diagnostics", "/command_ack"].contains(&t))
             .await;
         c.advertise("/command").await;
@@ -277,7 +264,6 @@ fn an_input_moves_the_setpoint_within_two_cycles_of_its_arrival() {
         c.read_to_end(Duration::from_secs(10)).await;
         c
     });
-    waiter.join().expect("join").expect("session");
     let d = &client.received["/diagnostics"]
         .iter()
         .find(|(_, d)| d["last_input"]["id"] == 42)
@@ -370,14 +356,8 @@ async fn ack_of(c: &mut Client, command: Value, id: u64) -> Value {
 fn the_planned_moves_and_stop_are_served_and_acknowledged() {
     let _serial = one_at_a_time();
     let s = session(1000.0, 100.0, 8.0);
-    let address = s.address().to_string();
-    let waiter = std::thread::spawn(move || s.wait());
-    let rt = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .expect("runtime");
-    rt.block_on(async {
-        let mut c = Client::new(&address).await;
+    drive(s, async |address| {
+        let mut c = Client::new(address).await;
         c.subscribe(|t| t == "/command_ack" || t == "/platform")
             .await;
         c.advertise("/command").await;
@@ -449,19 +429,12 @@ fn the_planned_moves_and_stop_are_served_and_acknowledged() {
         assert_eq!(a["accepted"], true);
         c.read_to_end(Duration::from_secs(10)).await;
     });
-    waiter.join().expect("join").expect("session");
 }
 
 #[test]
 fn commands_follow_crtk_s_table_and_bad_messages_are_refused() {
     let _serial = one_at_a_time();
     let s = session(1000.0, 100.0, 6.0);
-    let address = s.address().to_string();
-    let waiter = std::thread::spawn(move || s.wait());
-    let rt = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .expect("runtime");
     // CRTK's table, written out here: command, accepted, state after.
     let steps: [(&str, bool, &str); 9] = [
         ("pause", false, "DISABLED"),
@@ -474,8 +447,8 @@ fn commands_follow_crtk_s_table_and_bad_messages_are_refused() {
         ("disable", true, "DISABLED"),
         ("resume", false, "DISABLED"),
     ];
-    rt.block_on(async {
-        let mut c = Client::new(&address).await;
+    drive(s, async |address| {
+        let mut c = Client::new(address).await;
         c.subscribe(|t| t == "/command_ack").await;
         c.advertise("/command").await;
         c.advertise("/left/servo_input").await;
@@ -539,21 +512,14 @@ fn commands_follow_crtk_s_table_and_bad_messages_are_refused() {
         }
         c.read_to_end(Duration::from_secs(10)).await;
     });
-    waiter.join().expect("join").expect("session");
 }
 
 #[test]
 fn with_a_token_only_a_client_that_sent_it_drives() {
     let _serial = one_at_a_time();
     let s = session_with(1000.0, 100.0, 3.0, Some("s3cret"));
-    let address = s.address().to_string();
-    let waiter = std::thread::spawn(move || s.wait());
-    let rt = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .expect("runtime");
-    rt.block_on(async {
-        let mut c = Client::new(&address).await;
+    drive(s, async |address| {
+        let mut c = Client::new(address).await;
         c.subscribe(|t| t == "/command_ack").await;
         c.advertise("/command").await;
         c.advertise("/auth").await;
@@ -596,7 +562,6 @@ fn with_a_token_only_a_client_that_sent_it_drives() {
         assert!(c.statuses[1].1.contains("wrong token"), "{:?}", c.statuses);
         c.read_to_end(Duration::from_secs(10)).await;
     });
-    waiter.join().expect("join").expect("session");
 }
 
 #[test]

@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use futures_util::{SinkExt, StreamExt};
 use parasils::teleop::TeleopParams;
-use parasils_live::{LiveOptions, Session};
+use parasils_live::{LiveOptions, Session, SessionReport};
 use parasils_sim::{Scenario, TeleopRun};
 use serde_json::{Value, json};
 use tokio::net::TcpStream;
@@ -53,6 +53,21 @@ pub fn session_options(rate_hz: f64, options: &LiveOptions) -> Session {
     };
     let run = TeleopRun::new(scenario, TeleopParams::assumed()).expect("run");
     Session::start(run, options).expect("session")
+}
+
+/// Runs `client` (given the session's address) on a runtime of its own
+/// while `s` runs on another thread, then waits for the session to end;
+/// what the client returned and the session's report.
+pub fn drive<R>(s: Session, client: impl AsyncFnOnce(&str) -> R) -> (R, SessionReport) {
+    let address = s.address().to_string();
+    let waiter = std::thread::spawn(move || s.wait());
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("runtime");
+    let out = rt.block_on(client(&address));
+    let report = waiter.join().expect("join").expect("session");
+    (out, report)
 }
 
 /// Connects offering `subprotocol`.
