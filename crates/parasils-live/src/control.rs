@@ -42,14 +42,24 @@ pub const PENDING_COMMANDS: usize = 256;
 /// Who sent a message: the WebSocket client's id.
 pub type ClientTag = u32;
 
+/// How a command's acknowledgement reaches the client that sent it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Reply {
+    /// Published on `/command`: a status message to this client.
+    Status(ClientTag),
+    /// A call of the `/command` service: the response to the call the
+    /// session keeps under this number.
+    Service(u32),
+}
+
 /// A client's message on its way to the control loop, with the instant
 /// it arrived.
 #[derive(Debug, Clone, Copy)]
 pub enum Event {
     /// A device's input.
     Input(DeviceInput, Instant),
-    /// A command, with the client that sent it.
-    Command(CommandRequest, ClientTag, Instant),
+    /// A command, with how its acknowledgement reaches its client.
+    Command(CommandRequest, Reply, Instant),
 }
 
 /// The last input applied: which device, the client's number, when it
@@ -78,8 +88,8 @@ pub struct AppliedInput {
 /// A command's outcome, for the client that sent it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ack {
-    /// The client that sent it.
-    pub client: ClientTag,
+    /// How it reaches the client that sent it.
+    pub reply: Reply,
     /// The command and its number.
     pub request: CommandRequest,
     /// The state before it.
@@ -164,8 +174,7 @@ pub fn run_loop(
     let period = Duration::from_secs_f64(1.0 / run.rate_hz());
     let mut stats = CycleStats::default();
     let mut held = [Held::REST; 3];
-    let mut pending: VecDeque<(CommandRequest, ClientTag)> =
-        VecDeque::with_capacity(PENDING_COMMANDS);
+    let mut pending: VecDeque<(CommandRequest, Reply)> = VecDeque::with_capacity(PENDING_COMMANDS);
     let mut fresh: [Option<(DeviceInput, Instant)>; 3] = [None; 3];
     // When each device's input lapses (a twist's), back to rest with
     // enable held.
@@ -202,7 +211,7 @@ pub fn run_loop(
                         .and_then(|h| Duration::try_from_secs_f64(h).ok())
                         .map(|h| at + h);
                 }
-                Event::Command(request, client, _) => pending.push_back((request, client)),
+                Event::Command(request, reply, _) => pending.push_back((request, reply)),
             }
         }
         // After the queue is emptied: every input read arrived before it.
@@ -236,7 +245,7 @@ pub fn run_loop(
         };
         let record = run.step(held, core)?;
         let busy = run.teleop().is_busy();
-        if let Some((request, client)) = command {
+        if let Some((request, reply)) = command {
             let after = record.teleop.state;
             let accepted = match request.command {
                 LiveCommand::Core(c) => before.after(c, after == OperatingState::Enabled).accepted,
@@ -245,7 +254,7 @@ pub fn run_loop(
             // Full cannot be (one per command, bounded like them); the
             // receiver gone means the session is ending: nothing to tell.
             let _ = queues.acks.try_send(Ack {
-                client,
+                reply,
                 request,
                 before,
                 after,

@@ -21,6 +21,31 @@
 
 use parasils::teleop::Command;
 
+/// The topic a client publishes the session's token on.
+pub const AUTH_TOPIC: &str = "/auth";
+
+/// The JSON Schema of a command (`/command`'s message, and the `/command`
+/// service's request).
+pub fn command_schema() -> serde_json::Value {
+    let point = |d: &str| serde_json::json!({"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3, "description": d});
+    serde_json::json!({
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "title": "parasils.Command",
+        "description": "A command: CRTK's (enable, disable, pause, resume), home, look_at_tips, stop, or a planned move with its goal (look_at: point_mm; move_to: psi_deg, theta_deg, the tips)",
+        "type": "object",
+        "properties": {
+            "command": {"type": "string", "enum": LiveCommand::NAMES},
+            "id": {"type": ["integer", "null"], "description": "echoed in the acknowledgement"},
+            "point_mm": point("look_at: the point, mm, fixed frame"),
+            "psi_deg": {"type": "number", "description": "move_to: psi, deg"},
+            "theta_deg": {"type": "number", "description": "move_to: theta, deg"},
+            "left_tip_mm": point("move_to: the left module's tip, mm, fixed frame (where it is if not given)"),
+            "right_tip_mm": point("move_to: the right module's tip, mm, fixed frame (where it is if not given)"),
+        },
+        "required": ["command"],
+    })
+}
+
 /// Which device an input drives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum InputDevice {

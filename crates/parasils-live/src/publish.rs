@@ -22,9 +22,10 @@ use parasils_sim::mcap::{
 use parasils_sim::{CameraImage, Channel, Field, McapError, SceneGeometry};
 use serde_json::json;
 
-use crate::control::{Ack, ClientTag, Frame};
+use crate::control::{Ack, ClientTag, Frame, Reply};
 use crate::crtk::{self, Arm, Crtk};
 use crate::error::LiveError;
+use crate::service::Calls;
 
 /// The topic of the loop's timing and the session's counts.
 pub const DIAGNOSTICS_TOPIC: &str = "/diagnostics";
@@ -129,7 +130,8 @@ fn channel(
         })
 }
 
-fn pretty(v: &serde_json::Value) -> Vec<u8> {
+/// `v` as pretty JSON bytes (a schema's text).
+pub fn pretty(v: &serde_json::Value) -> Vec<u8> {
     serde_json::to_vec_pretty(v).unwrap_or_default()
 }
 
@@ -411,7 +413,7 @@ impl Publisher {
         self.log(&ch, ns);
     }
 
-    fn ack(&mut self, a: &Ack, clients: &Clients) {
+    fn ack(&mut self, a: &Ack, clients: &Clients, calls: &Calls) {
         let reason = match (a.accepted, a.refusal) {
             (true, _) => None,
             (false, Some(why)) => Some(format!(
@@ -440,19 +442,28 @@ impl Publisher {
         let ns = parasils_sim::mcap::log_time(a.t_s).unwrap_or(0);
         let ch = Arc::clone(&self.channels.ack);
         self.log(&ch, ns);
-        if let Ok(map) = clients.lock()
-            && let Some(client) = map.get(&a.client)
-        {
-            let status = if a.accepted {
-                Status::info(text)
-            } else {
-                Status::error(text)
-            };
-            let id = a
-                .request
-                .id
-                .map_or_else(|| "command".to_owned(), |i| format!("command-{i}"));
-            client.send_status(status.with_id(id));
+        match a.reply {
+            Reply::Status(tag) => {
+                if let Ok(map) = clients.lock()
+                    && let Some(client) = map.get(&tag)
+                {
+                    let status = if a.accepted {
+                        Status::info(text)
+                    } else {
+                        Status::error(text)
+                    };
+                    let id = a
+                        .request
+                        .id
+                        .map_or_else(|| "command".to_owned(), |i| format!("command-{i}"));
+                    client.send_status(status.with_id(id));
+                }
+            }
+            Reply::Service(key) => {
+                if let Some(responder) = calls.lock().ok().and_then(|mut c| c.remove(&key)) {
+                    responder.respond_ok(text);
+                }
+            }
         }
         self.report.acks += 1;
     }
@@ -475,6 +486,7 @@ pub fn run_publisher(
     frames: &Receiver<Frame>,
     acks: &Receiver<Ack>,
     clients: &Clients,
+    calls: &Calls,
 ) -> Result<PublishReport, McapError> {
     let mut p = Publisher {
         channels,
@@ -491,7 +503,7 @@ pub fn run_publisher(
     loop {
         let next = frames.try_recv();
         while let Ok(a) = acks.try_recv() {
-            p.ack(&a, clients);
+            p.ack(&a, clients, calls);
         }
         match next {
             Ok(f) => p.frame(&f)?,
@@ -500,7 +512,7 @@ pub fn run_publisher(
         }
     }
     while let Ok(a) = acks.try_recv() {
-        p.ack(&a, clients);
+        p.ack(&a, clients, calls);
     }
     p.finish()?;
     Ok(p.report)

@@ -13,15 +13,21 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::Instant;
 
+use foxglove::websocket::service::{Service, ServiceSchema};
 use foxglove::websocket::{Capability, Client, ClientChannel, ServerListener, Status};
-use foxglove::{Context, McapWriterHandle, WebSocketServerHandle};
+use foxglove::{Context, McapWriterHandle, Schema, WebSocketServerHandle};
 use parasils_sim::{CameraImage, SceneGeometry, TeleopRun};
 
-use crate::control::{Event, LoopSettings, PENDING_COMMANDS, Queues, run_loop};
+use crate::control::{Event, LoopSettings, PENDING_COMMANDS, Queues, Reply, run_loop};
 use crate::error::LiveError;
-use crate::message::{COMMAND_TOPIC, ClientMessage, InputDevice, parse};
-use crate::publish::{Channels, Clients, PublishReport, PublishSettings, run_publisher};
+use crate::message::{
+    AUTH_TOPIC, COMMAND_TOPIC, ClientMessage, InputDevice, command_schema, parse,
+};
+use crate::publish::{
+    Channels, Clients, PublishReport, PublishSettings, ack_schema, pretty, run_publisher,
+};
 use crate::realtime::{Scheduling, schedule_current_thread};
+use crate::service::{Calls, CommandService, Drivers};
 use crate::timing::CycleStats;
 
 /// The WebSocket subprotocol the server speaks (the Foxglove SDK's); the
@@ -29,8 +35,6 @@ use crate::timing::CycleStats;
 pub const SUBPROTOCOL: &str = "foxglove.sdk.v1";
 /// The subprotocol refused.
 pub const LEGACY_SUBPROTOCOL: &str = "foxglove.websocket.v1";
-/// The topic a client publishes the session's token on.
-pub const AUTH_TOPIC: &str = "/auth";
 /// The default port, Foxglove's.
 pub const DEFAULT_PORT: u16 = 8765;
 
@@ -123,17 +127,17 @@ struct Listener {
     events: SyncSender<Event>,
     clients: Clients,
     /// The token, and the clients that sent it.
-    token: Option<(String, Mutex<HashSet<u32>>)>,
+    token: Option<Arc<Drivers>>,
 }
 
 impl Listener {
     /// Whether `client` may drive; a message on [`AUTH_TOPIC`] is checked
     /// here and answered (`false`: nothing more to do with it).
     fn authorised(&self, client: &Client, topic: &str, payload: &[u8]) -> bool {
-        let Some((token, allowed)) = &self.token else {
+        let Some(drivers) = &self.token else {
             return topic != AUTH_TOPIC;
         };
-        let Ok(mut allowed) = allowed.lock() else {
+        let Ok(mut allowed) = drivers.allowed.lock() else {
             return false;
         };
         if topic == AUTH_TOPIC {
@@ -144,7 +148,7 @@ impl Listener {
                         .and_then(serde_json::Value::as_str)
                         .map(str::to_owned)
                 });
-            if sent.as_deref() == Some(token.as_str()) {
+            if sent.as_deref() == Some(drivers.token.as_str()) {
                 allowed.insert(tag(client));
                 client.send_status(Status::info(
                     "/auth: token accepted; inputs and commands are taken",
@@ -197,7 +201,9 @@ impl ServerListener for Listener {
         }
         let event = match parse(&channel.topic, payload) {
             Ok(ClientMessage::Input(input)) => Event::Input(input, at),
-            Ok(ClientMessage::Command(request)) => Event::Command(request, tag(&client), at),
+            Ok(ClientMessage::Command(request)) => {
+                Event::Command(request, Reply::Status(tag(&client)), at)
+            }
             Err(e) => {
                 client.send_status(Status::error(e.to_string()));
                 return;
@@ -374,13 +380,34 @@ impl Session {
         let (frames, frames_out) = sync_channel(options.queue_frames);
         let (acks, acks_out) = sync_channel(PENDING_COMMANDS);
         let clients: Clients = Arc::new(Mutex::new(HashMap::new()));
+        let calls: Calls = Arc::new(Mutex::new(HashMap::new()));
+        let drivers = options.token.clone().map(|token| {
+            Arc::new(Drivers {
+                token,
+                allowed: Mutex::new(HashSet::new()),
+            })
+        });
+        let service = Service::builder(
+            COMMAND_TOPIC,
+            ServiceSchema::new("parasils.Command")
+                .with_request(
+                    "json",
+                    Schema::new("parasils.Command", "jsonschema", pretty(&command_schema())),
+                )
+                .with_response(
+                    "json",
+                    Schema::new("parasils.CommandAck", "jsonschema", pretty(&ack_schema())),
+                ),
+        )
+        .handler(CommandService::new(
+            events_in.clone(),
+            Arc::clone(&calls),
+            drivers.clone(),
+        ));
         let listener = Arc::new(Listener {
             events: events_in,
             clients: Arc::clone(&clients),
-            token: options
-                .token
-                .clone()
-                .map(|t| (t, Mutex::new(HashSet::new()))),
+            token: drivers,
         });
         let address = format!("{}:{}", options.bind, options.port);
         let server = ctx
@@ -388,6 +415,7 @@ impl Session {
             .name(concat!("parasils ", env!("CARGO_PKG_VERSION")))
             .bind(options.bind.clone(), options.port)
             .capabilities([Capability::ClientPublish])
+            .services([service])
             .supported_encodings(["json"])
             .message_backlog_size(options.client_backlog)
             .listener(listener)
@@ -449,6 +477,7 @@ impl Session {
                     &frames_out,
                     &acks_out,
                     &clients,
+                    &calls,
                 )
             })
             .map_err(|_| LiveError::Thread {

@@ -16,7 +16,7 @@ use std::time::Instant;
 use parasils::teleop::{Command, TeleopParams};
 use parasils_live::{
     CommandRequest, DeviceInput, Event, InputDevice, LiveCommand, LoopSettings, PENDING_COMMANDS,
-    Queues, run_loop,
+    Queues, Reply, run_loop,
 };
 use parasils_sim::{Scenario, TeleopRun};
 
@@ -68,7 +68,7 @@ fn allocations(cycles: u64) -> u64 {
                     command: LiveCommand::Core(command),
                     id: Some(1),
                 },
-                1,
+                Reply::Status(1),
                 now,
             ))
             .expect("room");

@@ -427,6 +427,40 @@ fn the_planned_moves_and_stop_are_served_and_acknowledged() {
         );
         let a = ack_of(&mut c, json!({"command": "look_at_tips"}), 7).await;
         assert_eq!(a["accepted"], true);
+        // The same commands as a service: the response is the
+        // acknowledgement; a request that does not parse fails, named.
+        assert!(c.services.contains_key("/command"), "{:?}", c.services);
+        let r = c
+            .call("/command", 1, &json!({"command": "pause", "id": 8}))
+            .await;
+        let a = r.expect("an answer").expect("a response");
+        assert_eq!(
+            (
+                a["command"].clone(),
+                a["accepted"].clone(),
+                a["state"].clone(),
+                a["id"].clone()
+            ),
+            (json!("pause"), json!(true), json!("PAUSED"), json!(8))
+        );
+        let r = c
+            .call(
+                "/command",
+                2,
+                &json!({"command": "look_at", "point_mm": [0, 0, -600]}),
+            )
+            .await;
+        let a = r.expect("an answer").expect("a response");
+        assert_eq!(a["accepted"], false);
+        assert!(
+            a["reason"]
+                .as_str()
+                .is_some_and(|m| m.contains("ENABLED only")),
+            "{a}"
+        );
+        let r = c.call("/command", 3, &json!({"command": "fly"})).await;
+        let e = r.expect("an answer").expect_err("a failure");
+        assert!(e.contains("unknown command `fly`"), "{e}");
         c.read_to_end(Duration::from_secs(10)).await;
     });
 }
@@ -530,6 +564,10 @@ fn with_a_token_only_a_client_that_sent_it_drives() {
             c.read_until(Duration::from_secs(2), |c| errors(c) == 1)
                 .await
         );
+        // The service too refuses a client without the token.
+        let refused = c.call("/command", 1, &json!({"command": "enable"})).await;
+        let e = refused.expect("an answer").expect_err("a failure");
+        assert!(e.contains("needs a token"), "{e}");
         c.publish("/auth", &json!({"token": "guess"})).await;
         assert!(
             c.read_until(Duration::from_secs(2), |c| errors(c) == 2)
