@@ -119,5 +119,6 @@ def check_recording(path):
     assert summary.statistics.message_count == sum(counts.values())
     for topic in ["/left/measured_js", "/platform/setpoint_cp", "/scene", "/diagnostics", "/command_ack"]:
         assert counts.get(topic, 0) > 0, topic
-    # The five commands: four acknowledged, the unknown one refused before.
-    assert counts["/command_ack"] == 4
+    # The ten commands: nine acknowledged (four of CRTK's, then stop, two
+    # look_at, move_to, look_at_tips), the unknown one refused before.
+    assert counts["/command_ack"] == 9
