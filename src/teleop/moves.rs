@@ -28,7 +28,8 @@ use super::core::{Busy, Teleop};
 use super::input::Command;
 use super::state::OperatingState;
 
-/// The goal of a planned move (see the [module docs](self)).
+/// The goal of a planned move: home, look at a point or the tips, move to
+/// a pose (see [`Teleop::start_move`](crate::teleop::Teleop::start_move)).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Goal<T> {
     /// The home pose: its view and tips.

@@ -27,7 +27,9 @@ pub const LATE_TOLERANCE: f64 = 0.05;
 pub struct CycleStats {
     /// Cycles run.
     pub cycles: u64,
-    /// Cycles that were late, overran, or both (see the [module docs](self)).
+    /// Cycles that were late, overran, or both: a start more than
+    /// [`LATE_TOLERANCE`] of a period after the deadline, work that ends
+    /// after the next deadline.
     pub deadline_misses: u64,
     /// Cycles that started more than [`LATE_TOLERANCE`] of a period after
     /// their deadline.
