@@ -512,22 +512,7 @@ fn commands_follow_crtk_s_table_and_bad_messages_are_refused() {
         );
         for (k, (command, accepted, state)) in steps.iter().enumerate() {
             let id = k as u64 + 100;
-            c.publish("/command", &json!({"command": command, "id": id}))
-                .await;
-            let got = c
-                .read_until(Duration::from_secs(2), |c| {
-                    c.received
-                        .get("/command_ack")
-                        .is_some_and(|v| v.iter().any(|(_, a)| a["id"] == id))
-                })
-                .await;
-            assert!(got, "no acknowledgement of {command}");
-            let ack: &Value = &c.received["/command_ack"]
-                .iter()
-                .find(|(_, a)| a["id"] == id)
-                .expect("ack")
-                .1;
-            println!("{command}: {ack}");
+            let ack = ack_of(&mut c, json!({"command": command}), id).await;
             assert_eq!(ack["accepted"], *accepted, "{command}");
             assert_eq!(ack["state"], *state, "{command}");
             assert_eq!(ack["reason"].is_null(), *accepted, "{command}");
