@@ -48,9 +48,9 @@ pub use supervisor::{
     Verdict,
 };
 pub use teleop::{
-    CameraCommand, CameraInput, Command, CommandOutcome, Device, Fault, HandCommand, HandInput,
-    HoldAt, Inputs, LowPass, OperatingState, Teleop, TeleopCycle, TeleopError, TeleopParams,
-    Transition,
+    CameraCommand, CameraInput, Command, CommandOutcome, Device, Fault, Goal, HandCommand,
+    HandInput, HoldAt, Inputs, LowPass, MoveRefused, OperatingState, Teleop, TeleopCycle,
+    TeleopError, TeleopParams, Transition,
 };
 
 /// The float type of both crates, [`f32`] or [`f64`]: the one trait the

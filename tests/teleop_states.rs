@@ -1,12 +1,14 @@
 //! The teleoperation core's operating states (CRTK's table, every state by
-//! every command), the home move, the limits it holds at, and its faults.
+//! every command), the planned moves (home, look at a point or the tips,
+//! move to a pose) and the stop, the limits it holds at, and its faults.
 
 use parasils::Supervisor;
+use parasils::kin::nalgebra::Vector3;
 use parasils::kin::{Controller, Pose, TipTargets};
 use parasils::supervisor::Margin;
 use parasils::teleop::{
-    BUTTON_ENABLE, CameraCommand, Command, Device, Fault, HandCommand, HoldAt, Inputs,
-    OperatingState, Teleop, TeleopCycle, TeleopError, TeleopParams,
+    BUTTON_ENABLE, CameraCommand, Command, Device, Fault, Goal, HandCommand, HoldAt, Inputs,
+    MoveRefused, OperatingState, Teleop, TeleopCycle, TeleopError, TeleopParams,
 };
 
 type R<T = ()> = Result<T, Box<dyn core::error::Error>>;
@@ -82,8 +84,10 @@ fn in_state(state: OperatingState) -> R<(Teleop<f64>, u32)> {
 fn every_state_by_every_command_follows_the_crtk_table() -> R {
     use Command as C;
     use OperatingState as S;
-    // CRTK's table (enable, disable, pause, resume), then home; `true` where
-    // the command is valid. A fault with fresh inputs at rest is cleared.
+    // CRTK's table (enable, disable, pause, resume), then home, look_at_tips
+    // and stop; `true` where the command is valid. A fault with fresh
+    // inputs at rest is cleared. A stop is valid in every state and leaves
+    // it as it is.
     let table = [
         (
             S::Disabled,
@@ -93,6 +97,8 @@ fn every_state_by_every_command_follows_the_crtk_table() -> R {
                 (S::Disabled, false),
                 (S::Disabled, false),
                 (S::Disabled, false),
+                (S::Disabled, false),
+                (S::Disabled, true),
             ],
         ),
         (
@@ -102,6 +108,8 @@ fn every_state_by_every_command_follows_the_crtk_table() -> R {
                 (S::Disabled, true),
                 (S::Paused, true),
                 (S::Enabled, false),
+                (S::Enabled, true),
+                (S::Enabled, true),
                 (S::Enabled, true),
             ],
         ),
@@ -113,6 +121,8 @@ fn every_state_by_every_command_follows_the_crtk_table() -> R {
                 (S::Paused, true),
                 (S::Enabled, true),
                 (S::Paused, false),
+                (S::Paused, false),
+                (S::Paused, true),
             ],
         ),
         (
@@ -123,10 +133,13 @@ fn every_state_by_every_command_follows_the_crtk_table() -> R {
                 (S::Fault, false),
                 (S::Fault, false),
                 (S::Fault, false),
+                (S::Fault, false),
+                (S::Fault, true),
             ],
         ),
     ];
     for (state, row) in table {
+        assert_eq!(row.len(), C::ALL.len());
         for (command, (expected, valid)) in C::ALL.into_iter().zip(row) {
             let (mut t, k) = in_state(state)?;
             let c = t.step(
@@ -145,8 +158,9 @@ fn every_state_by_every_command_follows_the_crtk_table() -> R {
             assert_eq!((tr.state, tr.accepted), (expected, valid));
             // CRTK's queries.
             assert_eq!(t.is_ready(), expected == S::Enabled);
-            // (A home move from home ends at once.)
-            assert!(!t.is_busy());
+            // (A home move from home ends at once, and so does a stop at
+            // rest; the view may turn to the tips.)
+            assert!(!t.is_busy() || command == C::LookAtTips);
             assert!(t.is_homed());
         }
     }
@@ -428,5 +442,244 @@ fn a_bad_clock_is_an_error_that_changes_nothing() -> R {
             ..
         })
     ));
+    Ok(())
+}
+
+/// The distance (mm) from `point` to the endoscope's axis, and how far
+/// along the view (from the port `P`, mm) its foot is, computed apart from
+/// the library: `R = R_X(psi) R_Y(theta) R_Z(phi)`, so the shaft's
+/// direction `R e3 = (sin theta, -sin psi cos theta, cos psi cos theta)`;
+/// the straight scope looks along `-R e3`.
+fn off_axis(t: &Teleop<f64>, point: &Vector3<f64>) -> (f64, f64) {
+    let pose = t.pose();
+    let (psi, theta) = (pose.psi, pose.theta);
+    let axis = Vector3::new(
+        theta.sin(),
+        -psi.sin() * theta.cos(),
+        psi.cos() * theta.cos(),
+    );
+    let r = point - Vector3::new(pose.x, pose.y, pose.z);
+    (r.cross(&axis).norm(), -r.dot(&axis))
+}
+
+/// Runs the move under way to its end with the hands pushing (ignored),
+/// every cycle's tips checked against `tips` when given.
+fn run_move(
+    t: &mut Teleop<f64>,
+    k: &mut u32,
+    tips: Option<[Vector3<f64>; 2]>,
+) -> R<Vec<TeleopCycle<f64>>> {
+    let mut cycles = Vec::new();
+    while t.is_busy() {
+        *k += 1;
+        let c = t.step(t_of(*k), &pushing(*k, [1.0, -1.0, 0.5, 0.0, 0.0, 0.0]))?;
+        assert!(c.hold.is_none(), "held at {:?}", c.hold);
+        if let Some(tips) = tips {
+            for (a, b) in c.tips.iter().zip(&tips) {
+                assert!(
+                    (a - b).norm() < 1e-9,
+                    "a tip moved by {} mm",
+                    (a - b).norm()
+                );
+            }
+        }
+        cycles.push(c);
+        assert!(*k < 30_000, "the move does not end");
+    }
+    Ok(cycles)
+}
+
+#[test]
+fn look_at_a_point_puts_it_on_the_view_axis_with_the_tips_held() -> R {
+    let (mut t, mut k) = in_state(OperatingState::Enabled)?;
+    let tips = t.tips();
+    let pose = t.pose();
+    // A point 15 mm off the current axis, 100 mm below the port.
+    let point = Vector3::new(pose.x + 12.0, pose.y - 9.0, pose.z - 100.0);
+    let (before, _) = off_axis(&t, &point);
+    assert!(before > 10.0, "{before}");
+    t.start_move(Goal::LookAt(point))?;
+    assert!(t.is_busy());
+    let cycles = run_move(&mut t, &mut k, Some(tips))?;
+    assert!(cycles.len() > 100, "{} cycles", cycles.len());
+    let (after, along) = off_axis(&t, &point);
+    assert!(after < 1e-9, "{after} mm off the axis");
+    assert!(along > t.depth(), "the point is behind the camera: {along}");
+    // The view turned within its limits (the angles' second differences).
+    let alpha = TeleopParams::<f64>::assumed().camera.a_max;
+    for w in cycles.windows(3) {
+        for a in 0..2 {
+            let dd = w[2].angles[a] - 2.0 * w[1].angles[a] + w[0].angles[a];
+            assert!(dd.abs() <= alpha * DT * DT * (1.0 + 1e-6) + 1e-15, "{dd}");
+        }
+    }
+    // The next cycle rests (the hands re-anchor), ENABLED; then the hands
+    // drive again.
+    k += 1;
+    t.step(t_of(k), &pushing(k, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]))?;
+    assert!(t.is_at_rest() && t.is_ready());
+    for _ in 0..20 {
+        k += 1;
+        t.step(t_of(k), &pushing(k, [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]))?;
+    }
+    assert!(!t.is_at_rest());
+    Ok(())
+}
+
+#[test]
+fn look_at_the_tips_centres_their_midpoint() -> R {
+    let (mut t, mut k) = in_state(OperatingState::Enabled)?;
+    // Move the tips apart from where the view looks, then centre them.
+    for _ in 0..600 {
+        k += 1;
+        let mut i = pushing(k, [0.0; 6]);
+        i.left.command = HandCommand::Rate([0.8, 0.6, 0.0, 0.0, 0.0, 0.0]);
+        t.step(t_of(k), &i)?;
+    }
+    // Brake to rest.
+    k += 1;
+    t.step(t_of(k), &Inputs::idle(t_of(k)).with_command(Command::Stop))?;
+    run_move(&mut t, &mut k, None)?;
+    let tips = t.tips();
+    let mid = (tips[0] + tips[1]) * 0.5;
+    let (before, _) = off_axis(&t, &mid);
+    assert!(before > 1.0, "{before}");
+    k += 1;
+    let c = t.step(
+        t_of(k),
+        &Inputs::idle(t_of(k)).with_command(Command::LookAtTips),
+    )?;
+    assert_eq!(c.command.map(|o| o.accepted), Some(true));
+    assert!(c.busy);
+    run_move(&mut t, &mut k, Some(tips))?;
+    let (after, along) = off_axis(&t, &mid);
+    assert!(after < 1e-9, "{after} mm off the axis");
+    assert!(along > t.depth());
+    Ok(())
+}
+
+#[test]
+fn a_move_to_a_pose_ends_at_the_pose() -> R {
+    let (mut t, mut k) = in_state(OperatingState::Enabled)?;
+    let pose = t.pose();
+    let start = t.tips();
+    let angles = [pose.psi + 3f64.to_radians(), pose.theta - 2f64.to_radians()];
+    let tips = [
+        start[0] + Vector3::new(2.0, -1.5, 1.0),
+        start[1] + Vector3::new(-1.0, 2.5, -2.0),
+    ];
+    t.start_move(Goal::Pose { angles, tips })?;
+    let cycles = run_move(&mut t, &mut k, None)?;
+    check_steps(&cycles);
+    let end = cycles.last().ok_or("no cycle")?;
+    for (a, b) in end.tips.iter().zip(&tips) {
+        assert!((a - b).norm() < 1e-9, "{}", (a - b).norm());
+    }
+    for (a, b) in end.angles.iter().zip(&angles) {
+        assert!((a - b).abs() < 1e-12, "{}", (a - b).abs());
+    }
+    // The setpoints are the inverse kinematics of that pose and those tips,
+    // solved again apart from the move.
+    let ik = Controller::<f64>::paper().step(
+        &parasils::kin::PlatformState::at_rest(Pose {
+            psi: angles[0],
+            theta: angles[1],
+            ..pose
+        }),
+        &TipTargets {
+            left: tips[0],
+            right: tips[1],
+        },
+        &mut parasils::kin::MarginTracker::new(),
+    )?;
+    let q = parasils::kin::step_positions(&ik);
+    for (a, b) in end.setpoints.iter().zip(&q) {
+        assert!((a - b).abs() < 1e-9, "{a} against {b}");
+    }
+    Ok(())
+}
+
+#[test]
+fn stop_brings_the_robot_to_rest_within_its_limits_and_ends_a_move() -> R {
+    let (mut t, mut k) = in_state(OperatingState::Enabled)?;
+    let mut cycles = Vec::new();
+    for _ in 0..400 {
+        k += 1;
+        cycles.push(t.step(t_of(k), &pushing(k, [0.9, 0.4, -0.3, 0.0, 0.0, 0.0]))?);
+    }
+    assert!(!t.is_at_rest());
+    k += 1;
+    // The hands keep pushing: a stop ignores them until it is at rest.
+    let c = t.step(
+        t_of(k),
+        &pushing(k, [0.9, 0.4, -0.3, 0.0, 0.0, 0.0]).with_command(Command::Stop),
+    )?;
+    assert_eq!(c.command.map(|o| o.accepted), Some(true));
+    assert!(c.busy && c.state == OperatingState::Enabled);
+    cycles.push(c);
+    let stopping = run_move(&mut t, &mut k, None)?;
+    // The controlled stop: every speed falls, never rises, to exactly 0.
+    for w in stopping.windows(2) {
+        for m in 0..2 {
+            assert!(w[1].tip_velocity[m].norm() <= w[0].tip_velocity[m].norm() + 1e-12);
+        }
+    }
+    cycles.extend(stopping);
+    check_steps(&cycles);
+    assert!(t.is_at_rest() && t.is_ready() && !t.is_busy());
+    // A stop ends a planned move under way.
+    t.start_move(Goal::Home)?;
+    for _ in 0..50 {
+        k += 1;
+        t.step(t_of(k), &Inputs::idle(t_of(k)))?;
+    }
+    k += 1;
+    t.step(t_of(k), &Inputs::idle(t_of(k)).with_command(Command::Stop))?;
+    run_move(&mut t, &mut k, None)?;
+    assert!(t.is_at_rest());
+    let away = (t.tips()[0] - TipTargets::<f64>::paper().left).norm();
+    assert!(away > 1.0, "the move went on home: {away}");
+    Ok(())
+}
+
+#[test]
+fn a_move_is_refused_outside_enabled_and_for_a_bad_goal_and_changes_nothing() -> R {
+    let goal = Goal::LookAt(Vector3::new(0.0, 0.0, -700.0));
+    for state in [
+        OperatingState::Disabled,
+        OperatingState::Paused,
+        OperatingState::Fault,
+    ] {
+        let (mut t, _) = in_state(state)?;
+        // (Debug's text: a fault's NaN is not equal to itself.)
+        let before = format!("{t:?}");
+        assert_eq!(t.start_move(goal), Err(MoveRefused::State(state)));
+        assert_eq!(format!("{t:?}"), before);
+    }
+    let (mut t, _) = in_state(OperatingState::Enabled)?;
+    let before = t;
+    let nan = Goal::LookAt(Vector3::new(0.0, f64::NAN, -700.0));
+    assert!(matches!(
+        t.start_move(nan),
+        Err(MoveRefused::NonFinite {
+            what: "point.y",
+            ..
+        })
+    ));
+    let pose = t.pose();
+    let behind = Goal::LookAt(Vector3::new(pose.x, pose.y, pose.z - 10.0)); // nearer than the 60 mm tip
+    assert!(matches!(t.start_move(behind), Err(MoveRefused::Camera(_))));
+    let bad_tip = Goal::Pose {
+        angles: [0.0, 0.0],
+        tips: [Vector3::zeros(), Vector3::new(0.0, 0.0, f64::INFINITY)],
+    };
+    assert!(matches!(
+        t.start_move(bad_tip),
+        Err(MoveRefused::NonFinite {
+            what: "tips[1].z",
+            ..
+        })
+    ));
+    assert_eq!(t, before);
     Ok(())
 }

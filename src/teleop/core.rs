@@ -56,6 +56,17 @@ impl<T: Real> Velocities<T> {
     }
 }
 
+/// What keeps the core busy (CRTK's `is_busy`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Busy<T: Real> {
+    /// Nothing: the hands drive.
+    Idle,
+    /// A planned move (home, look-at, move-to) and its start time, s.
+    Move(OnlineMulti<T, 8>, T),
+    /// A `stop`: the controlled stop to rest while ENABLED.
+    Stop,
+}
+
 /// The teleoperation core (see the [module docs](crate::teleop)).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Teleop<T: Real> {
@@ -88,8 +99,8 @@ pub struct Teleop<T: Real> {
     pub(super) mid_tracker: MarginTracker<T>,
     pub(super) last: Option<T>,
     pub(super) state: OperatingState,
-    /// The home move and its start time, s.
-    pub(super) homing: Option<(OnlineMulti<T, 8>, T)>,
+    /// What keeps the core busy: a planned move, or a `stop`.
+    pub(super) busy: Busy<T>,
     pub(super) follow: Option<Follow<T>>,
     /// The tremor filters: each hand's velocity (fixed frame), the view's.
     pub(super) filters: [LowPass<T, 3>; 2],
@@ -157,7 +168,7 @@ impl<T: Real> Teleop<T> {
             mid_tracker: tracker,
             last: None,
             state: OperatingState::Disabled,
-            homing: None,
+            busy: Busy::Idle,
             follow: None,
             filters: [LowPass::new(params.cutoff_hz); 2],
             camera_filter: LowPass::new(params.cutoff_hz),
@@ -215,9 +226,9 @@ impl<T: Real> Teleop<T> {
         self.state
     }
 
-    /// CRTK's `is_busy`: the home move is under way.
+    /// CRTK's `is_busy`: a planned move or a `stop` is under way.
     pub fn is_busy(&self) -> bool {
-        self.homing.is_some()
+        !matches!(self.busy, Busy::Idle)
     }
 
     /// CRTK's `is_homed`: always true (see the [state docs](crate::teleop::OperatingState)).
@@ -302,17 +313,20 @@ impl<T: Real> Teleop<T> {
             self.enter_fault(fault);
         }
         let enabled = self.state == OperatingState::Enabled;
-        let (candidate, from_home) = match (enabled, self.homing) {
-            (true, Some((plan, start))) => (self.home_velocity(t, dt, &plan, start), true),
-            (true, None) => (self.input_velocity(t, dt, inputs), false),
+        let (candidate, from_home) = match (enabled, self.busy) {
+            (true, Busy::Move(plan, start)) => (self.home_velocity(t, dt, &plan, start), true),
+            (true, Busy::Stop) => (self.brake(dt), false),
+            (true, Busy::Idle) => (self.input_velocity(t, dt, inputs), false),
             (false, _) => (self.brake(dt), false),
         };
         let hold = self.advance(dt, &candidate, enabled);
         if hold.is_some() {
             // A held plan or law no longer describes the setpoint; the
             // filters of what was reduced restart from the velocities held
-            // (no wind-up: a reversal acts at once).
-            self.homing = None;
+            // (no wind-up: a reversal acts at once). A stop goes on.
+            if from_home {
+                self.busy = Busy::Idle;
+            }
             self.follow = None;
             for h in 0..2 {
                 let m = match self.hands[h] {
@@ -327,12 +341,17 @@ impl<T: Real> Teleop<T> {
                 self.camera_filter.hold_at(self.velocity.angles);
             }
         } else if from_home
-            && let Some((plan, start)) = self.homing
+            && let Busy::Move(plan, start) = self.busy
             && t - start >= plan.duration()
         {
-            // Home: the hands start again from rest and re-anchor (the
-            // velocity is the last cycle's, which the next one brings to 0).
-            self.homing = None;
+            // A move's end: the hands start again from rest and re-anchor
+            // (the velocity is the last cycle's, which the next one brings
+            // to 0).
+            self.busy = Busy::Idle;
+            self.reset_inputs();
+        } else if matches!(self.busy, Busy::Stop) && self.is_at_rest() {
+            // A stop's end: at rest; the hands re-anchor from here.
+            self.busy = Busy::Idle;
             self.reset_inputs();
         }
         Ok(self.cycle(t, command, hold))
@@ -353,14 +372,27 @@ impl<T: Real> Teleop<T> {
                     self.reset_inputs();
                 }
                 Command::Resume => self.reset_inputs(),
-                Command::Home if !self.plan_home(previous) => {
+                Command::Home | Command::LookAtTips
+                    if self.plan_command(previous, command).is_err() =>
+                {
                     return CommandOutcome {
                         command,
                         accepted: false,
                     };
                 }
+                Command::Stop => {
+                    // In ENABLED, the controlled stop to rest (busy); in
+                    // the other states the robot is already stopping or
+                    // held, and stays so.
+                    self.follow = None;
+                    self.busy = if before == OperatingState::Enabled {
+                        Busy::Stop
+                    } else {
+                        Busy::Idle
+                    };
+                }
                 Command::Disable | Command::Pause => {
-                    self.homing = None;
+                    self.busy = Busy::Idle;
                     self.follow = None;
                     if command == Command::Disable {
                         self.fault = None;
@@ -388,7 +420,7 @@ impl<T: Real> Teleop<T> {
     pub(super) fn enter_fault(&mut self, fault: Fault) {
         self.state = OperatingState::Fault;
         self.fault = Some(fault);
-        self.homing = None;
+        self.busy = Busy::Idle;
         self.follow = None;
     }
 
@@ -439,47 +471,6 @@ impl<T: Real> Teleop<T> {
             [Side::Right, Side::Left]
         } else {
             [Side::Left, Side::Right]
-        }
-    }
-
-    /// The plan of the home move from the current state, starting at `t0`
-    /// (s); false when it cannot be planned.
-    fn plan_home(&mut self, t0: T) -> bool {
-        let root3 = T::lit(3.0).sqrt();
-        let tip = crate::traj::Limits::new(
-            self.params.tip_speed_mm_s / root3,
-            self.params.tip_accel_mm_s2 / root3,
-        );
-        let mut start = [crate::traj::State::rest(T::zero()); 8];
-        let mut goal = [T::zero(); 8];
-        let mut limits = [tip; 8];
-        for k in 0..3 {
-            for m in 0..2 {
-                start[3 * m + k] = crate::traj::State {
-                    position: self.tips[m][k],
-                    velocity: self.velocity.tips[m][k],
-                    acceleration: T::zero(),
-                };
-                goal[3 * m + k] = self.home.1[m][k];
-            }
-        }
-        let angles = [self.pose.psi, self.pose.theta];
-        for a in 0..2 {
-            start[6 + a] = crate::traj::State {
-                position: angles[a],
-                velocity: self.velocity.angles[a],
-                acceleration: T::zero(),
-            };
-            goal[6 + a] = self.home.0[a];
-            limits[6 + a] = self.params.camera;
-        }
-        match OnlineMulti::new(start, goal, limits, crate::traj::Synchronization::Phase) {
-            Ok(plan) => {
-                self.homing = Some((plan, t0));
-                self.follow = None;
-                true
-            }
-            Err(_) => false,
         }
     }
 

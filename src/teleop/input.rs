@@ -172,16 +172,26 @@ pub enum Command {
     Resume,
     /// A planned move to the home pose (ENABLED only; busy while it runs).
     Home,
+    /// A planned turn of the view to the tips' midpoint, the tips held
+    /// (ENABLED only; busy while it runs).
+    LookAtTips,
+    /// The controlled stop to rest: ends any move and, in ENABLED, brings
+    /// the robot to rest (busy until it is) before the hands drive again.
+    /// Valid in every state.
+    Stop,
 }
 
 impl Command {
-    /// Every command, in the order of CRTK's table (then `home`).
-    pub const ALL: [Command; 5] = [
+    /// Every command, in the order of CRTK's table (then `home`,
+    /// `look_at_tips`, `stop`).
+    pub const ALL: [Command; 7] = [
         Command::Enable,
         Command::Disable,
         Command::Pause,
         Command::Resume,
         Command::Home,
+        Command::LookAtTips,
+        Command::Stop,
     ];
 
     /// The command's name as the input files write it.
@@ -192,6 +202,8 @@ impl Command {
             Command::Pause => "pause",
             Command::Resume => "resume",
             Command::Home => "home",
+            Command::LookAtTips => "look_at_tips",
+            Command::Stop => "stop",
         }
     }
 }

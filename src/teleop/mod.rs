@@ -16,7 +16,8 @@
 //! | states | `state` | [`OperatingState`] (CRTK's DISABLED, ENABLED, PAUSED, FAULT) and its table ([`Transition`]) |
 //! | report | `cycle` | [`TeleopCycle`], [`HoldAt`], [`Fault`], [`CommandOutcome`] |
 //! | the core | `core` | [`Teleop`]: construction, the cycle, the commands, the hands' assignment |
-//! | mapping | `motion` | the hands' and the camera's velocities, the home move's, the controlled stop's |
+//! | moves | `moves` | the planned moves ([`Goal`]: home, look at a point or the tips, move to a pose; [`Teleop::start_move`], [`MoveRefused`]) |
+//! | mapping | `motion` | the hands' and the camera's velocities, a planned move's, the controlled stop's |
 //! | limits | `hold` | every candidate checked at its setpoint and its stopping point, reduced by a verified regula falsi step when it would cross a limit |
 //!
 //! # The mapping
@@ -97,6 +98,7 @@ mod filter;
 mod hold;
 mod input;
 mod motion;
+mod moves;
 mod params;
 mod state;
 
@@ -107,5 +109,6 @@ pub use input::{
     BUTTON_CLUTCH, BUTTON_ENABLE, CameraCommand, CameraInput, Command, Device, HandCommand,
     HandInput, Inputs,
 };
+pub use moves::{Goal, MoveRefused};
 pub use params::{TeleopError, TeleopParams};
 pub use state::{OperatingState, Transition};

@@ -13,20 +13,22 @@ use super::input::Command;
 /// FAULT (entered only by the system on a fault it detects, never by a
 /// command: here a non-finite input, an input older than the timeout, or a
 /// cycle that cannot be solved; the robot makes a controlled stop and
-/// holds). CRTK's table, with `home` added (a planned move, accepted in
-/// ENABLED only):
+/// holds). CRTK's table, with the planned moves added (`home` and
+/// `look_at_tips` here; `look_at` a point and `move_to` a pose, which carry
+/// their goal, through [`Teleop::start_move`](crate::teleop::Teleop::start_move)
+/// under the same rule: accepted in ENABLED only) and `stop`:
 ///
-/// | state \ command | enable | disable | pause | resume | home |
-/// |---|---|---|---|---|---|
-/// | DISABLED | ENABLED | DISABLED | DISABLED (invalid) | DISABLED (invalid) | DISABLED (invalid) |
-/// | ENABLED | ENABLED | DISABLED | PAUSED | ENABLED (invalid) | ENABLED, busy |
-/// | PAUSED | PAUSED (invalid) | DISABLED | PAUSED | ENABLED | PAUSED (invalid) |
-/// | FAULT | ENABLED if cleared, else FAULT (retry refused) | DISABLED | FAULT (invalid) | FAULT (invalid) | FAULT (invalid) |
+/// | state \ command | enable | disable | pause | resume | home, look_at_tips (and the moves) | stop |
+/// |---|---|---|---|---|---|---|
+/// | DISABLED | ENABLED | DISABLED | DISABLED (invalid) | DISABLED (invalid) | DISABLED (invalid) | DISABLED |
+/// | ENABLED | ENABLED | DISABLED | PAUSED | ENABLED (invalid) | ENABLED, busy | ENABLED, busy until at rest |
+/// | PAUSED | PAUSED (invalid) | DISABLED | PAUSED | ENABLED | PAUSED (invalid) | PAUSED |
+/// | FAULT | ENABLED if cleared, else FAULT (retry refused) | DISABLED | FAULT (invalid) | FAULT (invalid) | FAULT (invalid) | FAULT |
 ///
 /// A fault is *cleared* when this cycle's inputs are finite and fresh and
 /// the controlled stop has ended. `is_busy` is CRTK's: a command is being
-/// executed, here the home move (teleoperation itself is a servo command,
-/// never busy); `is_homed` is true (the core starts from a known pose: the
+/// executed, here a planned move or a stop to rest (teleoperation itself
+/// is a servo command, never busy); `is_homed` is true (the core starts from a known pose: the
 /// drives' referencing is below it); `is_ready` is CRTK's
 /// `is_enabled && is_homed`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -69,7 +71,8 @@ impl OperatingState {
         let (state, accepted) = match (self, command) {
             (_, C::Disable) => (S::Disabled, true),
             (S::Disabled, C::Enable) => (S::Enabled, true),
-            (S::Enabled, C::Enable | C::Home) => (S::Enabled, true),
+            (S::Enabled, C::Enable | C::Home | C::LookAtTips) => (S::Enabled, true),
+            (s, C::Stop) => (s, true),
             (S::Enabled, C::Pause) => (S::Paused, true),
             (S::Paused, C::Pause) => (S::Paused, true),
             (S::Paused, C::Resume) => (S::Enabled, true),

@@ -61,6 +61,14 @@ pub fn serve(args: &ServeArgs) -> Result<()> {
         options.publish_hz,
         session.topics().len()
     );
+    let scheduling = session.scheduling();
+    if scheduling.is_realtime() {
+        eprintln!("parasils: control thread at {scheduling}");
+    } else {
+        eprintln!(
+            "parasils: control thread at {scheduling}: deadlines may be missed when the machine is loaded"
+        );
+    }
     while !session.is_finished() {
         if let Some(signal) = interrupt::received() {
             eprintln!("parasils: signal {signal}: ending the session");
@@ -72,9 +80,11 @@ pub fn serve(args: &ServeArgs) -> Result<()> {
     let report = session.wait()?;
     let s = &report.stats;
     eprintln!(
-        "parasils: {} cycles, {} deadline misses, worst cycle {:.1} us, mean {:.1} us, worst start {:.1} us late, {} frames dropped; {} messages published",
+        "parasils: {} cycles, {} deadline misses ({} late starts, {} overruns), worst cycle {:.1} us, mean {:.1} us, worst start {:.1} us late, {} frames dropped; {} messages published",
         s.cycles,
         s.deadline_misses,
+        s.late_starts,
+        s.overruns,
         s.worst_cycle_s * 1e6,
         s.mean_cycle_s() * 1e6,
         s.worst_late_s * 1e6,

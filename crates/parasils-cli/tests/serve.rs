@@ -184,6 +184,58 @@ fn a_session_ends_by_itself_after_its_duration() {
         .map(|(_, v)| v["state"].as_str().expect("state"))
         .collect();
     assert!(states.iter().all(|s| *s == "DISABLED"), "{states:?}");
+
+    // The `parasils.scenario` metadata, as `simulate`'s file has it for the
+    // same robot, and the session's options.
+    let served = scenario_metadata(&dir.path().join("s.mcap"));
+    parasils(&["simulate", "--rate", "500", "-o", "sim.mcap"])
+        .dir(dir.path())
+        .run()
+        .ok();
+    let simulated = scenario_metadata(&dir.path().join("sim.mcap"));
+    for key in [
+        "geometry",
+        "tips_mm",
+        "bodies_mm",
+        "module1_geometry",
+        "scenario_units",
+    ] {
+        assert_eq!(served.get(key), simulated.get(key), "{key}");
+    }
+    let json = |m: &BTreeMap<String, String>, k: &str| -> serde_json::Value {
+        serde_json::from_str(&m[k]).unwrap_or_else(|e| panic!("{k}: {e}"))
+    };
+    let scenario = json(&served, "scenario");
+    assert_eq!(scenario["rate_hz"], 500.0);
+    assert_eq!(scenario["start"], json(&simulated, "scenario")["start"]);
+    assert_eq!(served["scene_period_s"], "0.02");
+    let options = json(&served, "live_options");
+    assert_eq!(options["rate_hz"], 500.0);
+    assert_eq!(options["publish_hz"], 50.0);
+    assert_eq!(options["duration_s"], 1.0);
+    assert_eq!(options["bind"], "127.0.0.1");
+    assert_eq!(options["token_required"], false);
+}
+
+/// The `parasils.scenario` metadata record of the MCAP file at `path`.
+fn scenario_metadata(path: &Path) -> BTreeMap<String, String> {
+    let bytes = std::fs::read(path).expect("the recording");
+    let summary = mcap::Summary::read(&bytes)
+        .expect("readable")
+        .expect("a summary section");
+    let records: Vec<mcap::records::Metadata> = summary
+        .metadata_indexes
+        .iter()
+        .map(|i| mcap::read::metadata(&bytes, i).expect("metadata"))
+        .filter(|m| m.name == "parasils.scenario")
+        .collect();
+    assert_eq!(
+        records.len(),
+        1,
+        "{}: one parasils.scenario record",
+        path.display()
+    );
+    records[0].metadata.clone()
 }
 
 #[test]

@@ -1,34 +1,87 @@
 //! The live server over loopback, measured: the control loop's timing (its
-//! worst cycle, its latest start, its deadline misses) and the share of the
-//! messages a client receives, with a client that reads everything and
-//! with one that subscribes to everything and then stops reading.
+//! worst cycle, its latest start, its late starts and overruns) and the
+//! share of the messages a client receives, with a client that reads
+//! everything and with one that subscribes to everything and then stops
+//! reading; and first, the wake-up jitter the loop's spin margin is chosen
+//! from (10,000 sleeps to 1 ms deadlines, without a spin).
 //!
-//! `cargo bench -p parasils-live --bench live` (about 40 s: four 10 s
-//! sessions at 1 kHz); the results are in BENCHMARKS.md (*Live*). Times
-//! are measured, never asserted.
+//! `cargo bench -p parasils-live --bench live` (about 60 s: the jitter,
+//! then four 10 s sessions at 1 kHz); the results are in BENCHMARKS.md
+//! (*Live*). Times are measured, never asserted. `PARASILS_LIVE_PRIORITY`
+//! (a `SCHED_FIFO` priority, or `none`) and `PARASILS_LIVE_MARGIN_US`
+//! change the sessions' scheduling and spin margin.
 
 #[path = "../tests/common/mod.rs"]
 mod common;
 
 use core::time::Duration;
 use std::collections::BTreeSet;
+use std::time::Instant;
 
-use common::{Client, session};
+use common::{Client, drive, session_options};
+use parasils_live::{LiveOptions, schedule_current_thread};
+
+/// The sessions' options from the environment.
+fn options(publish_hz: f64, duration_s: f64) -> LiveOptions {
+    let mut o = LiveOptions {
+        port: 0,
+        publish_hz,
+        duration_s: Some(duration_s),
+        ..LiveOptions::default()
+    };
+    if let Ok(p) = std::env::var("PARASILS_LIVE_PRIORITY") {
+        o.realtime_priority = p.parse().ok();
+    }
+    if let Ok(m) = std::env::var("PARASILS_LIVE_MARGIN_US") {
+        o.spin_margin_s = m.parse::<f64>().expect("PARASILS_LIVE_MARGIN_US: a number") * 1e-6;
+    }
+    o
+}
+
+/// How late a thread wakes from a sleep to an absolute deadline, with
+/// `priority`: 10,000 deadlines 1 ms apart, no spin, 8 us of work each.
+fn jitter(priority: Option<u8>) {
+    let (scheduling, mut late) = std::thread::spawn(move || {
+        let scheduling = schedule_current_thread(priority);
+        let start = Instant::now();
+        let mut late = Vec::with_capacity(10_000);
+        for k in 1..=10_000u64 {
+            let due = start + Duration::from_millis(k);
+            if let Some(w) = due.checked_duration_since(Instant::now()) {
+                std::thread::sleep(w);
+            }
+            late.push(Instant::now().saturating_duration_since(due).as_secs_f64() * 1e6);
+            let work = Instant::now();
+            while work.elapsed() < Duration::from_micros(8) {
+                core::hint::spin_loop();
+            }
+        }
+        (scheduling, late)
+    })
+    .join()
+    .expect("join");
+    late.sort_by(f64::total_cmp);
+    let q = |p: f64| late[((late.len() - 1) as f64 * p).round() as usize];
+    println!(
+        "wake-up after a sleep, {scheduling}: median {:.1} us, 90 % {:.1} us, 99 % {:.1} us, 99.9 % {:.1} us, worst {:.1} us; {} of 10,000 more than 50 us late",
+        q(0.5),
+        q(0.9),
+        q(0.99),
+        q(0.999),
+        late[late.len() - 1],
+        late.iter().filter(|&&l| l > 50.0).count()
+    );
+}
 
 /// One 10 s session at 1 kHz control and `publish_hz`; `reading` says
 /// whether the client keeps reading after it subscribed.
 fn run(publish_hz: f64, reading: bool) {
     let duration_s = 10.0;
-    let s = session(1000.0, publish_hz, duration_s);
-    let address = s.address().to_string();
+    let s = session_options(1000.0, &options(publish_hz, duration_s));
+    let scheduling = s.scheduling().to_string();
     let topics = s.topics().len();
-    let waiter = std::thread::spawn(move || s.wait());
-    let rt = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .expect("runtime");
-    let received = rt.block_on(async {
-        let mut c = Client::new(&address).await;
+    let (received, report) = drive(s, async |address| {
+        let mut c = Client::new(address).await;
         c.subscribe(|_| true).await;
         if reading {
             c.read_to_end(Duration::from_secs_f64(duration_s + 15.0))
@@ -40,7 +93,6 @@ fn run(publish_hz: f64, reading: bool) {
         }
         c.received
     });
-    let report = waiter.join().expect("join").expect("session");
     let st = &report.stats;
     let got: usize = received.values().map(Vec::len).sum();
     let first = received
@@ -60,10 +112,12 @@ fn run(publish_hz: f64, reading: bool) {
         .filter(|k| k * 1_000_000 >= platform.first().copied().unwrap_or(first))
         .count();
     println!(
-        "{publish_hz:>6} Hz publishing, client {}: {} cycles, {} deadline misses, worst cycle {:.1} us, mean {:.2} us, latest start {:.1} us; {} frames dropped; published {} messages on {topics} topics, received {got}; /platform {} of {} ({:.3} %)",
-        if reading { "reading  " } else { "not reading" },
+        "{publish_hz:>6} Hz publishing, client {}, {scheduling}: {} cycles, {} deadline misses ({} late starts, {} overruns), worst cycle {:.1} us, mean {:.2} us, latest start {:.1} us; {} frames dropped; published {} messages on {topics} topics, received {got}; /platform {} of {} ({:.3} %)",
+        if reading { "reading" } else { "not reading" },
         st.cycles,
         st.deadline_misses,
+        st.late_starts,
+        st.overruns,
         st.worst_cycle_s * 1e6,
         st.mean_cycle_s() * 1e6,
         st.worst_late_s * 1e6,
@@ -81,6 +135,8 @@ fn main() {
     if !std::env::args().any(|a| a == "--bench") {
         return;
     }
+    jitter(None);
+    jitter(Some(80));
     for (publish_hz, reading) in [
         (100.0, true),
         (1000.0, true),

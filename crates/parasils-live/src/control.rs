@@ -8,24 +8,49 @@
 //! came. What it computes leaves through another bounded queue, one frame
 //! per published cycle: when the publisher is behind, the frame is dropped
 //! and counted, and the loop goes on. Acknowledgements go through a third
-//! queue, unbounded (one per command: a client cannot make them faster
-//! than its commands, which the first queue bounds).
+//! bounded queue (one per command, and the commands waiting are bounded by
+//! [`PENDING_COMMANDS`]). Every hand-off is a `try_send` or a `try_recv`
+//! on a queue allocated before the loop: the loop never allocates, never
+//! blocks on a lock another thread holds, and never wakes the publisher
+//! (which polls its queue), so a cycle's only system calls are its sleep
+//! and its clock reads.
+//!
+//! Each cycle waits for its deadline with [`wait_until`]: a sleep to
+//! [`LoopSettings::spin_margin`] before it, then a spin, so that the
+//! wake-up's jitter does not make it late.
 
 use core::sync::atomic::{AtomicBool, Ordering};
 use core::time::Duration;
+use std::collections::VecDeque;
 use std::sync::Arc;
-use std::sync::mpsc::{Receiver, Sender, SyncSender, TrySendError};
+use std::sync::mpsc::{Receiver, SyncSender, TrySendError};
 use std::time::Instant;
 
-use parasils::teleop::OperatingState;
+use nalgebra::Vector3;
+use parasils::teleop::{Goal, MoveRefused, OperatingState};
 use parasils_device::Held;
 use parasils_sim::{Record, TeleopRun};
 
-use crate::message::{CommandRequest, DeviceInput, InputDevice};
-use crate::timing::CycleStats;
+use crate::message::{CommandRequest, DeviceInput, InputDevice, LiveCommand};
+use crate::timing::{CycleStats, wait_until};
+
+/// The commands that may wait for their cycle (one is taken per cycle);
+/// when that many wait, the loop leaves the rest in the input queue, whose
+/// bound then refuses a client's next message.
+pub const PENDING_COMMANDS: usize = 256;
 
 /// Who sent a message: the WebSocket client's id.
 pub type ClientTag = u32;
+
+/// How a command's acknowledgement reaches the client that sent it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Reply {
+    /// Published on `/command`: a status message to this client.
+    Status(ClientTag),
+    /// A call of the `/command` service: the response to the call the
+    /// session keeps under this number.
+    Service(u32),
+}
 
 /// A client's message on its way to the control loop, with the instant
 /// it arrived.
@@ -33,8 +58,8 @@ pub type ClientTag = u32;
 pub enum Event {
     /// A device's input.
     Input(DeviceInput, Instant),
-    /// A command, with the client that sent it.
-    Command(CommandRequest, ClientTag, Instant),
+    /// A command, with how its acknowledgement reaches its client.
+    Command(CommandRequest, Reply, Instant),
 }
 
 /// The last input applied: which device, the client's number, when it
@@ -63,16 +88,19 @@ pub struct AppliedInput {
 /// A command's outcome, for the client that sent it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ack {
-    /// The client that sent it.
-    pub client: ClientTag,
+    /// How it reaches the client that sent it.
+    pub reply: Reply,
     /// The command and its number.
     pub request: CommandRequest,
     /// The state before it.
     pub before: OperatingState,
     /// The state after its cycle.
     pub after: OperatingState,
-    /// Whether CRTK's table accepts it in the state it came in.
+    /// Whether it was accepted: CRTK's table for the core's commands, the
+    /// core's answer for a planned move.
     pub accepted: bool,
+    /// Why a planned move was refused (the core's reason).
+    pub refusal: Option<MoveRefused>,
     /// The cycle's time, s.
     pub t_s: f64,
 }
@@ -97,6 +125,9 @@ pub struct LoopSettings {
     pub publish_every: u64,
     /// Cycles to run (`None`: until stopped).
     pub cycles: Option<u64>,
+    /// How long before each deadline the loop stops sleeping and spins
+    /// (see [`wait_until`]).
+    pub spin_margin: Duration,
 }
 
 /// The queues the loop talks through.
@@ -106,8 +137,26 @@ pub struct Queues {
     pub events: Receiver<Event>,
     /// Frames out (bounded: full means dropped).
     pub frames: SyncSender<Frame>,
-    /// Acknowledgements out.
-    pub acks: Sender<Ack>,
+    /// Acknowledgements out (bounded: at least [`PENDING_COMMANDS`]).
+    pub acks: SyncSender<Ack>,
+}
+
+/// The core's goal for a planned move on `/command` (`tips`: where the
+/// tips are, for those a `move_to` does not give; a core command, which is
+/// not a move here, maps to home).
+fn goal(command: LiveCommand, tips: [Vector3<f64>; 2]) -> Goal<f64> {
+    match command {
+        LiveCommand::LookAtTips => Goal::LookAtTips,
+        LiveCommand::LookAt(p) => Goal::LookAt(Vector3::from(p)),
+        LiveCommand::MoveTo {
+            angles_deg,
+            tips_mm,
+        } => Goal::Pose {
+            angles: angles_deg.map(f64::to_radians),
+            tips: [0, 1].map(|m| tips_mm[m].map_or(tips[m], Vector3::from)),
+        },
+        LiveCommand::Core(_) => Goal::Home,
+    }
 }
 
 /// Runs `run` until `cycles` are done or `stop` is set; the final timing.
@@ -125,8 +174,7 @@ pub fn run_loop(
     let period = Duration::from_secs_f64(1.0 / run.rate_hz());
     let mut stats = CycleStats::default();
     let mut held = [Held::REST; 3];
-    let mut pending: std::collections::VecDeque<(CommandRequest, ClientTag)> =
-        std::collections::VecDeque::new();
+    let mut pending: VecDeque<(CommandRequest, Reply)> = VecDeque::with_capacity(PENDING_COMMANDS);
     let mut fresh: [Option<(DeviceInput, Instant)>; 3] = [None; 3];
     // When each device's input lapses (a twist's), back to rest with
     // enable held.
@@ -145,12 +193,11 @@ pub fn run_loop(
         // Absolute deadlines: `start + k / rate`, so that a late cycle does
         // not push every later one.
         let due = start + Duration::from_secs_f64(k as f64 / run.rate_hz());
-        let now = Instant::now();
-        if let Some(wait) = due.checked_duration_since(now) {
-            std::thread::sleep(wait);
-        }
-        let woke = Instant::now();
-        while let Ok(event) = queues.events.try_recv() {
+        let woke = wait_until(due, settings.spin_margin);
+        // A full list of commands leaves the rest queued (no allocation).
+        while pending.len() < PENDING_COMMANDS
+            && let Ok(event) = queues.events.try_recv()
+        {
             match event {
                 Event::Input(input, at) => {
                     let d = input.device.index();
@@ -164,7 +211,7 @@ pub fn run_loop(
                         .and_then(|h| Duration::try_from_secs_f64(h).ok())
                         .map(|h| at + h);
                 }
-                Event::Command(request, client, _) => pending.push_back((request, client)),
+                Event::Command(request, reply, _) => pending.push_back((request, reply)),
             }
         }
         // After the queue is emptied: every input read arrived before it.
@@ -189,20 +236,30 @@ pub fn run_loop(
         last_read = read;
         let before = run.teleop().state();
         let command = pending.pop_front();
-        let record = run.step(held, command.map(|(r, _)| r.command))?;
+        // The core's commands go through the cycle; a planned move starts
+        // from the last cycle's setpoint, and this cycle is its first.
+        let (core, refusal) = match command.map(|(r, _)| r.command) {
+            Some(LiveCommand::Core(c)) => (Some(c), None),
+            Some(other) => (None, run.start_move(goal(other, run.teleop().tips())).err()),
+            None => (None, None),
+        };
+        let record = run.step(held, core)?;
         let busy = run.teleop().is_busy();
-        if let Some((request, client)) = command {
+        if let Some((request, reply)) = command {
             let after = record.teleop.state;
-            let accepted = before
-                .after(request.command, after == OperatingState::Enabled)
-                .accepted;
-            // The receiver gone means the session is ending: nothing to tell.
-            let _ = queues.acks.send(Ack {
-                client,
+            let accepted = match request.command {
+                LiveCommand::Core(c) => before.after(c, after == OperatingState::Enabled).accepted,
+                _ => refusal.is_none(),
+            };
+            // Full cannot be (one per command, bounded like them); the
+            // receiver gone means the session is ending: nothing to tell.
+            let _ = queues.acks.try_send(Ack {
+                reply,
                 request,
                 before,
                 after,
                 accepted,
+                refusal,
                 t_s: t,
             });
         }

@@ -128,7 +128,7 @@ impl Crtk {
                     "t_s": number("unit: s"),
                     "state": {"type": "string", "enum": ["DISABLED", "ENABLED", "PAUSED", "FAULT"]},
                     "is_homed": {"type": "boolean"},
-                    "is_busy": {"type": "boolean", "description": "a command is under way (the home move)"},
+                    "is_busy": {"type": "boolean", "description": "a command is under way (a planned move: home, look_at, look_at_tips, move_to; or a stop to rest)"},
                 }),
                 vec!["t_s", "state", "is_homed", "is_busy"],
             ),

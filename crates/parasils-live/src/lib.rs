@@ -42,8 +42,10 @@
 //! # Modules
 //! In import order: `error` ([`LiveError`]), `message` (what clients send:
 //! [`ClientMessage`], [`parse`]), `crtk` (the CRTK topics' schemas and
-//! builders: [`Arm`], [`Crtk`]), `timing` ([`CycleStats`]), `control` (the
-//! loop: [`run_loop`], [`Frame`], [`Ack`]), `publish` (the channels and the
+//! builders: [`Arm`], [`Crtk`]), `realtime` (the control thread's
+//! scheduling: [`Scheduling`]), `timing` ([`CycleStats`], [`wait_until`]),
+//! `control` (the loop: [`run_loop`], [`Frame`], [`Ack`]), `service` (the
+//! commands as the Foxglove service `/command`: [`CommandService`]), `publish` (the channels and the
 //! publisher: [`Channels`], [`run_publisher`]), `session` ([`Session`],
 //! [`LiveOptions`]).
 
@@ -52,19 +54,27 @@ pub mod crtk;
 mod error;
 pub mod message;
 pub mod publish;
+mod realtime;
+mod service;
 mod session;
 mod timing;
 
-pub use control::{Ack, AppliedInput, ClientTag, Event, Frame, LoopSettings, Queues, run_loop};
+pub use control::{
+    Ack, AppliedInput, ClientTag, Event, Frame, LoopSettings, PENDING_COMMANDS, Queues, Reply,
+    run_loop,
+};
 pub use crtk::{Arm, Crtk};
 pub use error::LiveError;
 pub use message::{
-    COMMAND_TOPIC, ClientMessage, CommandRequest, DeviceInput, InputDevice, MessageError, parse,
+    AUTH_TOPIC, COMMAND_TOPIC, ClientMessage, CommandRequest, DeviceInput, InputDevice,
+    LiveCommand, MessageError, command_schema, parse,
 };
 pub use publish::{
     ACK_TOPIC, Channels, Clients, DIAGNOSTICS_TOPIC, PublishReport, PublishSettings, run_publisher,
 };
+pub use realtime::{Scheduling, schedule_current_thread};
+pub use service::{Calls, CommandService, Drivers};
 pub use session::{
-    AUTH_TOPIC, DEFAULT_PORT, LEGACY_SUBPROTOCOL, LiveOptions, SUBPROTOCOL, Session, SessionReport,
+    DEFAULT_PORT, LEGACY_SUBPROTOCOL, LiveOptions, SUBPROTOCOL, Session, SessionReport,
 };
-pub use timing::CycleStats;
+pub use timing::{CycleStats, LATE_TOLERANCE, wait_until};

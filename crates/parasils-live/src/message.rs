@@ -5,7 +5,7 @@
 //! | topic | message |
 //! |---|---|
 //! | `/left/servo_input`, `/right/servo_input`, `/camera/servo_input` | `{"axes": [tx, ty, tz, rx, ry, rz], "buttons": 3, "id": 7}`: the six normalised axes of the device driving that hand (each in `[-1, 1]`, the core's rate command), the buttons (bit 0 enable, bit 1 clutch), an optional `id` echoed in `/diagnostics` |
-//! | `/command` | `{"command": "enable", "id": 12}`: one of `enable`, `disable`, `pause`, `resume`, `home` (CRTK's names), an optional `id` echoed in the acknowledgement |
+//! | `/command` | `{"command": "enable", "id": 12}`: one of `enable`, `disable`, `pause`, `resume` (CRTK's names), `home`, `look_at_tips`, `stop`; `{"command": "look_at", "point_mm": [x, y, z]}` (a point in the fixed frame, mm); `{"command": "move_to", "psi_deg": a, "theta_deg": b, "left_tip_mm": [x, y, z], "right_tip_mm": [x, y, z]}` (the view's angles, deg, and the tips, mm, fixed frame; a tip not given stays where it is); an optional `id` echoed in the acknowledgement |
 //!
 //! A device's input is held until its next message, as a SpaceMouse's
 //! state is; a message that does not parse changes nothing and gets an
@@ -20,6 +20,31 @@
 //! long.
 
 use parasils::teleop::Command;
+
+/// The topic a client publishes the session's token on.
+pub const AUTH_TOPIC: &str = "/auth";
+
+/// The JSON Schema of a command (`/command`'s message, and the `/command`
+/// service's request).
+pub fn command_schema() -> serde_json::Value {
+    let point = |d: &str| serde_json::json!({"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3, "description": d});
+    serde_json::json!({
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "title": "parasils.Command",
+        "description": "A command: CRTK's (enable, disable, pause, resume), home, look_at_tips, stop, or a planned move with its goal (look_at: point_mm; move_to: psi_deg, theta_deg, the tips)",
+        "type": "object",
+        "properties": {
+            "command": {"type": "string", "enum": LiveCommand::NAMES},
+            "id": {"type": ["integer", "null"], "description": "echoed in the acknowledgement"},
+            "point_mm": point("look_at: the point, mm, fixed frame"),
+            "psi_deg": {"type": "number", "description": "move_to: psi, deg"},
+            "theta_deg": {"type": "number", "description": "move_to: theta, deg"},
+            "left_tip_mm": point("move_to: the left module's tip, mm, fixed frame (where it is if not given)"),
+            "right_tip_mm": point("move_to: the right module's tip, mm, fixed frame (where it is if not given)"),
+        },
+        "required": ["command"],
+    })
+}
 
 /// Which device an input drives.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -85,11 +110,57 @@ pub struct DeviceInput {
     pub hold_s: Option<f64>,
 }
 
+/// A command on `/command`: one of the core's, or a planned move with its
+/// goal.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LiveCommand {
+    /// One of the core's commands given at a cycle (`enable`, `disable`,
+    /// `pause`, `resume`, `home`, `stop`), through CRTK's table.
+    Core(Command),
+    /// Turn the view to the tips' midpoint, the tips held.
+    LookAtTips,
+    /// Turn the view to a point (mm, fixed frame), the tips held.
+    LookAt([f64; 3]),
+    /// Move the view to `[psi, theta]` (deg) and each tip to its point
+    /// (mm, fixed frame; `None`: where it is).
+    MoveTo {
+        /// `[psi, theta]`, deg.
+        angles_deg: [f64; 2],
+        /// `[left module, right module]` tips, mm.
+        tips_mm: [Option<[f64; 3]>; 2],
+    },
+}
+
+impl LiveCommand {
+    /// Its name on `/command`.
+    pub const fn name(&self) -> &'static str {
+        match self {
+            LiveCommand::Core(c) => c.name(),
+            LiveCommand::LookAtTips => "look_at_tips",
+            LiveCommand::LookAt(_) => "look_at",
+            LiveCommand::MoveTo { .. } => "move_to",
+        }
+    }
+
+    /// Every name `/command` takes.
+    pub const NAMES: [&'static str; 9] = [
+        "enable",
+        "disable",
+        "pause",
+        "resume",
+        "home",
+        "stop",
+        "look_at_tips",
+        "look_at",
+        "move_to",
+    ];
+}
+
 /// A command as a client sends it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CommandRequest {
     /// The command.
-    pub command: Command,
+    pub command: LiveCommand,
     /// The client's number for it, if given.
     pub id: Option<u64>,
 }
@@ -144,7 +215,9 @@ pub enum MessageError {
         value: f64,
     },
     /// A command name CRTK's table does not have here.
-    #[error("/command: unknown command `{name}` (enable, disable, pause, resume, home)")]
+    #[error(
+        "/command: unknown command `{name}` (enable, disable, pause, resume, home, stop, look_at_tips, look_at, move_to)"
+    )]
     UnknownCommand {
         /// The name sent.
         name: String,
@@ -199,21 +272,7 @@ pub fn parse(topic: &str, payload: &[u8]) -> Result<ClientMessage, MessageError>
         return twist(topic, device, &obj, id);
     }
     let Some(device) = device else {
-        let name = obj
-            .get("command")
-            .and_then(serde_json::Value::as_str)
-            .ok_or(MessageError::Field {
-                topic,
-                field: "command",
-                expected: "a string",
-            })?;
-        let command = Command::ALL
-            .into_iter()
-            .find(|c| c.name() == name)
-            .ok_or_else(|| MessageError::UnknownCommand {
-                name: name.to_owned(),
-            })?;
-        return Ok(ClientMessage::Command(CommandRequest { command, id }));
+        return command(&obj, id);
     };
     let list = obj
         .get("axes")
@@ -258,6 +317,85 @@ pub fn parse(topic: &str, payload: &[u8]) -> Result<ClientMessage, MessageError>
         id,
         hold_s: None,
     }))
+}
+
+/// `field`: a list of `N` numbers (`None` when absent).
+fn numbers<const N: usize>(
+    obj: &serde_json::Map<String, serde_json::Value>,
+    field: &'static str,
+    expected: &'static str,
+) -> Result<Option<[f64; N]>, MessageError> {
+    let Some(v) = obj.get(field) else {
+        return Ok(None);
+    };
+    let bad = MessageError::Field {
+        topic: COMMAND_TOPIC,
+        field,
+        expected,
+    };
+    let list = v.as_array().filter(|a| a.len() == N).ok_or(bad.clone())?;
+    let mut out = [0.0; N];
+    for (slot, x) in out.iter_mut().zip(list) {
+        *slot = x.as_f64().ok_or(bad.clone())?;
+    }
+    Ok(Some(out))
+}
+
+/// `field`: a number.
+fn number(
+    obj: &serde_json::Map<String, serde_json::Value>,
+    field: &'static str,
+) -> Result<f64, MessageError> {
+    obj.get(field)
+        .and_then(serde_json::Value::as_f64)
+        .ok_or(MessageError::Field {
+            topic: COMMAND_TOPIC,
+            field,
+            expected: "a number, deg",
+        })
+}
+
+/// A message on `/command`.
+fn command(
+    obj: &serde_json::Map<String, serde_json::Value>,
+    id: Option<u64>,
+) -> Result<ClientMessage, MessageError> {
+    let name = obj
+        .get("command")
+        .and_then(serde_json::Value::as_str)
+        .ok_or(MessageError::Field {
+            topic: COMMAND_TOPIC,
+            field: "command",
+            expected: "a string",
+        })?;
+    let tip = "a list of three numbers, mm (x, y, z in the fixed frame)";
+    let command = match name {
+        "look_at_tips" => LiveCommand::LookAtTips,
+        "look_at" => {
+            LiveCommand::LookAt(numbers(obj, "point_mm", tip)?.ok_or(MessageError::Field {
+                topic: COMMAND_TOPIC,
+                field: "point_mm",
+                expected: tip,
+            })?)
+        }
+        "move_to" => LiveCommand::MoveTo {
+            angles_deg: [number(obj, "psi_deg")?, number(obj, "theta_deg")?],
+            tips_mm: [
+                numbers(obj, "left_tip_mm", tip)?,
+                numbers(obj, "right_tip_mm", tip)?,
+            ],
+        },
+        _ => LiveCommand::Core(
+            Command::ALL
+                .into_iter()
+                .filter(|c| *c != Command::LookAtTips)
+                .find(|c| c.name() == name)
+                .ok_or_else(|| MessageError::UnknownCommand {
+                    name: name.to_owned(),
+                })?,
+        ),
+    };
+    Ok(ClientMessage::Command(CommandRequest { command, id }))
 }
 
 /// A twist on `device`'s topic: `linear` then `angular`, each `x y z`,
@@ -343,10 +481,71 @@ mod tests {
         assert_eq!(
             parse("/command", br#"{"command":"pause"}"#),
             Ok(ClientMessage::Command(CommandRequest {
-                command: Command::Pause,
+                command: LiveCommand::Core(Command::Pause),
                 id: None
             }))
         );
+        assert_eq!(
+            parse(
+                "/command",
+                br#"{"command":"look_at","point_mm":[1,-2.5,-600],"id":4}"#
+            ),
+            Ok(ClientMessage::Command(CommandRequest {
+                command: LiveCommand::LookAt([1.0, -2.5, -600.0]),
+                id: Some(4)
+            }))
+        );
+        assert_eq!(
+            parse(
+                "/command",
+                br#"{"command":"move_to","psi_deg":-10,"theta_deg":5,"right_tip_mm":[1,2,3]}"#
+            ),
+            Ok(ClientMessage::Command(CommandRequest {
+                command: LiveCommand::MoveTo {
+                    angles_deg: [-10.0, 5.0],
+                    tips_mm: [None, Some([1.0, 2.0, 3.0])]
+                },
+                id: None
+            }))
+        );
+        assert_eq!(
+            parse("/command", br#"{"command":"look_at_tips"}"#),
+            Ok(ClientMessage::Command(CommandRequest {
+                command: LiveCommand::LookAtTips,
+                id: None
+            }))
+        );
+        assert!(matches!(
+            parse("/command", br#"{"command":"look_at","point_mm":[1,2]}"#),
+            Err(MessageError::Field {
+                field: "point_mm",
+                ..
+            })
+        ));
+        assert!(matches!(
+            parse("/command", br#"{"command":"look_at"}"#),
+            Err(MessageError::Field {
+                field: "point_mm",
+                ..
+            })
+        ));
+        assert!(matches!(
+            parse("/command", br#"{"command":"move_to","psi_deg":1}"#),
+            Err(MessageError::Field {
+                field: "theta_deg",
+                ..
+            })
+        ));
+        // Every name parses to a command of that name.
+        for name in LiveCommand::NAMES {
+            let text = format!(
+                r#"{{"command":"{name}","point_mm":[0,0,-600],"psi_deg":0,"theta_deg":0}}"#
+            );
+            match parse("/command", text.as_bytes()) {
+                Ok(ClientMessage::Command(r)) => assert_eq!(r.command.name(), name),
+                other => panic!("{name}: {other:?}"),
+            }
+        }
         assert!(matches!(
             parse("/left/servo_input", br#"{"axes":[0,0,1.5,0,0,0]}"#),
             Err(MessageError::Axis { axis: "tz", value, .. }) if value == 1.5

@@ -9,7 +9,7 @@
 //! the CRTK topics ([`crate::crtk`]), `/diagnostics` and `/command_ack`.
 
 use std::collections::HashMap;
-use std::sync::mpsc::{Receiver, RecvTimeoutError};
+use std::sync::mpsc::{Receiver, TryRecvError};
 use std::sync::{Arc, Mutex};
 
 use foxglove::websocket::{Client, Status};
@@ -22,9 +22,10 @@ use parasils_sim::mcap::{
 use parasils_sim::{CameraImage, Channel, Field, McapError, SceneGeometry};
 use serde_json::json;
 
-use crate::control::{Ack, ClientTag, Frame};
+use crate::control::{Ack, ClientTag, Frame, Reply};
 use crate::crtk::{self, Arm, Crtk};
 use crate::error::LiveError;
+use crate::service::Calls;
 
 /// The topic of the loop's timing and the session's counts.
 pub const DIAGNOSTICS_TOPIC: &str = "/diagnostics";
@@ -32,6 +33,9 @@ pub const DIAGNOSTICS_TOPIC: &str = "/diagnostics";
 pub const ACK_TOPIC: &str = "/command_ack";
 /// The period of `/diagnostics`, s.
 pub const DIAGNOSTICS_PERIOD_S: f64 = 0.1;
+
+/// How long the publisher sleeps when its queues are empty, s.
+pub const POLL_PERIOD_S: f64 = 0.5e-3;
 
 /// The clients a command can come from, by their tag, for the replies.
 pub type Clients = Arc<Mutex<HashMap<ClientTag, Client>>>;
@@ -49,7 +53,11 @@ pub fn diagnostics_schema() -> serde_json::Value {
             "rate_hz": n("the control rate, Hz"),
             "publish_hz": n("the publishing rate of the data channels, Hz"),
             "cycles": n("cycles run"),
-            "deadline_misses": n("cycles that ended after the next one was due"),
+            "deadline_misses": n("cycles that started late or overran (either or both)"),
+            "late_starts": n("cycles that started more than late_tolerance_us after their deadline"),
+            "overruns": n("cycles whose work ended after the next cycle was due"),
+            "late_tolerance_us": n("how long after its deadline a cycle may start and be on time, us"),
+            "scheduling": {"type": "string", "description": "the control thread's scheduling: SCHED_FIFO and its priority, or the ordinary policy and why"},
             "worst_cycle_us": n("the longest cycle's work, us"),
             "mean_cycle_us": n("the mean cycle's work, us"),
             "worst_late_us": n("the latest start of a cycle after its deadline, us"),
@@ -67,7 +75,7 @@ pub fn diagnostics_schema() -> serde_json::Value {
                 },
             },
         },
-        "required": ["t_s", "rate_hz", "publish_hz", "cycles", "deadline_misses", "worst_cycle_us", "mean_cycle_us", "worst_late_us", "dropped_frames", "last_input"],
+        "required": ["t_s", "rate_hz", "publish_hz", "cycles", "deadline_misses", "late_starts", "overruns", "late_tolerance_us", "scheduling", "worst_cycle_us", "mean_cycle_us", "worst_late_us", "dropped_frames", "last_input"],
         "additionalProperties": false,
     })
 }
@@ -81,7 +89,7 @@ pub fn ack_schema() -> serde_json::Value {
         "type": "object",
         "properties": {
             "t_s": {"type": "number", "description": "unit: s (the cycle that took it)"},
-            "command": {"type": "string", "enum": ["enable", "disable", "pause", "resume", "home"]},
+            "command": {"type": "string", "enum": crate::message::LiveCommand::NAMES},
             "id": {"type": ["integer", "null"]},
             "accepted": {"type": "boolean"},
             "before": {"type": "string", "enum": ["DISABLED", "ENABLED", "PAUSED", "FAULT"]},
@@ -122,7 +130,8 @@ fn channel(
         })
 }
 
-fn pretty(v: &serde_json::Value) -> Vec<u8> {
+/// `v` as pretty JSON bytes (a schema's text).
+pub fn pretty(v: &serde_json::Value) -> Vec<u8> {
     serde_json::to_vec_pretty(v).unwrap_or_default()
 }
 
@@ -222,6 +231,8 @@ pub struct PublishSettings {
     pub targets: [Vector3<f64>; 2],
     /// The schematic endoscope image.
     pub image: CameraImage,
+    /// The control thread's scheduling, in words (`/diagnostics`).
+    pub scheduling: String,
 }
 
 /// What the publisher did.
@@ -387,6 +398,10 @@ impl Publisher {
             "publish_hz": self.settings.publish_hz,
             "cycles": s.cycles,
             "deadline_misses": s.deadline_misses,
+            "late_starts": s.late_starts,
+            "overruns": s.overruns,
+            "late_tolerance_us": crate::timing::LATE_TOLERANCE * 1e6 / self.settings.rate_hz,
+            "scheduling": self.settings.scheduling,
             "worst_cycle_us": s.worst_cycle_s * 1e6,
             "mean_cycle_us": s.mean_cycle_s() * 1e6,
             "worst_late_us": s.worst_late_s * 1e6,
@@ -398,15 +413,21 @@ impl Publisher {
         self.log(&ch, ns);
     }
 
-    fn ack(&mut self, a: &Ack, clients: &Clients) {
-        let reason = (!a.accepted).then(|| {
-            format!(
+    fn ack(&mut self, a: &Ack, clients: &Clients, calls: &Calls) {
+        let reason = match (a.accepted, a.refusal) {
+            (true, _) => None,
+            (false, Some(why)) => Some(format!(
+                "{} refused: {why}; the state stays {}",
+                a.request.command.name(),
+                a.after.name()
+            )),
+            (false, None) => Some(format!(
                 "{} is not valid in {} (CRTK's table); the state stays {}",
                 a.request.command.name(),
                 a.before.name(),
                 a.after.name()
-            )
-        });
+            )),
+        };
         let v = json!({
             "t_s": a.t_s,
             "command": a.request.command.name(),
@@ -421,19 +442,28 @@ impl Publisher {
         let ns = parasils_sim::mcap::log_time(a.t_s).unwrap_or(0);
         let ch = Arc::clone(&self.channels.ack);
         self.log(&ch, ns);
-        if let Ok(map) = clients.lock()
-            && let Some(client) = map.get(&a.client)
-        {
-            let status = if a.accepted {
-                Status::info(text)
-            } else {
-                Status::error(text)
-            };
-            let id = a
-                .request
-                .id
-                .map_or_else(|| "command".to_owned(), |i| format!("command-{i}"));
-            client.send_status(status.with_id(id));
+        match a.reply {
+            Reply::Status(tag) => {
+                if let Ok(map) = clients.lock()
+                    && let Some(client) = map.get(&tag)
+                {
+                    let status = if a.accepted {
+                        Status::info(text)
+                    } else {
+                        Status::error(text)
+                    };
+                    let id = a
+                        .request
+                        .id
+                        .map_or_else(|| "command".to_owned(), |i| format!("command-{i}"));
+                    client.send_status(status.with_id(id));
+                }
+            }
+            Reply::Service(key) => {
+                if let Some(responder) = calls.lock().ok().and_then(|mut c| c.remove(&key)) {
+                    responder.respond_ok(text);
+                }
+            }
         }
         self.report.acks += 1;
     }
@@ -441,6 +471,11 @@ impl Publisher {
 
 /// Publishes every frame and acknowledgement until the control loop has
 /// ended (its queues closed); what it did.
+///
+/// It polls its queues (every [`POLL_PERIOD_S`] when they are empty)
+/// rather than waiting on them, so that the control loop's `try_send`
+/// never has a sleeping receiver to wake: handing a frame on costs the
+/// loop no system call.
 ///
 /// # Errors
 /// [`McapError`] when a builder refuses a record's value (a non-finite one).
@@ -451,6 +486,7 @@ pub fn run_publisher(
     frames: &Receiver<Frame>,
     acks: &Receiver<Ack>,
     clients: &Clients,
+    calls: &Calls,
 ) -> Result<PublishReport, McapError> {
     let mut p = Publisher {
         channels,
@@ -463,20 +499,20 @@ pub fn run_publisher(
         ryu: ryu::Buffer::new(),
         report: PublishReport::default(),
     };
-    let tick = core::time::Duration::from_millis(5);
+    let poll = core::time::Duration::from_secs_f64(POLL_PERIOD_S);
     loop {
-        let next = frames.recv_timeout(tick);
+        let next = frames.try_recv();
         while let Ok(a) = acks.try_recv() {
-            p.ack(&a, clients);
+            p.ack(&a, clients, calls);
         }
         match next {
             Ok(f) => p.frame(&f)?,
-            Err(RecvTimeoutError::Timeout) => {}
-            Err(RecvTimeoutError::Disconnected) => break,
+            Err(TryRecvError::Empty) => std::thread::sleep(poll),
+            Err(TryRecvError::Disconnected) => break,
         }
     }
     while let Ok(a) = acks.try_recv() {
-        p.ack(&a, clients);
+        p.ack(&a, clients, calls);
     }
     p.finish()?;
     Ok(p.report)

@@ -8,19 +8,26 @@ use std::collections::{HashMap, HashSet};
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::PathBuf;
-use std::sync::mpsc::{SyncSender, TrySendError, channel, sync_channel};
+use std::sync::mpsc::{SyncSender, TrySendError, sync_channel};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::Instant;
 
+use foxglove::websocket::service::{Service, ServiceSchema};
 use foxglove::websocket::{Capability, Client, ClientChannel, ServerListener, Status};
-use foxglove::{Context, McapWriterHandle, WebSocketServerHandle};
+use foxglove::{Context, McapWriterHandle, Schema, WebSocketServerHandle};
 use parasils_sim::{CameraImage, SceneGeometry, TeleopRun};
 
-use crate::control::{Event, LoopSettings, Queues, run_loop};
+use crate::control::{Event, LoopSettings, PENDING_COMMANDS, Queues, Reply, run_loop};
 use crate::error::LiveError;
-use crate::message::{COMMAND_TOPIC, ClientMessage, InputDevice, parse};
-use crate::publish::{Channels, Clients, PublishReport, PublishSettings, run_publisher};
+use crate::message::{
+    AUTH_TOPIC, COMMAND_TOPIC, ClientMessage, InputDevice, command_schema, parse,
+};
+use crate::publish::{
+    Channels, Clients, PublishReport, PublishSettings, ack_schema, pretty, run_publisher,
+};
+use crate::realtime::{Scheduling, schedule_current_thread};
+use crate::service::{Calls, CommandService, Drivers};
 use crate::timing::CycleStats;
 
 /// The WebSocket subprotocol the server speaks (the Foxglove SDK's); the
@@ -28,8 +35,6 @@ use crate::timing::CycleStats;
 pub const SUBPROTOCOL: &str = "foxglove.sdk.v1";
 /// The subprotocol refused.
 pub const LEGACY_SUBPROTOCOL: &str = "foxglove.websocket.v1";
-/// The topic a client publishes the session's token on.
-pub const AUTH_TOPIC: &str = "/auth";
 /// The default port, Foxglove's.
 pub const DEFAULT_PORT: u16 = 8765;
 
@@ -57,13 +62,22 @@ pub struct LiveOptions {
     /// before its inputs and commands are taken (`None`: none needed).
     /// Watching needs no token.
     pub token: Option<String>,
+    /// The control thread's `SCHED_FIFO` priority, 1 to 99, when the
+    /// system allows it (`None`: the ordinary policy); see
+    /// [`Session::scheduling`] for what it got.
+    pub realtime_priority: Option<u8>,
+    /// How long before each deadline the control loop stops sleeping and
+    /// spins, s (see [`crate::wait_until`]).
+    pub spin_margin_s: f64,
 }
 
 impl Default for LiveOptions {
     /// Loopback on 8765, 100 Hz publishing, 20 ms scenes, no end, no
     /// recording, 1024 frames (1 s of frames at 1 kHz publishing), 32768
     /// messages per client (about 1.5 s of every channel at 1 kHz
-    /// publishing, some 10 MB), no token.
+    /// publishing, some 10 MB), no token, `SCHED_FIFO` priority 80 where
+    /// allowed, a spin of the last 100 us before each deadline (the
+    /// wake-up's measured jitter: BENCHMARKS.md, *Live*).
     fn default() -> Self {
         Self {
             bind: "127.0.0.1".to_owned(),
@@ -75,11 +89,32 @@ impl Default for LiveOptions {
             queue_frames: 1024,
             client_backlog: 32768,
             token: None,
+            realtime_priority: Some(80),
+            spin_margin_s: 100e-6,
         }
     }
 }
 
 impl LiveOptions {
+    /// The options as the recording's `parasils.scenario` metadata gives
+    /// them (`live_options`, JSON): the control rate (Hz) and every option
+    /// but the token, of which only whether one is needed.
+    pub fn metadata(&self, rate_hz: f64) -> serde_json::Value {
+        serde_json::json!({
+            "rate_hz": rate_hz,
+            "bind": self.bind,
+            "port": self.port,
+            "publish_hz": self.publish_hz,
+            "scene_period_s": self.scene_period_s,
+            "duration_s": self.duration_s,
+            "queue_frames": self.queue_frames,
+            "client_backlog": self.client_backlog,
+            "token_required": self.token.is_some(),
+            "realtime_priority": self.realtime_priority,
+            "spin_margin_s": self.spin_margin_s,
+        })
+    }
+
     /// Whether the address is this machine's loopback only.
     pub fn is_loopback(&self) -> bool {
         matches!(self.bind.as_str(), "127.0.0.1" | "localhost" | "::1")
@@ -92,17 +127,17 @@ struct Listener {
     events: SyncSender<Event>,
     clients: Clients,
     /// The token, and the clients that sent it.
-    token: Option<(String, Mutex<HashSet<u32>>)>,
+    token: Option<Arc<Drivers>>,
 }
 
 impl Listener {
     /// Whether `client` may drive; a message on [`AUTH_TOPIC`] is checked
     /// here and answered (`false`: nothing more to do with it).
     fn authorised(&self, client: &Client, topic: &str, payload: &[u8]) -> bool {
-        let Some((token, allowed)) = &self.token else {
+        let Some(drivers) = &self.token else {
             return topic != AUTH_TOPIC;
         };
-        let Ok(mut allowed) = allowed.lock() else {
+        let Ok(mut allowed) = drivers.allowed.lock() else {
             return false;
         };
         if topic == AUTH_TOPIC {
@@ -113,7 +148,7 @@ impl Listener {
                         .and_then(serde_json::Value::as_str)
                         .map(str::to_owned)
                 });
-            if sent.as_deref() == Some(token.as_str()) {
+            if sent.as_deref() == Some(drivers.token.as_str()) {
                 allowed.insert(tag(client));
                 client.send_status(Status::info(
                     "/auth: token accepted; inputs and commands are taken",
@@ -166,7 +201,9 @@ impl ServerListener for Listener {
         }
         let event = match parse(&channel.topic, payload) {
             Ok(ClientMessage::Input(input)) => Event::Input(input, at),
-            Ok(ClientMessage::Command(request)) => Event::Command(request, tag(&client), at),
+            Ok(ClientMessage::Command(request)) => {
+                Event::Command(request, Reply::Status(tag(&client)), at)
+            }
             Err(e) => {
                 client.send_status(Status::error(e.to_string()));
                 return;
@@ -206,6 +243,7 @@ pub struct Session {
     server: Option<WebSocketServerHandle>,
     mcap: Option<McapWriterHandle<BufWriter<File>>>,
     record: Option<PathBuf>,
+    scheduling: Scheduling,
     /// The channels' context: the server and the recording hold it weakly,
     /// so it lives as long as the session.
     _context: Arc<Context>,
@@ -224,6 +262,7 @@ impl core::fmt::Debug for Session {
         f.debug_struct("Session")
             .field("address", &self.address)
             .field("record", &self.record)
+            .field("scheduling", &self.scheduling)
             .finish_non_exhaustive()
     }
 }
@@ -268,6 +307,13 @@ impl Session {
         if let Some(d) = options.duration_s {
             positive("duration_s", d)?;
         }
+        if !(options.spin_margin_s.is_finite() && (0.0..=1.0).contains(&options.spin_margin_s)) {
+            return Err(LiveError::InvalidOption {
+                what: "spin_margin_s",
+                value: options.spin_margin_s,
+                expected: "a finite number from 0 to 1 s",
+            });
+        }
         if options.queue_frames == 0 || options.client_backlog == 0 {
             return Err(LiveError::InvalidOption {
                 what: "queue size",
@@ -293,12 +339,13 @@ impl Session {
             .and_then(|g| g.with_bodies(scenario.bodies))
             .map_err(|e| LiveError::Message(parasils_sim::McapError::Geometry(e)))?;
         let tips = scenario.tips();
-        let settings = PublishSettings {
+        let mut settings = PublishSettings {
             rate_hz,
             publish_hz: rate_hz / publish_every as f64,
             scene_period_s: options.scene_period_s,
             targets: [tips.left, tips.right],
             image: CameraImage::of(&scenario.robot.endoscope.camera),
+            scheduling: String::new(),
         };
 
         let ctx = Context::new();
@@ -312,20 +359,55 @@ impl Session {
                     },
                 )?),
             };
+        if let (Some(handle), Some(path)) = (&mcap, &options.record) {
+            let mut meta =
+                parasils_sim::mcap::scenario_metadata(scenario, &geometry, options.scene_period_s)?;
+            meta.insert(
+                "live_options".to_owned(),
+                options.metadata(rate_hz).to_string(),
+            );
+            handle
+                .write_metadata(parasils_sim::mcap::SCENARIO_METADATA, meta)
+                .map_err(|e| LiveError::Recording {
+                    path: path.clone(),
+                    reason: e.to_string(),
+                })?;
+        }
         let channels = Channels::new(&ctx)?;
         let topics = channels.topics();
 
         let (events_in, events) = sync_channel(1024);
         let (frames, frames_out) = sync_channel(options.queue_frames);
-        let (acks, acks_out) = channel();
+        let (acks, acks_out) = sync_channel(PENDING_COMMANDS);
         let clients: Clients = Arc::new(Mutex::new(HashMap::new()));
+        let calls: Calls = Arc::new(Mutex::new(HashMap::new()));
+        let drivers = options.token.clone().map(|token| {
+            Arc::new(Drivers {
+                token,
+                allowed: Mutex::new(HashSet::new()),
+            })
+        });
+        let service = Service::builder(
+            COMMAND_TOPIC,
+            ServiceSchema::new("parasils.Command")
+                .with_request(
+                    "json",
+                    Schema::new("parasils.Command", "jsonschema", pretty(&command_schema())),
+                )
+                .with_response(
+                    "json",
+                    Schema::new("parasils.CommandAck", "jsonschema", pretty(&ack_schema())),
+                ),
+        )
+        .handler(CommandService::new(
+            events_in.clone(),
+            Arc::clone(&calls),
+            drivers.clone(),
+        ));
         let listener = Arc::new(Listener {
             events: events_in,
             clients: Arc::clone(&clients),
-            token: options
-                .token
-                .clone()
-                .map(|t| (t, Mutex::new(HashSet::new()))),
+            token: drivers,
         });
         let address = format!("{}:{}", options.bind, options.port);
         let server = ctx
@@ -333,6 +415,7 @@ impl Session {
             .name(concat!("parasils ", env!("CARGO_PKG_VERSION")))
             .bind(options.bind.clone(), options.port)
             .capabilities([Capability::ClientPublish])
+            .services([service])
             .supported_encodings(["json"])
             .message_backlog_size(options.client_backlog)
             .listener(listener)
@@ -348,27 +431,16 @@ impl Session {
         let address = SocketAddr::new(ip, server.port());
 
         let stop = Arc::new(AtomicBool::new(false));
-        let publisher = std::thread::Builder::new()
-            .name("parasils-publish".to_owned())
-            .spawn(move || {
-                run_publisher(
-                    channels,
-                    geometry,
-                    settings,
-                    &frames_out,
-                    &acks_out,
-                    &clients,
-                )
-            })
-            .map_err(|_| LiveError::Thread {
-                which: "publisher",
-                what: "could not start",
-            })?;
         let loop_stop = Arc::clone(&stop);
+        let (scheduled, scheduling) = sync_channel(1);
+        let priority = options.realtime_priority;
+        let spin_margin = core::time::Duration::from_secs_f64(options.spin_margin_s);
         let start = Instant::now();
         let control = std::thread::Builder::new()
             .name("parasils-control".to_owned())
             .spawn(move || {
+                // Told before the first cycle; the session waits for it.
+                let _ = scheduled.send(schedule_current_thread(priority));
                 let queues = Queues {
                     events,
                     frames,
@@ -379,6 +451,7 @@ impl Session {
                     LoopSettings {
                         publish_every,
                         cycles,
+                        spin_margin,
                     },
                     &queues,
                     &loop_stop,
@@ -387,6 +460,28 @@ impl Session {
             })
             .map_err(|_| LiveError::Thread {
                 which: "control",
+                what: "could not start",
+            })?;
+        let scheduling = scheduling.recv().map_err(|_| LiveError::Thread {
+            which: "control",
+            what: "ended before its first cycle",
+        })?;
+        settings.scheduling = scheduling.to_string();
+        let publisher = std::thread::Builder::new()
+            .name("parasils-publish".to_owned())
+            .spawn(move || {
+                run_publisher(
+                    channels,
+                    geometry,
+                    settings,
+                    &frames_out,
+                    &acks_out,
+                    &clients,
+                    &calls,
+                )
+            })
+            .map_err(|_| LiveError::Thread {
+                which: "publisher",
                 what: "could not start",
             })?;
         Ok(Self {
@@ -398,6 +493,7 @@ impl Session {
             server: Some(server),
             mcap,
             record: options.record.clone(),
+            scheduling,
             _context: ctx,
         })
     }
@@ -411,6 +507,12 @@ impl Session {
     /// Every topic served, in the order the channels were made.
     pub fn topics(&self) -> &[String] {
         &self.topics
+    }
+
+    /// How the control thread is scheduled: `SCHED_FIFO` when asked for
+    /// and allowed, the ordinary policy otherwise (with the reason).
+    pub fn scheduling(&self) -> &Scheduling {
+        &self.scheduling
     }
 
     /// Whether the control loop has ended (its duration run, or a failure).

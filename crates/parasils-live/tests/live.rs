@@ -8,7 +8,7 @@ mod common;
 use core::time::Duration;
 use std::collections::{BTreeSet, HashMap};
 
-use common::{Client, connect, session, session_with};
+use common::{Client, connect, drive, session, session_with};
 use parasils::kin::Side;
 use parasils::teleop::{Command, TeleopParams};
 use parasils_device::Held;
@@ -79,21 +79,16 @@ fn delivery(publish_hz: f64, duration_s: f64) {
 fn one_delivery(publish_hz: f64, duration_s: f64) -> (f64, (f64, String)) {
     let rate_hz = 1000.0;
     let s = session(rate_hz, publish_hz, duration_s);
-    let address = s.address().to_string();
     let topics = s.topics().to_vec();
-    let waiter = std::thread::spawn(move || s.wait());
-    let rt = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .expect("runtime");
-    let client = rt.block_on(async {
-        let mut c = Client::new(&address).await;
+    let scheduling = s.scheduling().to_string();
+    let (client, report) = drive(s, async |address| {
+        let mut c = Client::new(address).await;
         c.subscribe(|_| true).await;
         c.read_to_end(Duration::from_secs_f64(duration_s + 15.0))
             .await;
         c
     });
-    let report = waiter.join().expect("join").expect("session");
+    diagnostics_agree(&client.received["/diagnostics"], &report.stats, &scheduling);
     let every = (rate_hz / publish_hz).round() as u64;
     let cycles = (duration_s * rate_hz).round() as u64 + 1;
     assert_eq!(report.stats.cycles, cycles);
@@ -142,16 +137,56 @@ fn one_delivery(publish_hz: f64, duration_s: f64) -> (f64, (f64, String)) {
     }
     let share = got_all as f64 / want_all as f64;
     println!(
-        "delivery at {rate_hz} Hz control, {publish_hz} Hz publishing, {duration_s} s: {got_all} of {want_all} messages ({:.4} %) on {} topics, worst topic {} at {:.4} %; loop: {} deadline misses, worst cycle {:.1} us, {} frames dropped",
+        "delivery at {rate_hz} Hz control, {publish_hz} Hz publishing, {duration_s} s: {got_all} of {want_all} messages ({:.4} %) on {} topics, worst topic {} at {:.4} %; loop ({scheduling}): {} deadline misses ({} late starts, {} overruns), worst start {:.1} us late, worst cycle {:.1} us, {} frames dropped",
         share * 100.0,
         topics.len() - 1,
         worst.1,
         worst.0 * 100.0,
         report.stats.deadline_misses,
+        report.stats.late_starts,
+        report.stats.overruns,
+        report.stats.worst_late_s * 1e6,
         report.stats.worst_cycle_s * 1e6,
         report.stats.dropped_frames,
     );
     (share, worst)
+}
+
+/// The loop's counts as `/diagnostics` published them: a miss is a late
+/// start, an overrun or both, so the misses lie between the larger of the
+/// two and their sum; the counts never fall from one message to the next;
+/// the last message (the last frame's, taken before that cycle was
+/// counted) is one cycle short of the session's report and at most its
+/// counts; the scheduling is the session's.
+fn diagnostics_agree(
+    messages: &[(u64, serde_json::Value)],
+    report: &parasils_live::CycleStats,
+    scheduling: &str,
+) {
+    let count = |v: &serde_json::Value, k: &str| {
+        v[k].as_u64()
+            .unwrap_or_else(|| panic!("/diagnostics: {k} is not a count: {v}"))
+    };
+    let mut last = [0u64; 4];
+    for (_, v) in messages {
+        let c = ["cycles", "deadline_misses", "late_starts", "overruns"].map(|k| count(v, k));
+        let [_, misses, late, overruns] = c;
+        assert!(
+            misses >= late.max(overruns) && misses <= late + overruns,
+            "{v}"
+        );
+        assert!(
+            c.iter().zip(&last).all(|(now, before)| now >= before),
+            "{v}"
+        );
+        assert_eq!(v["scheduling"], scheduling);
+        let tolerance = v["late_tolerance_us"].as_f64().expect("number");
+        assert!((tolerance - 50.0).abs() < 1e-9, "{v}");
+        last = c;
+    }
+    assert_eq!(last[0] + 1, report.cycles);
+    assert!(last[1] <= report.deadline_misses);
+    assert!(last[2] <= report.late_starts && last[3] <= report.overruns);
 }
 
 #[test]
@@ -189,14 +224,8 @@ fn an_input_moves_the_setpoint_within_two_cycles_of_its_arrival() {
         _ => "/right/setpoint_js".to_owned(),
     };
     let s = session(rate_hz, 1000.0, 4.0);
-    let address = s.address().to_string();
-    let waiter = std::thread::spawn(move || s.wait());
-    let rt = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .expect("runtime");
-    let client = rt.block_on(async {
-        let mut c = Client::new(&address).await;
+    let (client, _) = drive(s, async |address| {
+        let mut c = Client::new(address).await;
         c.subscribe(|t| [driven.as_str(), "/diagnostics", "/command_ack"].contains(&t))
             .await;
         c.advertise("/command").await;
@@ -235,7 +264,6 @@ fn an_input_moves_the_setpoint_within_two_cycles_of_its_arrival() {
         c.read_to_end(Duration::from_secs(10)).await;
         c
     });
-    waiter.join().expect("join").expect("session");
     let d = &client.received["/diagnostics"]
         .iter()
         .find(|(_, d)| d["last_input"]["id"] == 42)
@@ -301,16 +329,146 @@ fn an_input_moves_the_setpoint_within_two_cycles_of_its_arrival() {
     assert_eq!(still, 0.0, "the setpoint moved before the input");
 }
 
+/// The acknowledgement of the command numbered `id`, read until it comes.
+async fn ack_of(c: &mut Client, command: Value, id: u64) -> Value {
+    let mut command = command;
+    command["id"] = json!(id);
+    c.publish("/command", &command).await;
+    let got = c
+        .read_until(Duration::from_secs(2), |c| {
+            c.received
+                .get("/command_ack")
+                .is_some_and(|v| v.iter().any(|(_, a)| a["id"] == id))
+        })
+        .await;
+    assert!(got, "no acknowledgement of {command}");
+    let ack = c.received["/command_ack"]
+        .iter()
+        .find(|(_, a)| a["id"] == id)
+        .expect("ack")
+        .1
+        .clone();
+    println!("{command}: {ack}");
+    ack
+}
+
+#[test]
+fn the_planned_moves_and_stop_are_served_and_acknowledged() {
+    let _serial = one_at_a_time();
+    let s = session(1000.0, 100.0, 8.0);
+    drive(s, async |address| {
+        let mut c = Client::new(address).await;
+        c.subscribe(|t| t == "/command_ack" || t == "/platform")
+            .await;
+        c.advertise("/command").await;
+        let look = json!({"command": "look_at", "point_mm": [20, 30, -600]});
+        // DISABLED: a move is refused with the core's reason.
+        let a = ack_of(&mut c, look.clone(), 1).await;
+        assert_eq!(
+            (a["accepted"].clone(), a["state"].clone()),
+            (json!(false), json!("DISABLED"))
+        );
+        let reason = a["reason"].as_str().expect("a reason");
+        assert!(reason.contains("ENABLED only"), "{reason}");
+        let a = ack_of(&mut c, json!({"command": "enable"}), 2).await;
+        assert_eq!(a["state"], "ENABLED");
+        // The port itself (the endoscope is at depth 0): no view aims at it.
+        let behind = json!({"command": "look_at", "point_mm": [15, 20, -500]});
+        let a = ack_of(&mut c, behind, 3).await;
+        assert_eq!(a["accepted"], false);
+        assert!(
+            a["reason"].as_str().is_some_and(|r| r.contains("camera:")),
+            "{a}"
+        );
+        // A move to the view at psi -13 deg, theta 10 deg (2 deg from the
+        // start's psi), the tips held: /platform ends there, at rest.
+        let a = ack_of(
+            &mut c,
+            json!({"command": "move_to", "psi_deg": -13, "theta_deg": 10}),
+            4,
+        )
+        .await;
+        assert_eq!(
+            (a["accepted"].clone(), a["state"].clone()),
+            (json!(true), json!("ENABLED"))
+        );
+        let arrived = c
+            .read_until(Duration::from_secs(5), |c| {
+                c.received.get("/platform").is_some_and(|v| {
+                    v.last().is_some_and(|(_, p)| {
+                        let psi = p["psi_deg"].as_f64().unwrap_or(f64::NAN);
+                        let rate = p["psi_rate_deg_s"].as_f64().unwrap_or(f64::NAN);
+                        (psi + 13.0).abs() < 1e-9 && rate == 0.0
+                    })
+                })
+            })
+            .await;
+        let last = c
+            .received
+            .get("/platform")
+            .and_then(|v| v.last())
+            .map(|(_, p)| p.clone());
+        assert!(arrived, "the view did not reach psi = -13 deg: {last:?}");
+        let theta = last
+            .as_ref()
+            .and_then(|p| p["theta_deg"].as_f64())
+            .expect("theta");
+        assert!((theta - 10.0).abs() < 1e-9, "{theta}");
+        // Looking at a point, then a stop: both accepted, ENABLED.
+        let a = ack_of(&mut c, look, 5).await;
+        assert_eq!(
+            (a["accepted"].clone(), a["state"].clone()),
+            (json!(true), json!("ENABLED"))
+        );
+        let a = ack_of(&mut c, json!({"command": "stop"}), 6).await;
+        assert_eq!(
+            (a["accepted"].clone(), a["state"].clone()),
+            (json!(true), json!("ENABLED"))
+        );
+        let a = ack_of(&mut c, json!({"command": "look_at_tips"}), 7).await;
+        assert_eq!(a["accepted"], true);
+        // The same commands as a service: the response is the
+        // acknowledgement; a request that does not parse fails, named.
+        assert!(c.services.contains_key("/command"), "{:?}", c.services);
+        let r = c
+            .call("/command", 1, &json!({"command": "pause", "id": 8}))
+            .await;
+        let a = r.expect("an answer").expect("a response");
+        assert_eq!(
+            (
+                a["command"].clone(),
+                a["accepted"].clone(),
+                a["state"].clone(),
+                a["id"].clone()
+            ),
+            (json!("pause"), json!(true), json!("PAUSED"), json!(8))
+        );
+        let r = c
+            .call(
+                "/command",
+                2,
+                &json!({"command": "look_at", "point_mm": [0, 0, -600]}),
+            )
+            .await;
+        let a = r.expect("an answer").expect("a response");
+        assert_eq!(a["accepted"], false);
+        assert!(
+            a["reason"]
+                .as_str()
+                .is_some_and(|m| m.contains("ENABLED only")),
+            "{a}"
+        );
+        let r = c.call("/command", 3, &json!({"command": "fly"})).await;
+        let e = r.expect("an answer").expect_err("a failure");
+        assert!(e.contains("unknown command `fly`"), "{e}");
+        c.read_to_end(Duration::from_secs(10)).await;
+    });
+}
+
 #[test]
 fn commands_follow_crtk_s_table_and_bad_messages_are_refused() {
     let _serial = one_at_a_time();
     let s = session(1000.0, 100.0, 6.0);
-    let address = s.address().to_string();
-    let waiter = std::thread::spawn(move || s.wait());
-    let rt = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .expect("runtime");
     // CRTK's table, written out here: command, accepted, state after.
     let steps: [(&str, bool, &str); 9] = [
         ("pause", false, "DISABLED"),
@@ -323,8 +481,8 @@ fn commands_follow_crtk_s_table_and_bad_messages_are_refused() {
         ("disable", true, "DISABLED"),
         ("resume", false, "DISABLED"),
     ];
-    rt.block_on(async {
-        let mut c = Client::new(&address).await;
+    drive(s, async |address| {
+        let mut c = Client::new(address).await;
         c.subscribe(|t| t == "/command_ack").await;
         c.advertise("/command").await;
         c.advertise("/left/servo_input").await;
@@ -354,22 +512,7 @@ fn commands_follow_crtk_s_table_and_bad_messages_are_refused() {
         );
         for (k, (command, accepted, state)) in steps.iter().enumerate() {
             let id = k as u64 + 100;
-            c.publish("/command", &json!({"command": command, "id": id}))
-                .await;
-            let got = c
-                .read_until(Duration::from_secs(2), |c| {
-                    c.received
-                        .get("/command_ack")
-                        .is_some_and(|v| v.iter().any(|(_, a)| a["id"] == id))
-                })
-                .await;
-            assert!(got, "no acknowledgement of {command}");
-            let ack: &Value = &c.received["/command_ack"]
-                .iter()
-                .find(|(_, a)| a["id"] == id)
-                .expect("ack")
-                .1;
-            println!("{command}: {ack}");
+            let ack = ack_of(&mut c, json!({"command": command}), id).await;
             assert_eq!(ack["accepted"], *accepted, "{command}");
             assert_eq!(ack["state"], *state, "{command}");
             assert_eq!(ack["reason"].is_null(), *accepted, "{command}");
@@ -388,21 +531,14 @@ fn commands_follow_crtk_s_table_and_bad_messages_are_refused() {
         }
         c.read_to_end(Duration::from_secs(10)).await;
     });
-    waiter.join().expect("join").expect("session");
 }
 
 #[test]
 fn with_a_token_only_a_client_that_sent_it_drives() {
     let _serial = one_at_a_time();
     let s = session_with(1000.0, 100.0, 3.0, Some("s3cret"));
-    let address = s.address().to_string();
-    let waiter = std::thread::spawn(move || s.wait());
-    let rt = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()
-        .expect("runtime");
-    rt.block_on(async {
-        let mut c = Client::new(&address).await;
+    drive(s, async |address| {
+        let mut c = Client::new(address).await;
         c.subscribe(|t| t == "/command_ack").await;
         c.advertise("/command").await;
         c.advertise("/auth").await;
@@ -413,6 +549,10 @@ fn with_a_token_only_a_client_that_sent_it_drives() {
             c.read_until(Duration::from_secs(2), |c| errors(c) == 1)
                 .await
         );
+        // The service too refuses a client without the token.
+        let refused = c.call("/command", 1, &json!({"command": "enable"})).await;
+        let e = refused.expect("an answer").expect_err("a failure");
+        assert!(e.contains("needs a token"), "{e}");
         c.publish("/auth", &json!({"token": "guess"})).await;
         assert!(
             c.read_until(Duration::from_secs(2), |c| errors(c) == 2)
@@ -445,7 +585,6 @@ fn with_a_token_only_a_client_that_sent_it_drives() {
         assert!(c.statuses[1].1.contains("wrong token"), "{:?}", c.statuses);
         c.read_to_end(Duration::from_secs(10)).await;
     });
-    waiter.join().expect("join").expect("session");
 }
 
 #[test]

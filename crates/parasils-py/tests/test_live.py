@@ -82,6 +82,14 @@ def test_commands_inputs_and_a_complete_recording(server, live):
         moves = sorted([moved("/left/setpoint_cp"), moved("/right/setpoint_cp")])
         print("tip moves, mm:", moves)
         assert moves[0] == 0.0 and moves[1] > 1e-3
+        # The planned moves and the stop, with their goals: accepted in
+        # ENABLED; the port itself is a point no view aims at.
+        assert c.command("stop")["accepted"]
+        assert c.command("look_at", point_mm=[20, 30, -600])["accepted"]
+        refused = c.command("look_at", point_mm=[15, 20, -500])
+        assert not refused["accepted"] and "camera:" in refused["reason"]
+        assert c.command("move_to", psi_deg=-13, theta_deg=10)["accepted"]
+        assert c.command("look_at_tips")["state"] == "ENABLED"
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=30)
     assert proc.returncode == 0, err
@@ -111,5 +119,6 @@ def check_recording(path):
     assert summary.statistics.message_count == sum(counts.values())
     for topic in ["/left/measured_js", "/platform/setpoint_cp", "/scene", "/diagnostics", "/command_ack"]:
         assert counts.get(topic, 0) > 0, topic
-    # The five commands: four acknowledged, the unknown one refused before.
-    assert counts["/command_ack"] == 4
+    # The ten commands: nine acknowledged (four of CRTK's, then stop, two
+    # look_at, move_to, look_at_tips), the unknown one refused before.
+    assert counts["/command_ack"] == 9

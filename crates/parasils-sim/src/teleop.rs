@@ -11,7 +11,7 @@
 //!
 //! | column | codes |
 //! |---|---|
-//! | `teleop_command` | 0 none, then 1 `enable`, 2 `disable`, 3 `pause`, 4 `resume`, 5 `home` (`Command::ALL`'s order, from 1) |
+//! | `teleop_command` | 0 none, then 1 `enable`, 2 `disable`, 3 `pause`, 4 `resume`, 5 `home`, 6 `look_at_tips`, 7 `stop` (`Command::ALL`'s order, from 1) |
 //! | `teleop_state` | 0 DISABLED, 1 ENABLED, 2 PAUSED, 3 FAULT (`OperatingState::ALL`'s order) |
 //! | `teleop_hold` | 0 none; 1 to 11 a supervised margin (`Margin::ALL`'s order, from 1); 12 to 14 a clearance pair (`ClearancePair::ALL`'s order); 15 the kinematics' reach; 16 to 39 an actuator's velocity (even) or acceleration (odd) limit, `16 + 2 k + rate` with `k` its place in `Actuator::ALL` |
 //! | `teleop_fault` | 0 none, 1 a non-finite input, 2 a silent device, 3 a stop that cannot be solved |

@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use futures_util::{SinkExt, StreamExt};
 use parasils::teleop::TeleopParams;
-use parasils_live::{LiveOptions, Session};
+use parasils_live::{LiveOptions, Session, SessionReport};
 use parasils_sim::{Scenario, TeleopRun};
 use serde_json::{Value, json};
 use tokio::net::TcpStream;
@@ -33,19 +33,41 @@ pub fn session_with(
     duration_s: f64,
     token: Option<&str>,
 ) -> Session {
+    session_options(
+        rate_hz,
+        &LiveOptions {
+            port: 0,
+            publish_hz,
+            duration_s: Some(duration_s),
+            token: token.map(str::to_owned),
+            ..LiveOptions::default()
+        },
+    )
+}
+
+/// A session of the paper's robot at `rate_hz` with `options`.
+pub fn session_options(rate_hz: f64, options: &LiveOptions) -> Session {
     let scenario = Scenario {
         rate_hz,
         ..Scenario::paper()
     };
     let run = TeleopRun::new(scenario, TeleopParams::assumed()).expect("run");
-    let options = LiveOptions {
-        port: 0,
-        publish_hz,
-        duration_s: Some(duration_s),
-        token: token.map(str::to_owned),
-        ..LiveOptions::default()
-    };
-    Session::start(run, &options).expect("session")
+    Session::start(run, options).expect("session")
+}
+
+/// Runs `client` (given the session's address) on a runtime of its own
+/// while `s` runs on another thread, then waits for the session to end;
+/// what the client returned and the session's report.
+pub fn drive<R>(s: Session, client: impl AsyncFnOnce(&str) -> R) -> (R, SessionReport) {
+    let address = s.address().to_string();
+    let waiter = std::thread::spawn(move || s.wait());
+    let rt = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .expect("runtime");
+    let out = rt.block_on(client(&address));
+    let report = waiter.join().expect("join").expect("session");
+    (out, report)
 }
 
 /// Connects offering `subprotocol`.
@@ -73,6 +95,11 @@ pub struct Client {
     pub statuses: Vec<(u64, String)>,
     /// Client channel id of each input topic advertised.
     pub inputs: HashMap<String, u32>,
+    /// Id of each service the server advertised, by name.
+    pub services: HashMap<String, u32>,
+    /// Each service call's answer, by call id: the response's payload as
+    /// JSON, or the failure's message.
+    pub calls: HashMap<u32, Result<Value, String>>,
 }
 
 impl Client {
@@ -87,6 +114,8 @@ impl Client {
             received: HashMap::new(),
             statuses: Vec::new(),
             inputs: HashMap::new(),
+            services: HashMap::new(),
+            calls: HashMap::new(),
         };
         let deadline = Instant::now() + Duration::from_secs(5);
         while c.channels.is_empty() && Instant::now() < deadline {
@@ -132,6 +161,27 @@ impl Client {
         self.ws.send(Message::binary(data)).await.expect("publish");
     }
 
+    /// Calls the service `name` with the JSON `request` as call `call`, and
+    /// reads until its answer comes (`None`: none within 2 s).
+    pub async fn call(
+        &mut self,
+        name: &str,
+        call: u32,
+        request: &Value,
+    ) -> Option<Result<Value, String>> {
+        let service = self.services[name];
+        let mut data = vec![2u8];
+        data.extend_from_slice(&service.to_le_bytes());
+        data.extend_from_slice(&call.to_le_bytes());
+        data.extend_from_slice(&4u32.to_le_bytes());
+        data.extend_from_slice(b"json");
+        data.extend_from_slice(request.to_string().as_bytes());
+        self.ws.send(Message::binary(data)).await.expect("call");
+        self.read_until(Duration::from_secs(2), |c| c.calls.contains_key(&call))
+            .await;
+        self.calls.get(&call).cloned()
+    }
+
     /// Reads one message (or times out); false when the connection closed.
     pub async fn read_one(&mut self, timeout: Duration) -> bool {
         let next = match tokio::time::timeout(timeout, self.ws.next()).await {
@@ -150,6 +200,19 @@ impl Client {
                                 .insert(id, ch["topic"].as_str().expect("topic").to_owned());
                         }
                     }
+                    Some("advertiseServices") => {
+                        for sv in v["services"].as_array().expect("services") {
+                            let id = u32::try_from(sv["id"].as_u64().expect("id")).expect("u32");
+                            let name = sv["name"].as_str().expect("name").to_owned();
+                            self.services.insert(name, id);
+                        }
+                    }
+                    Some("serviceCallFailure") => {
+                        let call =
+                            u32::try_from(v["callId"].as_u64().expect("callId")).expect("u32");
+                        let message = v["message"].as_str().unwrap_or_default().to_owned();
+                        self.calls.insert(call, Err(message));
+                    }
                     Some("status") => self.statuses.push((
                         v["level"].as_u64().unwrap_or(9),
                         v["message"].as_str().unwrap_or_default().to_owned(),
@@ -163,6 +226,14 @@ impl Client {
                 let value: Value = serde_json::from_slice(&data[13..]).expect("payload json");
                 let topic = self.subscriptions[&sub].clone();
                 self.received.entry(topic).or_default().push((ns, value));
+            }
+            Message::Binary(data) if data.first() == Some(&3) && data.len() >= 13 => {
+                // Service call response: op, service id, call id, encoding
+                // length and encoding, payload.
+                let call = u32::from_le_bytes(data[5..9].try_into().expect("4"));
+                let n = u32::from_le_bytes(data[9..13].try_into().expect("4")) as usize;
+                let value: Value = serde_json::from_slice(&data[13 + n..]).expect("response json");
+                self.calls.insert(call, Ok(value));
             }
             Message::Close(_) => return false,
             _ => {}

@@ -223,12 +223,18 @@ class LiveClient:
             msg["id"] = int(id)
         self.publish(INPUT_TOPICS[device], msg)
 
-    def command(self, name: str, *, timeout_s: Optional[float] = None) -> dict:
-        """Sends the CRTK command ``name`` (``enable``, ``disable``,
-        ``pause``, ``resume``, ``home``) and returns its acknowledgement:
+    def command(self, name: str, *, timeout_s: Optional[float] = None, **goal) -> dict:
+        """Sends the command ``name`` and returns its acknowledgement:
         ``{"command", "id", "accepted", "before", "state", "reason", "t_s"}``
         (``state`` is the state it led to; ``reason`` says why a refused
-        command was invalid).
+        command was invalid or a move was refused).
+
+        ``name`` is a CRTK command (``enable``, ``disable``, ``pause``,
+        ``resume``), ``home``, ``look_at_tips``, ``stop``, or a planned move
+        with its goal in ``goal``: ``look_at`` with ``point_mm=[x, y, z]``
+        (fixed frame), ``move_to`` with ``psi_deg``, ``theta_deg`` and
+        optionally ``left_tip_mm``, ``right_tip_mm``. For example
+        ``c.command("look_at", point_mm=[20, 30, -600])``.
 
         Raises:
             LiveError: when the server refuses the message itself (an
@@ -238,7 +244,7 @@ class LiveClient:
         self._command_id = getattr(self, "_command_id", 0) + 1
         ident = self._command_id
         errors = len([s for s in self.statuses if s[0] == 2])
-        self.publish(COMMAND_TOPIC, {"command": name, "id": ident})
+        self.publish(COMMAND_TOPIC, {**goal, "command": name, "id": ident})
         end = time.monotonic() + (self.timeout_s if timeout_s is None else timeout_s)
         while time.monotonic() < end:
             for k, (t, _, msg) in enumerate(self._pending):

@@ -110,6 +110,20 @@ impl TeleopRun {
         &self.teleop
     }
 
+    /// Starts a planned move of the core ([`Teleop::start_move`]: look at a
+    /// point or the tips, move to a pose, home) from the last cycle's
+    /// setpoint; the next [`step`](Self::step) is its first cycle.
+    ///
+    /// # Errors
+    /// [`parasils::teleop::MoveRefused`]: not ENABLED, a non-finite goal, a
+    /// point the view cannot aim at; the core is then unchanged.
+    pub fn start_move(
+        &mut self,
+        goal: parasils::teleop::Goal<f64>,
+    ) -> Result<(), parasils::teleop::MoveRefused> {
+        self.teleop.start_move(goal)
+    }
+
     /// One cycle at [`TeleopRun::next_time_s`]: each device holding `held`
     /// (`[left, right, camera]`, stamped now), `command` given; its record.
     ///

@@ -151,7 +151,7 @@ pub use schema::{
 };
 pub use sink::{
     GENERATOR, MOTION_TOPIC, McapOptions, McapSink, RUN_METADATA, SAMPLE_TOPICS, SCENARIO_METADATA,
-    TELEOP_TOPIC,
+    TELEOP_TOPIC, scenario_metadata,
 };
 
 #[cfg(test)]

@@ -143,12 +143,19 @@ impl<W: Write + Seek> core::fmt::Debug for McapSink<W> {
     }
 }
 
-/// The `parasils.scenario` metadata record of `scenario`.
-fn scenario_metadata(
+/// The fields of the `parasils.scenario` metadata record of `scenario`
+/// drawn with `geometry`, its scene every `period` s: the scenario (JSON,
+/// library units), its units, the geometry, the tips, the bodies, module
+/// 1's provenance, the channels' units, the scene's period, the generator.
+/// `simulate`'s file and the live server's recording write the same.
+///
+/// # Errors
+/// [`McapError`] when a value cannot be serialised.
+pub fn scenario_metadata(
     scenario: &Scenario,
     geometry: &SceneGeometry,
     period: f64,
-) -> Result<Metadata, McapError> {
+) -> Result<BTreeMap<String, String>, McapError> {
     let tips = scenario.tips();
     let mut meta = BTreeMap::new();
     meta.insert(
@@ -191,10 +198,7 @@ fn scenario_metadata(
         ryu::Buffer::new().format(period).to_owned(),
     );
     meta.insert("generator".to_owned(), GENERATOR.to_owned());
-    Ok(Metadata {
-        name: SCENARIO_METADATA.to_owned(),
-        metadata: meta,
-    })
+    Ok(meta)
 }
 
 impl<W: Write + Seek + Send + 'static> McapSink<W> {
@@ -264,7 +268,10 @@ impl<W: Write + Seek + Send + 'static> McapSink<W> {
         let geometry = SceneGeometry::from_robot(&scenario.robot)
             .and_then(|g| g.with_bodies(scenario.bodies))
             .map_err(McapError::Geometry)?;
-        writer.write_metadata(&scenario_metadata(scenario, &geometry, period)?)?;
+        writer.write_metadata(&Metadata {
+            name: SCENARIO_METADATA.to_owned(),
+            metadata: scenario_metadata(scenario, &geometry, period)?,
+        })?;
 
         let no_meta = BTreeMap::new();
         // One schema and the channel on it, in the order the ids are given.
