@@ -2,11 +2,11 @@
 //! where the system allows it, the ordinary policy otherwise, and the
 //! timer slack that decides how late a sleeping thread may be woken.
 //!
-//! This is the crate's only module with `unsafe` code: two system calls
-//! through `libc` (`pthread_setschedparam` and `prctl(PR_SET_TIMERSLACK)`),
-//! each on the calling thread, with arguments built here. Neither needs
-//! root: a process without the right (no `CAP_SYS_NICE`, `ulimit -r` 0)
-//! gets `EPERM`, and the thread keeps the ordinary policy.
+//! Both system calls go through well-kept crates (`thread-priority` for
+//! `pthread_setschedparam`, `nix` for `prctl(PR_SET_TIMERSLACK)`), so the
+//! crate keeps the workspace's `forbid(unsafe_code)`. Neither needs root:
+//! a process without the right (no `CAP_SYS_NICE`, `ulimit -r` 0) gets
+//! `EPERM`, and the thread keeps the ordinary policy.
 
 /// How the control thread is scheduled.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -60,23 +60,25 @@ pub fn schedule_current_thread(priority: Option<u8>) -> Scheduling {
 }
 
 #[cfg(unix)]
-#[allow(unsafe_code, reason = "two system calls on the calling thread")]
 fn set_fifo(priority: u8) -> Result<(), String> {
-    let param = libc::sched_param {
-        sched_priority: i32::from(priority),
+    use thread_priority::{
+        RealtimeThreadSchedulePolicy, ThreadPriority, ThreadPriorityValue, ThreadSchedulePolicy,
+        set_thread_priority_and_policy, thread_native_id,
     };
-    // SAFETY: `pthread_self()` is the calling thread, alive for the call;
-    // `param` is a valid `sched_param` that outlives it; the call reads it
-    // and changes only that thread's scheduling.
-    let rc = unsafe { libc::pthread_setschedparam(libc::pthread_self(), libc::SCHED_FIFO, &param) };
-    if rc == 0 {
-        Ok(())
-    } else {
-        Err(format!(
+    let value = ThreadPriorityValue::try_from(priority)
+        .map_err(|e| format!("SCHED_FIFO priority {priority}: {e}"))?;
+    set_thread_priority_and_policy(
+        thread_native_id(),
+        ThreadPriority::Crossplatform(value),
+        ThreadSchedulePolicy::Realtime(RealtimeThreadSchedulePolicy::Fifo),
+    )
+    .map_err(|e| match e {
+        thread_priority::Error::OS(code) => format!(
             "SCHED_FIFO refused: {}",
-            std::io::Error::from_raw_os_error(rc)
-        ))
-    }
+            std::io::Error::from_raw_os_error(code)
+        ),
+        other => format!("SCHED_FIFO refused: {other:?}"),
+    })
 }
 
 #[cfg(not(unix))]
@@ -84,14 +86,11 @@ fn set_fifo(_priority: u8) -> Result<(), String> {
     Err("SCHED_FIFO is not available on this system".to_owned())
 }
 
+/// A failure leaves the slack as it was, which is only slower wake-ups
+/// (the spin before each deadline absorbs them), so it is not reported.
 #[cfg(target_os = "linux")]
-#[allow(unsafe_code, reason = "one system call on the calling thread")]
 fn set_timer_slack_ns(ns: u64) {
-    // SAFETY: `PR_SET_TIMERSLACK` takes the slack in ns as its one
-    // argument (the others are ignored, passed as 0) and changes only the
-    // calling thread; a failure leaves the slack as it was, which is only
-    // slower wake-ups, so its result is not needed.
-    let _ = unsafe { libc::prctl(libc::PR_SET_TIMERSLACK, ns, 0u64, 0u64, 0u64) };
+    let _ = nix::sys::prctl::set_timerslack(ns);
 }
 
 #[cfg(not(target_os = "linux"))]
@@ -135,7 +134,8 @@ mod tests {
         })
         .join()
         .expect("thread");
-        let fifo = u32::try_from(libc::SCHED_FIFO).expect("small");
+        // SCHED_FIFO is policy 1 (`include/uapi/linux/sched.h`).
+        let fifo = 1;
         assert_eq!(s.is_realtime(), policy == fifo, "{s}, policy {policy}");
         if let Scheduling::Fifo { priority } = s {
             assert_eq!(priority, 10);

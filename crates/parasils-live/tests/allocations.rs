@@ -1,14 +1,9 @@
 //! The control loop allocates nothing per cycle: the allocations its
-//! thread makes are counted (a counting global allocator, per thread) for
-//! a short and a long run fed the same inputs and commands, and they are
-//! the same number, whatever the number of cycles.
+//! thread makes are counted (`allocation-counter`'s global allocator, which
+//! counts per thread) for a short and a long run fed the same inputs and
+//! commands, and they are the same number, whatever the number of cycles.
 
-#![allow(unsafe_code, reason = "a counting global allocator, for the test")]
-
-use core::alloc::{GlobalAlloc, Layout};
-use core::cell::Cell;
 use core::sync::atomic::AtomicBool;
-use std::alloc::System;
 use std::sync::Arc;
 use std::sync::mpsc::sync_channel;
 use std::time::Instant;
@@ -19,35 +14,6 @@ use parasils_live::{
     Queues, Reply, run_loop,
 };
 use parasils_sim::{Scenario, TeleopRun};
-
-struct Counting;
-
-thread_local! {
-    static COUNTING: Cell<bool> = const { Cell::new(false) };
-    static COUNT: Cell<u64> = const { Cell::new(0) };
-}
-
-// SAFETY: every call is passed to the system allocator unchanged; the
-// count is a thread-local cell that does not allocate.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let _ = COUNTING.try_with(|on| {
-            if on.get() {
-                COUNT.with(|c| c.set(c.get() + 1));
-            }
-        });
-        // SAFETY: the caller's layout, passed on.
-        unsafe { System.alloc(layout) }
-    }
-
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: `ptr` came from `System.alloc` with `layout`.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
-#[global_allocator]
-static ALLOCATOR: Counting = Counting;
 
 /// The allocations of `run_loop`'s thread over `cycles` cycles at 2 kHz,
 /// with an input and commands waiting before it starts.
@@ -93,10 +59,11 @@ fn allocations(cycles: u64) -> u64 {
             cycles: Some(cycles),
             spin_margin: core::time::Duration::from_micros(100),
         };
-        COUNTING.with(|c| c.set(true));
-        let stats = run_loop(run, settings, &queues, &stop, Instant::now()).expect("loop");
-        COUNTING.with(|c| c.set(false));
-        (COUNT.with(Cell::get), stats)
+        let mut stats = None;
+        let info = allocation_counter::measure(|| {
+            stats = Some(run_loop(run, settings, &queues, &stop, Instant::now()));
+        });
+        (info.count_total, stats.expect("ran").expect("loop"))
     })
     .join()
     .expect("thread");
