@@ -105,11 +105,16 @@ impl<T: Real> MarginTracker<T> {
     /// certifies, else from the full decomposition.
     pub(super) fn margin(&mut self, rows: &Mat6<T>) -> T {
         self.margins = self.margins.saturating_add(1);
-        if let Some(x) = self.weakest
-            && let Some((sigma, y)) = refine(&gram(rows), &x)
-        {
-            self.weakest = Some(y);
-            return sigma;
+        if let Some(x) = self.weakest {
+            let a = gram(rows);
+            if let Some((sigma, y)) = refine(&a, &x) {
+                self.weakest = Some(y);
+                return sigma;
+            }
+            if let Some((sigma, y)) = sharpened(&a, &x) {
+                self.weakest = Some(y);
+                return sigma;
+            }
         }
         self.full = self.full.saturating_add(1);
         // The singular values of J are those of J^T: the rows serve as the
@@ -128,6 +133,46 @@ fn tolerance<T: Real>() -> T {
     } else {
         T::lit(MarginTracker::<T>::TOLERANCE_F32)
     }
+}
+
+/// The margin of `a` from `x` [`sharpen`]ed, when `x` itself does not certify
+/// (a larger move than a control cycle's: the cells of a reach map); kept
+/// out of line, so that a control cycle's path stays as short as it was.
+#[cold]
+#[inline(never)]
+fn sharpened<T: Real>(a: &Mat6<T>, x: &Vec6<T>) -> Option<(T, Vec6<T>)> {
+    refine(a, &sharpen(a, x)?)
+}
+
+/// `x` turned towards the weakest direction of `a` by four steps of
+/// inverse iteration, `(a - s I)^-4 x` (unit), with the largest shift `s`
+/// of `0.99 rho`, `0.9 rho`, `0.5 rho` and 0 (`rho` the Rayleigh quotient of `x`, an
+/// upper bound of the smallest eigenvalue `lambda`) for which `a - s I` is
+/// positive definite, so that `s < lambda`: each step shrinks the
+/// components off the weakest direction by `(lambda - s) / (lambda_k - s)`.
+/// `None` when no shift factorises (then only the full decomposition can
+/// tell).
+fn sharpen<T: Real>(a: &Mat6<T>, x: &Vec6<T>) -> Option<Vec6<T>> {
+    let rho = dot(x, &mul(a, x)) / dot(x, x);
+    let mut l = [[T::zero(); 6]; 6];
+    let mut d_inv = [T::zero(); 6];
+    let factorised = [T::lit(0.99), T::lit(0.9), T::lit(0.5), T::zero()]
+        .into_iter()
+        .any(|f| ldl_shifted(a, f * rho, &mut l, &mut d_inv));
+    if !factorised {
+        return None;
+    }
+    let mut y = *x;
+    for _ in 0..2 {
+        y = ldl_solve(&l, &d_inv, &ldl_solve(&l, &d_inv, &y));
+        let yy = dot(&y, &y);
+        if !(yy > T::zero() && yy.finite()) {
+            return None;
+        }
+        let inv = T::one() / yy.sqrt();
+        y = y.map(|v| v * inv);
+    }
+    Some(y)
 }
 
 /// Steps 1 to 4 of the [module docs](self): the certified margin and the new
