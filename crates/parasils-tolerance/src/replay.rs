@@ -82,12 +82,13 @@ pub(crate) fn rotation_angle(a: &nalgebra::Matrix3<f64>, b: &nalgebra::Matrix3<f
     2.0 * s.min(1.0).asin()
 }
 
+/// Module 1, the left and the right instrument module of a robot.
+type Modules = (ParallelRobot<f64>, Instrument<f64>, Instrument<f64>);
+
 /// Module 1 and both instrument modules of `robot`, `(module1, left,
 /// right)`, each validated; an invalid one is the replay's failure before
 /// any sample.
-fn modules(
-    robot: &RobotGeometry<f64>,
-) -> Result<(ParallelRobot<f64>, Instrument<f64>, Instrument<f64>), ReplayFailure> {
+fn modules(robot: &RobotGeometry<f64>) -> Result<Modules, ReplayFailure> {
     let invalid = |error| ReplayFailure {
         index: None,
         t_s: 0.0,
