@@ -6,6 +6,7 @@ use super::setpoint::{MotionKind, Setpoint};
 use super::watch::{GapTrack, gap_array};
 use crate::Real;
 use crate::error::Error;
+use crate::follow::Follow;
 use crate::regions::{
     ForbiddenRegions, InBodyCapsules, NearestRegion, NoRegions, RegionQueryError,
 };
@@ -49,11 +50,14 @@ impl<T: Real> OnlineController<T> {
         if with_regions && self.clearance.is_none() {
             return Err(Error::NoClearanceWatch);
         }
-        // The follow law's cycle, kept apart until the cycle succeeds.
-        let mut law = self.follow;
+        // The follow law's cycle, kept apart until the cycle succeeds (a
+        // copy only while the camera follows: the law is large, and a tick
+        // without it copies none).
+        let mut law: Option<Follow<T>> = None;
         let mut adopted: Option<(OnlineMulti<T, 2>, T)> = None;
-        let angles = match &mut law {
-            Some(law) => {
+        let angles = match &self.follow {
+            Some(following) => {
+                let law = law.insert(*following);
                 let step = law.step(t, &[self.tips.left, self.tips.right])?;
                 if step.replanned
                     && let Some((profile, start)) = law.recentring()
@@ -136,7 +140,9 @@ impl<T: Real> OnlineController<T> {
             self.motion = motion;
             self.start = start;
         }
-        self.follow = law;
+        if law.is_some() {
+            self.follow = law;
+        }
         let stop_time = self.stop_time(&angles);
         let verdict = self
             .supervisor
@@ -174,24 +180,9 @@ impl<T: Real> OnlineController<T> {
             }
             _ => Default::default(),
         };
-        let setpoint = Setpoint {
-            t,
-            state,
-            step,
-            tips: self.tips,
-            command: self.command_index(),
-            kind: self.kind,
-            follow: self.follow_phase(),
-            margins,
-            warnings: verdict.warnings,
-            stop: verdict.stop,
-            clearance,
-            clearance_warnings: gap_verdict.warnings,
-            clearance_stop: gap_verdict.stop,
-            region: nearest,
-            region_warning: region_verdict.warning,
-            region_stop: region_verdict.stop,
-        };
+        // What the setpoint reports of the motion, before a stop demanded
+        // below begins; the setpoint itself is built last, in place.
+        let (command, kind, follow) = (self.command_index(), self.kind, self.follow_phase());
         // A gap's demand at a motion's first instant, still at rest, holds
         // the platform there (a stop of zero duration): the motion would
         // take it below the stop threshold.
@@ -204,7 +195,24 @@ impl<T: Real> OnlineController<T> {
         {
             self.begin(t, motion, MotionKind::SupervisorStop);
         }
-        Ok(setpoint)
+        Ok(Setpoint {
+            t,
+            state,
+            step,
+            tips: self.tips,
+            command,
+            kind,
+            follow,
+            margins,
+            warnings: verdict.warnings,
+            stop: verdict.stop,
+            clearance,
+            clearance_warnings: gap_verdict.warnings,
+            clearance_stop: gap_verdict.stop,
+            region: nearest,
+            region_warning: region_verdict.warning,
+            region_stop: region_verdict.stop,
+        })
     }
 }
 

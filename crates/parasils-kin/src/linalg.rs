@@ -82,6 +82,7 @@ pub(crate) fn mul<T: Real>(a: &Mat6<T>, v: &Vec6<T>) -> Vec6<T> {
 /// mirrored, 21 products a row instead of 36.
 #[cfg(any(target_arch = "x86_64", target_arch = "x86", target_arch = "aarch64"))]
 #[allow(clippy::needless_range_loop)]
+#[inline(always)]
 pub(crate) fn gram<T: Real>(rows: &Mat6<T>) -> Mat6<T> {
     let mut a = [[T::zero(); 6]; 6];
     for r in rows {

@@ -221,3 +221,40 @@ fn tracked_margin_certified_anywhere() {
     );
     assert!(smallest < 1e-4, "{smallest}");
 }
+
+/// Rows of a reach map's grid: 0.5 deg of `psi` from one call to the next,
+/// hundreds of control cycles' worth, where last call's direction alone
+/// seldom certifies. Two steps of inverse iteration from it recover the
+/// weakest direction without the full decomposition: every margin within
+/// the certified tolerance of the full decomposition, and the full one
+/// taken for the first margin of each row only.
+#[test]
+fn tracked_margin_across_grid_steps() {
+    let robot = ParallelRobot::<f64>::assumed();
+    let tol = MarginTracker::<f64>::TOLERANCE_F64 / 2.0;
+    let (mut worst, mut margins, mut fulls) = (0f64, 0u64, 0u64);
+    for row in 0..21 {
+        let theta = -20.0 + 2.0 * f64::from(row);
+        let mut tracker = MarginTracker::new();
+        for col in 0..81 {
+            let psi = -20.0 + 0.5 * f64::from(col);
+            let pose = Pose::from_mm_deg(0.0, 0.0, -500.0, psi, theta, -60.0);
+            let Ok(exact) = robot.margins(&pose) else {
+                continue;
+            };
+            let frame = PlatformState::at_rest(pose).frame().expect("finite");
+            let s = robot
+                .solve_tracking(&frame, &mut tracker)
+                .expect("solvable");
+            let rel = (s.margins.parallel - exact.parallel).abs() / exact.parallel;
+            assert!(rel <= tol, "psi {psi}, theta {theta}: {rel:e}");
+            worst = worst.max(rel);
+        }
+        let (n, full) = tracker.counts();
+        margins += n;
+        fulls += full;
+    }
+    println!("grid steps: {fulls} full of {margins}, largest relative difference {worst:.2e}");
+    assert!(margins > 1500, "{margins}");
+    assert!(fulls <= 21 + margins / 100, "{fulls} of {margins}");
+}

@@ -82,6 +82,25 @@ pub(crate) fn rotation_angle(a: &nalgebra::Matrix3<f64>, b: &nalgebra::Matrix3<f
     2.0 * s.min(1.0).asin()
 }
 
+/// Module 1, the left and the right instrument module of a robot.
+type Modules = (ParallelRobot<f64>, Instrument<f64>, Instrument<f64>);
+
+/// Module 1 and both instrument modules of `robot`, `(module1, left,
+/// right)`, each validated; an invalid one is the replay's failure before
+/// any sample.
+fn modules(robot: &RobotGeometry<f64>) -> Result<Modules, ReplayFailure> {
+    let invalid = |error| ReplayFailure {
+        index: None,
+        t_s: 0.0,
+        error,
+    };
+    Ok((
+        ParallelRobot::new(robot.module1).map_err(invalid)?,
+        Instrument::new(robot.left).map_err(invalid)?,
+        Instrument::new(robot.right).map_err(invalid)?,
+    ))
+}
+
 /// The commands of `trace` replayed on `robot`.
 ///
 /// # Errors
@@ -89,14 +108,7 @@ pub(crate) fn rotation_angle(a: &nalgebra::Matrix3<f64>, b: &nalgebra::Matrix3<f
 /// kinematics fails at a sample (no convergence, a singular Jacobian, a link
 /// on the other branch), or a tip overflows.
 pub fn replay(robot: &RobotGeometry<f64>, trace: &Trace) -> Result<Deviation, ReplayFailure> {
-    let invalid = |error| ReplayFailure {
-        index: None,
-        t_s: 0.0,
-        error,
-    };
-    let module1 = ParallelRobot::new(robot.module1).map_err(invalid)?;
-    let left = Instrument::new(robot.left).map_err(invalid)?;
-    let right = Instrument::new(robot.right).map_err(invalid)?;
+    let (module1, left, right) = modules(robot)?;
     let mut worst = Deviation::default();
     let mut guess: Option<Pose<f64>> = None;
     for (k, c) in trace.commands().iter().enumerate() {
@@ -177,14 +189,7 @@ impl ReplayPlan {
     /// # Errors
     /// [`replay()`]'s: the chord method never fails a sample on its own.
     pub fn replay(&self, robot: &RobotGeometry<f64>) -> Result<Deviation, ReplayFailure> {
-        let invalid = |error| ReplayFailure {
-            index: None,
-            t_s: 0.0,
-            error,
-        };
-        let module1 = ParallelRobot::new(robot.module1).map_err(invalid)?;
-        let left = Instrument::new(robot.left).map_err(invalid)?;
-        let right = Instrument::new(robot.right).map_err(invalid)?;
+        let (module1, left, right) = modules(robot)?;
         let options = module1.geometry().fk;
         let mut worst = Deviation::default();
         let mut guess: Option<Pose<f64>> = None;
