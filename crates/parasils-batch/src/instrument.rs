@@ -21,9 +21,9 @@ use core::ops::Range;
 use parasils_kin::nalgebra::Vector3;
 use parasils_kin::{AssemblyMode, Instrument, Pose, Real, Side};
 
+use crate::lanes::{M, V};
 use crate::level::{Kernel, Level, dispatch};
 use crate::rows::{BatchError, OnRowError, Strided, check_input, check_output};
-use crate::lanes::{M, V};
 use crate::trig::{atan2, sincos};
 
 /// How far inside its limits (rad) a lane's `qs1` and `qs2` must be for the

@@ -126,7 +126,8 @@ impl<const L: usize> M<L> {
     pub(crate) fn select(self, a: V<L>, b: V<L>) -> V<L> {
         let mut out = [0.0; L];
         for l in 0..L {
-            out[l] = f64::from_bits((a.0[l].to_bits() & self.0[l]) | (b.0[l].to_bits() & !self.0[l]));
+            out[l] =
+                f64::from_bits((a.0[l].to_bits() & self.0[l]) | (b.0[l].to_bits() & !self.0[l]));
         }
         V(out)
     }

@@ -122,7 +122,11 @@ pub(crate) fn check_input<const W: usize>(
 }
 
 /// `Err(Shape)` unless an output holds `needed` values.
-pub(crate) fn check_output(what: &'static str, needed: usize, got: usize) -> Result<(), BatchError> {
+pub(crate) fn check_output(
+    what: &'static str,
+    needed: usize,
+    got: usize,
+) -> Result<(), BatchError> {
     if needed == got {
         Ok(())
     } else {

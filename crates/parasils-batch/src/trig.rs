@@ -111,7 +111,11 @@ pub(crate) fn sincos<const L: usize>(x: V<L>) -> (V<L>, V<L>, M<L>) {
     let (sin, cos) = (odd.select(cos, sin), odd.select(sin, cos));
     let sin = sin.bits().xor(q.and(2).shl(62)).float();
     let cos = cos.bits().xor(q.add(1).and(2).shl(62)).float();
-    (tiny.select(x, sin), tiny.select(V::splat(1.0), cos), in_range)
+    (
+        tiny.select(x, sin),
+        tiny.select(V::splat(1.0), cos),
+        in_range,
+    )
 }
 
 // ------------------------------------------------------------ arctangent

@@ -16,9 +16,7 @@ use parasils_batch::{
     sin_cos_slice,
 };
 use parasils_kin::nalgebra::Vector3;
-use parasils_kin::{
-    AssemblyMode, Instrument, InstrumentGeometry, JointLimits, Pose, Real, Side,
-};
+use parasils_kin::{AssemblyMode, Instrument, InstrumentGeometry, JointLimits, Pose, Real, Side};
 use proptest::prelude::*;
 
 /// The largest distance allowed between the lanes' `atan2` and libm's.
@@ -43,9 +41,18 @@ fn ulps(a: f64, b: f64) -> u64 {
 
 /// The levels to run, printed; a level the CPU lacks is named as skipped.
 fn levels(test: &str) -> Vec<Level> {
-    let (run, skip): (Vec<Level>, Vec<Level>) = Level::ALL.into_iter().partition(|l| l.is_supported());
+    let (run, skip): (Vec<Level>, Vec<Level>) =
+        Level::ALL.into_iter().partition(|l| l.is_supported());
     let names = |v: &[Level]| v.iter().map(|l| l.name()).collect::<Vec<_>>().join(", ");
-    eprintln!("{test}: levels run: {}; skipped (not on this CPU): {}", names(&run), if skip.is_empty() { "none".into() } else { names(&skip) });
+    eprintln!(
+        "{test}: levels run: {}; skipped (not on this CPU): {}",
+        names(&run),
+        if skip.is_empty() {
+            "none".into()
+        } else {
+            names(&skip)
+        }
+    );
     run
 }
 
@@ -76,7 +83,11 @@ fn edge_angles() -> Vec<f64> {
     ];
     for k in -40..40 {
         let half = f64::from(k) * core::f64::consts::FRAC_PI_4;
-        v.extend([half, f64::from_bits(half.to_bits() + 1), f64::from_bits(half.to_bits().wrapping_sub(1))]);
+        v.extend([
+            half,
+            f64::from_bits(half.to_bits() + 1),
+            f64::from_bits(half.to_bits().wrapping_sub(1)),
+        ]);
     }
     v
 }
@@ -135,14 +146,29 @@ fn check_atan2(y: &[f64], x: &[f64]) -> u64 {
                 continue;
             }
             let d = ulps(out[i], libm);
-            assert!(d <= ATAN2_ULPS, "{level} atan2({:e}, {:e}) = {:e}, libm {libm:e}: {d} ulps", y[i], x[i], out[i]);
-            assert_eq!(out[i].is_sign_negative(), libm.is_sign_negative(), "sign of atan2({:e}, {:e})", y[i], x[i]);
+            assert!(
+                d <= ATAN2_ULPS,
+                "{level} atan2({:e}, {:e}) = {:e}, libm {libm:e}: {d} ulps",
+                y[i],
+                x[i],
+                out[i]
+            );
+            assert_eq!(
+                out[i].is_sign_negative(),
+                libm.is_sign_negative(),
+                "sign of atan2({:e}, {:e})",
+                y[i],
+                x[i]
+            );
             worst = worst.max(d);
         }
         if level != Level::Scalar {
             match &first {
                 None => first = Some(out),
-                Some(f) => assert!(f.iter().zip(&out).all(|(a, b)| a.to_bits() == b.to_bits()), "{level}: other bits than the narrower lanes"),
+                Some(f) => assert!(
+                    f.iter().zip(&out).all(|(a, b)| a.to_bits() == b.to_bits()),
+                    "{level}: other bits than the narrower lanes"
+                ),
             }
         }
     }
@@ -152,7 +178,20 @@ fn check_atan2(y: &[f64], x: &[f64]) -> u64 {
 #[test]
 fn atan2_edges_and_its_worst_case() {
     levels("atan2 edges");
-    let specials = [0.0, -0.0, 1.0, -1.0, 0.66, -0.66, 1e-310, 1e300, 2.5, -3.0, f64::INFINITY, f64::NAN];
+    let specials = [
+        0.0,
+        -0.0,
+        1.0,
+        -1.0,
+        0.66,
+        -0.66,
+        1e-310,
+        1e300,
+        2.5,
+        -3.0,
+        f64::INFINITY,
+        f64::NAN,
+    ];
     let (mut y, mut x) = (Vec::new(), Vec::new());
     for &a in &specials {
         for &b in &specials {
@@ -173,7 +212,10 @@ fn atan2_edges_and_its_worst_case() {
         x.push(1.0);
     }
     let worst = check_atan2(&y, &x);
-    eprintln!("atan2: at most {worst} ulps from libm over {} directions", y.len());
+    eprintln!(
+        "atan2: at most {worst} ulps from libm over {} directions",
+        y.len()
+    );
 }
 
 // ------------------------------------------------------------ instrument IK
@@ -193,11 +235,20 @@ fn check_ik(m: Instrument<f64>, mode: AssemblyMode, pose: &[f64], tip: &[f64]) -
     let mut worst = 0;
     let mut first: Option<Vec<f64>> = None;
     for level in Level::supported() {
-        let ik = InstrumentIk::new(m, mode).at_level(level).expect("supported");
+        let ik = InstrumentIk::new(m, mode)
+            .at_level(level)
+            .expect("supported");
         let mut out = vec![0.0; 3 * n];
         let mut ok = vec![false; n];
-        ik.solve(0..n, Strided::rows(pose), Strided::rows(tip), &mut out, &mut ok, OnRowError::Nan)
-            .expect("NaN rows do not stop");
+        ik.solve(
+            0..n,
+            Strided::rows(pose),
+            Strided::rows(tip),
+            &mut out,
+            &mut ok,
+            OnRowError::Nan,
+        )
+        .expect("NaN rows do not stop");
         let mut first_error = None;
         for i in 0..n {
             let p = Pose::from_array(<[f64; 6]>::try_from(&pose[6 * i..6 * i + 6]).expect("six"));
@@ -205,16 +256,28 @@ fn check_ik(m: Instrument<f64>, mode: AssemblyMode, pose: &[f64], tip: &[f64]) -
             match m.ik(&p, &t, mode) {
                 Ok(q) => {
                     assert!(ok[i], "{level} row {i}: the scalar path solves it");
-                    assert_eq!(out[3 * i + 2].to_bits(), q.qs3.to_bits(), "{level} row {i}: qs3");
+                    assert_eq!(
+                        out[3 * i + 2].to_bits(),
+                        q.qs3.to_bits(),
+                        "{level} row {i}: qs3"
+                    );
                     for (j, r) in [q.qs1, q.qs2].into_iter().enumerate() {
                         let d = ulps(out[3 * i + j], r);
-                        assert!(d <= IK_ULPS, "{level} row {i}: qs{} = {:e}, scalar {r:e}: {d} ulps", j + 1, out[3 * i + j]);
+                        assert!(
+                            d <= IK_ULPS,
+                            "{level} row {i}: qs{} = {:e}, scalar {r:e}: {d} ulps",
+                            j + 1,
+                            out[3 * i + j]
+                        );
                         worst = worst.max(d);
                     }
                 }
                 Err(e) => {
                     assert!(!ok[i], "{level} row {i}: the scalar path fails with {e}");
-                    assert!(out[3 * i..3 * i + 3].iter().all(|v| v.is_nan()), "{level} row {i}: NaN");
+                    assert!(
+                        out[3 * i..3 * i + 3].iter().all(|v| v.is_nan()),
+                        "{level} row {i}: NaN"
+                    );
                     first_error.get_or_insert((i, e));
                 }
             }
@@ -222,9 +285,18 @@ fn check_ik(m: Instrument<f64>, mode: AssemblyMode, pose: &[f64], tip: &[f64]) -
         // Stop: the first failing row's own error, or success.
         let mut out2 = vec![0.0; 3 * n];
         let mut ok2 = vec![false; n];
-        let stopped = ik.solve(0..n, Strided::rows(pose), Strided::rows(tip), &mut out2, &mut ok2, OnRowError::Stop);
+        let stopped = ik.solve(
+            0..n,
+            Strided::rows(pose),
+            Strided::rows(tip),
+            &mut out2,
+            &mut ok2,
+            OnRowError::Stop,
+        );
         match first_error {
-            Some((row, error)) => assert_eq!(stopped, Err(BatchError::Row { row, error }), "{level}"),
+            Some((row, error)) => {
+                assert_eq!(stopped, Err(BatchError::Row { row, error }), "{level}")
+            }
             None => assert_eq!(stopped, Ok(()), "{level}"),
         }
         if level != Level::Scalar {
@@ -262,7 +334,10 @@ prop_compose! {
 }
 
 fn flatten(rows: &[([f64; 6], [f64; 3])]) -> (Vec<f64>, Vec<f64>) {
-    (rows.iter().flat_map(|r| r.0).collect(), rows.iter().flat_map(|r| r.1).collect())
+    (
+        rows.iter().flat_map(|r| r.0).collect(),
+        rows.iter().flat_map(|r| r.1).collect(),
+    )
 }
 
 proptest! {
@@ -302,10 +377,19 @@ fn ik_edges_give_the_scalar_errors() {
         (p0, [rcm_fixed.x, rcm_fixed.y, rcm_fixed.z]),
         (p0, [f64::NAN, 0.0, 0.0]),
         (p0, [50.0, f64::INFINITY, -620.0]),
-        ([f64::NAN, 20.0, -500.0, 0.0, 0.0, 0.0], [50.0, -50.0, -620.0]),
+        (
+            [f64::NAN, 20.0, -500.0, 0.0, 0.0, 0.0],
+            [50.0, -50.0, -620.0],
+        ),
         ([15.0, 20.0, -500.0, 1e6, 0.0, 0.0], [50.0, -50.0, -620.0]),
-        ([15.0, 20.0, -500.0, f64::MAX, 0.0, 0.0], [50.0, -50.0, -620.0]),
-        ([1e200, 20.0, -500.0, 0.0, 0.0, 0.0], [-1e200, -50.0, -620.0]),
+        (
+            [15.0, 20.0, -500.0, f64::MAX, 0.0, 0.0],
+            [50.0, -50.0, -620.0],
+        ),
+        (
+            [1e200, 20.0, -500.0, 0.0, 0.0, 0.0],
+            [-1e200, -50.0, -620.0],
+        ),
     ];
     // Tips on the reach cone's boundary (cos qs2 -> 0) and at a joint limit:
     // from the scalar FK of joints there.
@@ -348,18 +432,80 @@ fn ik_broadcasts_and_reports_shapes() {
     let mut out = [0.0; 9];
     let mut ok = [false; 3];
     // Rows 0..3 with the pose broadcast; row 1 is out of reach.
-    let e = ik.solve(0..3, Strided::broadcast(&p0), Strided::rows(&tips), &mut out, &mut ok, OnRowError::Stop);
+    let e = ik.solve(
+        0..3,
+        Strided::broadcast(&p0),
+        Strided::rows(&tips),
+        &mut out,
+        &mut ok,
+        OnRowError::Stop,
+    );
     let scalar = module(Side::Left, false)
-        .ik(&Pose::from_array(p0), &Vector3::new(5000.0, 0.0, 0.0), AssemblyMode::A)
+        .ik(
+            &Pose::from_array(p0),
+            &Vector3::new(5000.0, 0.0, 0.0),
+            AssemblyMode::A,
+        )
         .expect_err("qs3 past its limit");
-    assert_eq!(e, Err(BatchError::Row { row: 1, error: scalar }));
+    assert_eq!(
+        e,
+        Err(BatchError::Row {
+            row: 1,
+            error: scalar
+        })
+    );
     // A sub-range keeps the rows' numbers.
-    let e = ik.solve(1..2, Strided::broadcast(&p0), Strided::rows(&tips), &mut out[..3], &mut ok[..1], OnRowError::Stop);
+    let e = ik.solve(
+        1..2,
+        Strided::broadcast(&p0),
+        Strided::rows(&tips),
+        &mut out[..3],
+        &mut ok[..1],
+        OnRowError::Stop,
+    );
     assert!(matches!(e, Err(BatchError::Row { row: 1, .. })), "{e:?}");
     // Too few rows, or outputs of the wrong length: a shape error, no panic.
-    let e = ik.solve(0..4, Strided::broadcast(&p0), Strided::rows(&tips), &mut [0.0; 12], &mut [false; 4], OnRowError::Nan);
-    assert_eq!(e, Err(BatchError::Shape { what: "tip", needed: 12, got: 9 }));
-    let e = ik.solve(0..3, Strided::broadcast(&p0), Strided::rows(&tips), &mut [0.0; 8], &mut ok, OnRowError::Nan);
-    assert_eq!(e, Err(BatchError::Shape { what: "out", needed: 9, got: 8 }));
-    assert!(ik.solve(0..0, Strided::rows(&[]), Strided::rows(&[]), &mut [], &mut [], OnRowError::Stop).is_ok());
+    let e = ik.solve(
+        0..4,
+        Strided::broadcast(&p0),
+        Strided::rows(&tips),
+        &mut [0.0; 12],
+        &mut [false; 4],
+        OnRowError::Nan,
+    );
+    assert_eq!(
+        e,
+        Err(BatchError::Shape {
+            what: "tip",
+            needed: 12,
+            got: 9
+        })
+    );
+    let e = ik.solve(
+        0..3,
+        Strided::broadcast(&p0),
+        Strided::rows(&tips),
+        &mut [0.0; 8],
+        &mut ok,
+        OnRowError::Nan,
+    );
+    assert_eq!(
+        e,
+        Err(BatchError::Shape {
+            what: "out",
+            needed: 9,
+            got: 8
+        })
+    );
+    assert!(
+        ik.solve(
+            0..0,
+            Strided::rows(&[]),
+            Strided::rows(&[]),
+            &mut [],
+            &mut [],
+            OnRowError::Stop
+        )
+        .is_ok()
+    );
 }
