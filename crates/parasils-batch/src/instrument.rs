@@ -201,17 +201,17 @@ impl Kernel for Run<'_, '_> {
         while k < n {
             let m = L.min(n - k);
             // Columns of L rows; a short last block repeats its last row.
-            let mut p = [[0.0; L]; 6];
-            let mut t = [[0.0; L]; 3];
+            let mut p = [V([0.0; L]); 6];
+            let mut t = [V([0.0; L]); 3];
             for l in 0..L {
                 let r = rows.start + k + l.min(m - 1);
                 let pr = pose.row(r);
                 let tr = tip.row(r);
                 for j in 0..6 {
-                    p[j][l] = pr[j];
+                    p[j].0[l] = pr[j];
                 }
                 for j in 0..3 {
-                    t[j][l] = tr[j];
+                    t[j].0[l] = tr[j];
                 }
             }
             let (q, clean) = block::<L>(&ik.c, &p, &t);
@@ -263,9 +263,9 @@ impl Kernel for Run<'_, '_> {
 /// its order (see `Instrument::ik_local` and `Pose::rotation`), selects
 /// for its branches.
 #[inline(always)]
-fn block<const L: usize>(c: &Consts, p: &[[f64; L]; 6], t: &[[f64; L]; 3]) -> ([V<L>; 3], M<L>) {
-    let [x, y, z, psi, theta, phi] = p.map(V);
-    let [t0, t1, t2] = t.map(V);
+fn block<const L: usize>(c: &Consts, p: &[V<L>; 6], t: &[V<L>; 3]) -> ([V<L>; 3], M<L>) {
+    let [x, y, z, psi, theta, phi] = *p;
+    let [t0, t1, t2] = *t;
     // Every input finite: v * 0 is 0 for finite v, NaN otherwise.
     let probe = ((x * 0.0 + y * 0.0) + (z * 0.0 + psi * 0.0))
         + ((theta * 0.0 + phi * 0.0) + ((t0 * 0.0 + t1 * 0.0) + t2 * 0.0));

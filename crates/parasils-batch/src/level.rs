@@ -102,12 +102,20 @@ impl fmt::Display for Level {
 pub(crate) trait Kernel {
     /// What it returns.
     type Output;
-    /// The computation in `L` lanes (inlined into the level's context:
-    /// every function it calls on the hot path must be `#[inline(always)]`).
+    /// The computation in blocks of `L` rows, `L` a multiple of the
+    /// level's lanes (inlined into the level's context: every function it
+    /// calls on the hot path must be `#[inline(always)]`).
     fn lanes<const L: usize>(self) -> Self::Output;
     /// The scalar reference.
     fn scalar(self) -> Self::Output;
 }
+
+/// Rows per block: four vectors of the level's width (8 rows on the
+/// baseline, 16 on AVX2, 32 on AVX-512), four independent chains of
+/// dependent operations in flight. One vector per block left the lanes
+/// waiting on each other's divisions and square roots: 1.5 times slower
+/// on AVX-512 (see BENCHMARKS.md).
+const VECTORS_PER_BLOCK: usize = 4;
 
 /// Runs `kernel` at `level`; a level the CPU lacks runs at the baseline
 /// (callers check [`Level::is_supported`] first).
@@ -120,7 +128,7 @@ pub(crate) fn dispatch<K: Kernel>(level: Level, kernel: K) -> K::Output {
             if let Some(simd) = pulp::x86::V4::try_new() {
                 return simd.vectorize(
                     #[inline(always)]
-                    move || kernel.lanes::<8>(),
+                    move || kernel.lanes::<{ 8 * VECTORS_PER_BLOCK }>(),
                 );
             }
         }
@@ -129,11 +137,11 @@ pub(crate) fn dispatch<K: Kernel>(level: Level, kernel: K) -> K::Output {
             if let Some(simd) = pulp::x86::V3::try_new() {
                 return simd.vectorize(
                     #[inline(always)]
-                    move || kernel.lanes::<4>(),
+                    move || kernel.lanes::<{ 4 * VECTORS_PER_BLOCK }>(),
                 );
             }
         }
         _ => {}
     }
-    kernel.lanes::<2>()
+    kernel.lanes::<{ 2 * VECTORS_PER_BLOCK }>()
 }
