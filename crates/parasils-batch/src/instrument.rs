@@ -201,19 +201,8 @@ impl Kernel for Run<'_, '_> {
         while k < n {
             let m = L.min(n - k);
             // Columns of L rows; a short last block repeats its last row.
-            let mut p = [V([0.0; L]); 6];
-            let mut t = [V([0.0; L]); 3];
-            for l in 0..L {
-                let r = rows.start + k + l.min(m - 1);
-                let pr = pose.row(r);
-                let tr = tip.row(r);
-                for j in 0..6 {
-                    p[j].0[l] = pr[j];
-                }
-                for j in 0..3 {
-                    t[j].0[l] = tr[j];
-                }
-            }
+            let p = pose.gather::<L>(rows.start + k, m);
+            let t = tip.gather::<L>(rows.start + k, m);
             let (q, clean) = block::<L>(&ik.c, &p, &t);
             for l in 0..m {
                 let o = &mut out[3 * (k + l)..3 * (k + l) + 3];

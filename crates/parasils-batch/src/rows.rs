@@ -1,10 +1,15 @@
 //! Rows in, rows out: strided input arrays, what to do with a failing row,
 //! and the batch's errors.
 
+// Indexed loops over the lanes are the point (see `lanes`).
+#![allow(clippy::needless_range_loop)]
+
 use core::fmt;
 use core::ops::Range;
 
 use parasils_kin::Error;
+
+use crate::lanes::V;
 
 /// Rows of `W` values in a slice, `stride` values apart: `W` for a
 /// row-major `(N, W)` array, 0 for one row that goes with every row of a
@@ -38,6 +43,40 @@ impl<'a, const W: usize> Strided<'a, W> {
                 .checked_mul(self.stride)
                 .and_then(|s| s.checked_add(W))
                 .is_some_and(|last| last <= self.data.len())
+    }
+
+    /// Rows `first..first + count` in columns of `L` lanes (`1 <= count <=
+    /// L`; the last row repeated past `count`). A whole block of a
+    /// row-major array is read from one slice, with no bounds check per
+    /// value, so that the compiler can shuffle it into columns.
+    #[inline(always)]
+    pub(crate) fn gather<const L: usize>(&self, first: usize, count: usize) -> [V<L>; W] {
+        let mut out = [V([0.0; L]); W];
+        if self.stride == 0 {
+            let row = self.row(0);
+            for j in 0..W {
+                out[j] = V::splat(row[j]);
+            }
+            return out;
+        }
+        if count == L && self.stride == W {
+            let start = first * W;
+            if let Some(block) = self.data.get(start..start + L * W) {
+                for l in 0..L {
+                    for j in 0..W {
+                        out[j].0[l] = block[l * W + j];
+                    }
+                }
+                return out;
+            }
+        }
+        for l in 0..L {
+            let row = self.row(first + l.min(count.max(1) - 1));
+            for j in 0..W {
+                out[j].0[l] = row[j];
+            }
+        }
+        out
     }
 
     /// Row `i`; rows past the slice (which [`check_input`] rules out) read as NaN.
