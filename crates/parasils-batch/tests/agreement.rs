@@ -528,8 +528,8 @@ fn ik_worst_case_over_many_rows() {
     let p0 = p0();
     let (mut pose, mut tip) = (Vec::new(), Vec::new());
     for _ in 0..20_000 {
-        for j in 0..6 {
-            pose.push(p0[j] + next() * if j < 3 { 40.0 } else { 0.8 });
+        for (j, v) in p0.iter().enumerate() {
+            pose.push(v + next() * if j < 3 { 40.0 } else { 0.8 });
         }
         for t in [50.0, -50.0, -620.0] {
             tip.push(t + next() * 150.0);
