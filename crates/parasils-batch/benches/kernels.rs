@@ -1,13 +1,16 @@
-//! The instrument IK over a batch: the scalar loop against each kernel
-//! level this CPU has, side by side (ns per row = the time / 4096).
+//! The instrument IK and module 1's IK over a batch: the scalar loop
+//! against each kernel level this CPU has, side by side (ns per row = the
+//! time / 4096).
 //!
 //! `cargo bench -p parasils-batch --bench kernels`; results in BENCHMARKS.md.
 
 use core::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use parasils_batch::{InstrumentIk, Level, OnRowError, Strided, atan2_slice, sin_cos_slice};
-use parasils_kin::{AssemblyMode, Instrument, Pose, Side};
+use parasils_batch::{
+    InstrumentIk, Level, Module1Ik, OnRowError, Strided, atan2_slice, sin_cos_slice,
+};
+use parasils_kin::{AssemblyMode, Instrument, ParallelRobot, Pose, Side};
 
 const ROWS: usize = 4096;
 
@@ -65,6 +68,31 @@ fn instrument_ik(c: &mut Criterion) {
     group.finish();
 }
 
+fn module1_ik(c: &mut Criterion) {
+    let (pose, _) = inputs();
+    let mut group = c.benchmark_group("module1_ik_4096_rows");
+    group.throughput(Throughput::Elements(ROWS as u64));
+    let mut out = vec![0.0; 6 * ROWS];
+    let mut ok = vec![false; ROWS];
+    for level in Level::supported() {
+        let ik = Module1Ik::new(ParallelRobot::assumed())
+            .at_level(level)
+            .expect("a supported level");
+        group.bench_function(level.name(), |b| {
+            b.iter(|| {
+                ik.solve(
+                    0..ROWS,
+                    Strided::rows(black_box(&pose)),
+                    &mut out,
+                    &mut ok,
+                    OnRowError::Nan,
+                )
+            })
+        });
+    }
+    group.finish();
+}
+
 fn math(c: &mut Criterion) {
     let (pose, tip) = inputs();
     let x: Vec<f64> = pose.iter().take(ROWS).copied().collect();
@@ -83,5 +111,5 @@ fn math(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, instrument_ik, math);
+criterion_group!(benches, instrument_ik, module1_ik, math);
 criterion_main!(benches);

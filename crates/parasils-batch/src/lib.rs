@@ -1,7 +1,8 @@
 //! Batched kinematics of PARA-SILSROB in SIMD lanes, the kernel chosen at
-//! run time for the CPU: the instrument modules' inverse kinematics over
-//! many rows, as `parasils.Robot().instrument_ik` computes them on NumPy
-//! batches.
+//! run time for the CPU: the instrument modules' inverse kinematics
+//! ([`InstrumentIk`]) and module 1's six legs' ([`Module1Ik`]) over many
+//! rows, as `parasils.Robot().instrument_ik` and `module1_ik` compute them
+//! on NumPy batches.
 //!
 //! | level | lanes | instructions |
 //! |---|---|---|
@@ -28,6 +29,9 @@
 //! arctangent is Cephes' rational function with the project's own range
 //! reduction (see [`atan2_slice`]). No fused multiply-add is used, so every
 //! level gives the same bits, and the results do not depend on the CPU.
+//! Module 1's IK needs only those sines and cosines and square roots: its
+//! lanes give the scalar path's bits. The instrument IK's `qs3` too; its
+//! `qs1` and `qs2` come from the lanes' `atan2`, within 3 ulps.
 //!
 //! **Errors.** A row that could fail, or sits within [`LIMIT_GUARD_RAD`]
 //! of a joint limit, is solved again by the scalar solver: a failing row
@@ -58,10 +62,12 @@
 mod instrument;
 mod lanes;
 mod level;
+mod parallel;
 mod rows;
 mod trig;
 
 pub use instrument::{InstrumentIk, LIMIT_GUARD_RAD};
 pub use level::Level;
+pub use parallel::Module1Ik;
 pub use rows::{BatchError, OnRowError, Strided};
 pub use trig::{atan2_slice, sin_cos_slice};

@@ -1,14 +1,15 @@
-//! The instrument IK's batches on `parasils-batch`'s vector kernels, chunk
-//! by chunk on the batch threads (see [`crate::batch`]).
+//! The IK batches on `parasils-batch`'s vector kernels, chunk by chunk on
+//! the batch threads (see [`crate::batch`]).
 //!
-//! `Robot.instrument_ik` solves each chunk in SIMD lanes; a row that could
-//! fail is solved by the scalar `Instrument::ik`, so its error is the
-//! scalar path's. `Robot.instrument_rates` gives the same joints (the
+//! `Robot.module1_ik` solves each chunk in SIMD lanes, to the scalar
+//! solver's bits. `Robot.instrument_ik` solves each chunk in SIMD lanes; a
+//! row that could fail is solved by the scalar `Instrument::ik`, so its
+//! error is the scalar path's (and so for module 1). `Robot.instrument_rates` gives the same joints (the
 //! kernel's, to the bit) and the scalar solver's rates and accelerations,
 //! computed as before; its errors are the scalar solver's.
 
-use parasils_batch::{InstrumentIk, OnRowError};
-use parasils_kin::{AssemblyMode, Error, Instrument, InstrumentSolution};
+use parasils_batch::{InstrumentIk, Module1Ik, OnRowError};
+use parasils_kin::{AssemblyMode, Error, Instrument, InstrumentSolution, ParallelRobot};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -26,6 +27,32 @@ pub(crate) fn instrument_ik(
         .ok_or_else(|| {
             PyValueError::new_err(format!("kernel level {level} not supported by this CPU"))
         })
+}
+
+/// Module 1's kernel at the level `PARASILS_BATCH_KERNEL` names, else the
+/// CPU's widest.
+pub(crate) fn module1_ik(robot: &ParallelRobot<f64>) -> PyResult<Module1Ik> {
+    let level = batch::kernel_level()?;
+    Module1Ik::new(*robot).at_level(level).ok_or_else(|| {
+        PyValueError::new_err(format!("kernel level {level} not supported by this CPU"))
+    })
+}
+
+/// One chunk of `module1_ik`: the sliders in the chunk's one block.
+pub(crate) fn module1_chunk(
+    kernel: &Module1Ik,
+    pose: &Rows<'_>,
+    on_error: OnError,
+    chunk: Chunk<'_>,
+) -> Option<Failure> {
+    let Chunk { start, blocks, ok } = chunk;
+    // One block (widths [6]).
+    let out = blocks.into_iter().next()?;
+    let rows = start..start + ok.len();
+    kernel
+        .solve(rows, pose.strided(), out, ok, on_error.on_row_error())
+        .err()
+        .map(|e| batch::kernel_failure(e, start))
 }
 
 /// One chunk of `instrument_ik`: the joints in the chunk's one block.

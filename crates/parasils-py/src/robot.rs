@@ -560,9 +560,10 @@ impl Robot {
         let on_error = OnError::parse(errors)?;
         let pose = Rows::new(&pose, "pose", 6)?;
         let n = batch::batch_size(&[("pose", &pose)])?;
-        let robot = &self.controller.module1;
-        batch::solve::<6, _>(py, n, on_error, &[6], |i| {
-            Ok(robot.ik(&pose_of(pose.get(i)))?.to_array())
+        // Module 1's kernel in lanes: the scalar solver's bits.
+        let kernel = kernels::module1_ik(&self.controller.module1)?;
+        batch::solve_chunks(py, n, on_error, &[6], |chunk| {
+            kernels::module1_chunk(&kernel, &pose, on_error, chunk)
         })
     }
 
