@@ -550,6 +550,10 @@ impl Robot {
     ///
     /// Raises NonFiniteError, LegOutOfReachError, SerialSingularError,
     /// ActuatorLimitError (strokes are checked).
+    ///
+    /// Rows are solved several at a time in SIMD lanes (as instrument_ik),
+    /// to the scalar solver's bits; a row that could fail is solved by the
+    /// scalar solver, so errors are the same.
     #[pyo3(signature = (pose, *, errors = "raise"))]
     fn module1_ik<'py>(
         &self,
