@@ -27,8 +27,11 @@ use core::sync::atomic::{AtomicUsize, Ordering};
 use std::borrow::Cow;
 use std::sync::{Mutex, OnceLock, PoisonError};
 
-use numpy::ndarray::Array2;
-use numpy::{AllowTypeChange, IntoPyArray, PyArrayLikeDyn, PyUntypedArrayMethods};
+use numpy::ndarray::IxDyn;
+use numpy::{
+    AllowTypeChange, PyArray1, PyArrayDyn, PyArrayLikeDyn, PyArrayMethods, PyUntypedArrayMethods,
+};
+use parasils_batch::{BatchError, Level, OnRowError, Strided};
 use parasils_kin::Error;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -138,6 +141,11 @@ impl<'a> Rows<'a> {
         &self.data[start..start + self.width]
     }
 
+    /// The rows as the vector kernels read them (`W` must be the width).
+    pub(crate) fn strided<const W: usize>(&self) -> Strided<'_, W> {
+        Strided::new(&self.data, self.stride)
+    }
+
     /// Row `i` as an array of `N` values (`N` must be the width).
     #[inline]
     pub(crate) fn get<const N: usize>(&self, i: usize) -> [f64; N] {
@@ -198,6 +206,30 @@ pub(crate) fn threads() -> PyResult<usize> {
     }
 }
 
+/// The environment variable that forces the vector kernels' level.
+pub const KERNEL_VAR: &str = "PARASILS_BATCH_KERNEL";
+
+/// The level the vector kernels run at: `PARASILS_BATCH_KERNEL` when set
+/// (`scalar`, `baseline`, `avx2` or `avx512`, one this CPU supports), else
+/// the widest this CPU supports. Read at each call, as [`threads`].
+pub(crate) fn kernel_level() -> PyResult<Level> {
+    let refuse = |text: &dyn core::fmt::Debug| {
+        let supported: Vec<&str> = Level::supported().map(Level::name).collect();
+        PyValueError::new_err(format!(
+            "{KERNEL_VAR} must name a kernel level this CPU supports ({}), or be unset; got {text:?}",
+            supported.join(", ")
+        ))
+    };
+    match std::env::var(KERNEL_VAR) {
+        Ok(text) if !text.trim().is_empty() => match Level::from_name(text.trim()) {
+            Some(level) if level.is_supported() => Ok(level),
+            _ => Err(refuse(&text)),
+        },
+        Ok(_) | Err(std::env::VarError::NotPresent) => Ok(Level::detect()),
+        Err(std::env::VarError::NotUnicode(text)) => Err(refuse(&text)),
+    }
+}
+
 /// The CPUs this process may use, found once (the lookup reads cgroup files).
 fn available_cpus() -> usize {
     static CPUS: OnceLock<usize> = OnceLock::new();
@@ -221,24 +253,47 @@ pub fn batch_threads() -> PyResult<usize> {
 
 /// The first failing row and its error.
 #[derive(Debug)]
-struct Failure {
-    row: usize,
-    error: Error,
+pub(crate) struct Failure {
+    /// The row.
+    pub(crate) row: usize,
+    /// Its error.
+    pub(crate) error: Error,
 }
 
-/// What a batch computed: one buffer per block of output columns
-/// (`N * width`, row-major) and the mask of the rows that succeeded.
-#[derive(Debug)]
-struct Computed {
-    blocks: Vec<Vec<f64>>,
-    ok: Vec<bool>,
+impl OnError {
+    /// The vector kernels' name for it.
+    pub(crate) fn on_row_error(self) -> OnRowError {
+        match self {
+            OnError::Raise => OnRowError::Stop,
+            OnError::Nan => OnRowError::Nan,
+        }
+    }
+}
+
+/// A vector kernel's error on a chunk as the batch's failure. The
+/// bindings hand the kernels whole rows of their own arrays, so a shape
+/// error is a bug of the bindings, reported (with its row) rather than a panic.
+pub(crate) fn kernel_failure(error: BatchError, chunk_start: usize) -> Failure {
+    match error {
+        BatchError::Row { row, error } => Failure { row, error },
+        _ => Failure {
+            row: chunk_start,
+            error: Error::InvalidParameter {
+                what: "batch rows (internal: an array shorter than its rows)",
+                value: chunk_start as f64,
+            },
+        },
+    }
 }
 
 /// Consecutive rows `start..start + ok.len()` and their place in each output block.
-struct Chunk<'a> {
-    start: usize,
-    blocks: Vec<&'a mut [f64]>,
-    ok: &'a mut [bool],
+pub(crate) struct Chunk<'a> {
+    /// The first row.
+    pub(crate) start: usize,
+    /// The rows' values in each output block (`ok.len() * width`).
+    pub(crate) blocks: Vec<&'a mut [f64]>,
+    /// The rows' flags.
+    pub(crate) ok: &'a mut [bool],
 }
 
 /// Row `row` by `f`: its values (`flag` set), NaN (`errors="nan"`), or the
@@ -314,22 +369,21 @@ where
     None
 }
 
-/// Runs `f` on rows `0..n` with outputs in blocks of `widths` columns, on
-/// up to `threads` threads (see the module's documentation).
-fn compute<const W: usize, F>(
-    n: usize,
+/// Runs `fill_chunk` on the chunks of rows `0..ok.len()`, whose outputs go
+/// to `blocks` (one per block of `widths` columns, row-major) and `ok`, on
+/// up to `threads` threads (see the module's documentation). Returns the
+/// first failing row with `errors="raise"`.
+fn compute<G>(
+    mut blocks: Vec<&mut [f64]>,
     widths: &[usize],
-    on_error: OnError,
+    ok: &mut [bool],
     threads: usize,
-    f: &F,
-) -> Result<Computed, Failure>
+    fill_chunk: &G,
+) -> Option<Failure>
 where
-    F: Fn(usize) -> Result<[f64; W], Error> + Sync,
+    G: Fn(Chunk<'_>) -> Option<Failure> + Sync,
 {
-    // Zeroed allocations: fresh pages from the OS for large batches, touched
-    // first by the thread that writes them.
-    let mut blocks: Vec<Vec<f64>> = widths.iter().map(|&w| vec![0.0; n * w]).collect();
-    let mut ok = vec![false; n];
+    let n = ok.len();
     let threads = if n < PARALLEL_MIN_ROWS {
         1
     } else {
@@ -351,15 +405,14 @@ where
         })
         .collect();
     for (block, &w) in blocks.iter_mut().zip(widths) {
+        let block: &mut [f64] = block;
         for (chunk, part) in chunks.iter_mut().zip(block.chunks_mut(chunk_rows * w)) {
             chunk.blocks.push(part);
         }
     }
     let threads = threads.min(chunks.len());
-    let failure = if threads <= 1 {
-        chunks
-            .into_iter()
-            .find_map(|chunk| fill(chunk, widths, on_error, f))
+    if threads <= 1 {
+        chunks.into_iter().find_map(fill_chunk)
     } else {
         // The chunks in row order; a thread takes the next one until none is
         // left, or until the next one starts after a row known to fail.
@@ -374,7 +427,7 @@ where
                 if chunk.start > first_failure.load(Ordering::Relaxed) {
                     return None;
                 }
-                if let Some(failure) = fill(chunk, widths, on_error, f) {
+                if let Some(failure) = fill_chunk(chunk) {
                     // Only with errors="raise". Every chunk before this row is
                     // still computed (their start is below it), so the
                     // smallest failing row over the threads is the batch's first.
@@ -402,10 +455,6 @@ where
             }
             failures.into_iter().flatten().min_by_key(|f| f.row)
         })
-    };
-    match failure {
-        Some(failure) => Err(failure),
-        None => Ok(Computed { blocks, ok }),
     }
 }
 
@@ -433,50 +482,91 @@ where
         W,
         "output blocks must add up to a row"
     );
+    run(py, batch, on_error, widths, &|chunk| {
+        fill(chunk, widths, on_error, &f)
+    })
+}
+
+/// [`solve`] with a function that computes a whole chunk of rows at once
+/// (a vector kernel): `fill_chunk` writes the chunk's rows into its blocks
+/// and flags (NaN and `false` for a failing row with `errors="nan"`), and
+/// returns the first failing row with `errors="raise"`.
+pub(crate) fn solve_chunks<'py, G>(
+    py: Python<'py>,
+    batch: Option<usize>,
+    on_error: OnError,
+    widths: &[usize],
+    fill_chunk: G,
+) -> PyResult<Bound<'py, PyAny>>
+where
+    G: Fn(Chunk<'_>) -> Option<Failure> + Sync,
+{
+    run(py, batch, on_error, widths, &fill_chunk)
+}
+
+/// What [`solve`] and [`solve_chunks`] share.
+fn run<'py, G>(
+    py: Python<'py>,
+    batch: Option<usize>,
+    on_error: OnError,
+    widths: &[usize],
+    fill_chunk: &G,
+) -> PyResult<Bound<'py, PyAny>>
+where
+    G: Fn(Chunk<'_>) -> Option<Failure> + Sync,
+{
     let n = batch.unwrap_or(1);
     let threads = match batch {
         Some(_) => threads()?,
         None => 1,
     };
-    let computed = py
-        .detach(|| compute::<W, F>(n, widths, on_error, threads, &f))
-        .map_err(|Failure { row, error }| match batch {
+    // The outputs are NumPy's own arrays, written in place: NumPy allocates
+    // large arrays on huge pages (madvise), so the threads' first writes
+    // fault a few 2 MiB pages instead of thousands of 4 KiB ones (10^6
+    // rows of the instrument IK: 13.3 -> 6.7 ms, half of it page faults,
+    // when the outputs came from Rust's allocator after NumPy's run).
+    let arrays: Vec<Bound<'py, PyArrayDyn<f64>>> = widths
+        .iter()
+        .map(|&w| {
+            let dims = match batch {
+                Some(_) => IxDyn(&[n, w]),
+                None => IxDyn(&[w]),
+            };
+            PyArrayDyn::<f64>::zeros(py, dims, false)
+        })
+        .collect();
+    let ok_array = PyArray1::<bool>::zeros(py, n, false);
+    let mut writers = arrays
+        .iter()
+        .map(|a| a.try_readwrite())
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let mut ok_writer = ok_array
+        .try_readwrite()
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let blocks = writers
+        .iter_mut()
+        .map(|w| w.as_slice_mut())
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let ok = ok_writer
+        .as_slice_mut()
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let failure = py.detach(|| compute(blocks, widths, ok, threads, fill_chunk));
+    if let Some(Failure { row, error }) = failure {
+        return Err(match batch {
             Some(_) => errors::kinematics(py, &error, Some(row), None, &format!("row {row}: ")),
             None => errors::kinematics(py, &error, None, None, ""),
-        })?;
-    output(py, computed, widths, batch, on_error)
-}
-
-/// The Python objects of a computed batch (see [`solve`]).
-fn output<'py>(
-    py: Python<'py>,
-    computed: Computed,
-    widths: &[usize],
-    batch: Option<usize>,
-    on_error: OnError,
-) -> PyResult<Bound<'py, PyAny>> {
-    let Computed { blocks, ok } = computed;
-    let n = batch.unwrap_or(1);
-    let mut items: Vec<Bound<'py, PyAny>> = Vec::with_capacity(blocks.len() + 1);
-    for (values, &w) in blocks.into_iter().zip(widths) {
-        items.push(match batch {
-            Some(_) => Array2::from_shape_vec((n, w), values)
-                .map_err(|e| PyValueError::new_err(e.to_string()))?
-                .into_pyarray(py)
-                .into_any(),
-            None => values.into_pyarray(py).into_any(),
         });
     }
+    let first_ok = ok.first().copied().unwrap_or(false);
+    drop(writers);
+    drop(ok_writer);
+    let mut items: Vec<Bound<'py, PyAny>> = arrays.into_iter().map(Bound::into_any).collect();
     if on_error == OnError::Nan {
         items.push(match batch {
-            Some(_) => ok.into_pyarray(py).into_any(),
-            None => ok
-                .first()
-                .copied()
-                .unwrap_or(false)
-                .into_pyobject(py)?
-                .to_owned()
-                .into_any(),
+            Some(_) => ok_array.into_any(),
+            None => first_ok.into_pyobject(py)?.to_owned().into_any(),
         });
     }
     if items.len() == 1 {

@@ -28,7 +28,9 @@
 //! - [`errors`]: the exception hierarchy (`KinematicsError` and its
 //!   subclasses, `TrajectoryError`, `RobotFileError`);
 //! - [`batch`]: shapes, broadcasting, the loop (split across threads for
-//!   large batches, `parasils.batch_threads()`) and the `errors="nan"` mask.
+//!   large batches, `parasils.batch_threads()`) and the `errors="nan"` mask;
+//! - [`kernels`]: the instrument IK's batches on `parasils-batch`'s vector
+//!   kernels (`PARASILS_BATCH_KERNEL` forces a level).
 //!
 //! Built by maturin (`pyproject.toml`); its tests are in Python (`tests/`,
 //! run by `scripts/python-tests`).
@@ -39,6 +41,7 @@ pub mod batch;
 pub mod calibrate;
 pub mod clearance;
 pub mod errors;
+pub mod kernels;
 pub mod path;
 pub mod reach;
 pub mod robot;

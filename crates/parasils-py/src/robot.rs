@@ -13,6 +13,7 @@ use pyo3::prelude::*;
 
 use crate::batch::{self, ArrayArg, OnError, Rows};
 use crate::errors;
+use crate::kernels;
 
 /// The PARA-SILSROB robot: module 1 (the 6-DOF parallel robot) and the two
 /// spherical instrument modules, with their limits and thresholds.
@@ -392,6 +393,13 @@ impl Robot {
     ///
     /// Raises NonFiniteError, OutOfReachError, SingularError (tip at the RCM,
     /// or |cos qs2| < 1e-6), JointLimitError (limits are checked).
+    ///
+    /// Rows are solved several at a time in SIMD lanes (8 with AVX-512, 4
+    /// with AVX2, 2 otherwise, chosen for the CPU; the environment variable
+    /// PARASILS_BATCH_KERNEL = scalar, baseline, avx2 or avx512 forces one,
+    /// ValueError if the CPU lacks it): qs3 has the scalar solver's bits,
+    /// qs1 and qs2 are within 3 ulps of them, and a row that could fail is
+    /// solved by the scalar solver, so errors are the same.
     #[pyo3(signature = (side, pose, tip, *, mode = "A", errors = "raise"))]
     fn instrument_ik<'py>(
         &self,
@@ -408,9 +416,9 @@ impl Robot {
         let pose = Rows::new(&pose, "pose", 6)?;
         let tip = Rows::new(&tip, "tip", 3)?;
         let n = batch::batch_size(&[("pose", &pose), ("tip", &tip)])?;
-        batch::solve::<3, _>(py, n, on_error, &[3], |i| {
-            let q = m.ik(&pose_of(pose.get(i)), &Vector3::from(tip.get::<3>(i)), mode)?;
-            Ok(q.to_array())
+        let kernel = kernels::instrument_ik(m, mode)?;
+        batch::solve_chunks(py, n, on_error, &[3], |chunk| {
+            kernels::ik_chunk(&kernel, &pose, &tip, on_error, chunk)
         })
     }
 
@@ -512,22 +520,23 @@ impl Robot {
             ("tip_rate", &tip_rate),
             ("tip_acc", &tip_acc),
         ])?;
-        batch::solve::<9, _>(py, n, on_error, &[3, 3, 3], |i| {
-            let state = PlatformState {
-                pose: pose_of(pose.get(i)),
-                velocity: rate_of(pose_rate.get(i)),
-                acceleration: rate_of(pose_acc.get(i)),
-            };
-            let motion = TipMotion {
-                position: Vector3::from(tip.get::<3>(i)),
-                velocity: Vector3::from(tip_rate.get::<3>(i)),
-                acceleration: Vector3::from(tip_acc.get::<3>(i)),
-            };
-            let s = m.solve_state(&state, &motion, mode)?;
-            let [a, b, c] = s.q.to_array();
-            let [d, e, f] = s.q_dot.to_array();
-            let [g, h, k] = s.q_ddot.to_array();
-            Ok([a, b, c, d, e, f, g, h, k])
+        // The joints by the vector kernel, as `instrument_ik` gives them;
+        // the rates by the scalar solver (see `kernels::rates_chunk`).
+        let kernel = kernels::instrument_ik(m, mode)?;
+        batch::solve_chunks(py, n, on_error, &[3, 3, 3], |chunk| {
+            kernels::rates_chunk(&kernel, &pose, &tip, on_error, chunk, |i| {
+                let state = PlatformState {
+                    pose: pose_of(pose.get(i)),
+                    velocity: rate_of(pose_rate.get(i)),
+                    acceleration: rate_of(pose_acc.get(i)),
+                };
+                let motion = TipMotion {
+                    position: Vector3::from(tip.get::<3>(i)),
+                    velocity: Vector3::from(tip_rate.get::<3>(i)),
+                    acceleration: Vector3::from(tip_acc.get::<3>(i)),
+                };
+                m.solve_state(&state, &motion, mode)
+            })
         })
     }
 
@@ -541,6 +550,10 @@ impl Robot {
     ///
     /// Raises NonFiniteError, LegOutOfReachError, SerialSingularError,
     /// ActuatorLimitError (strokes are checked).
+    ///
+    /// Rows are solved several at a time in SIMD lanes (as instrument_ik),
+    /// to the scalar solver's bits; a row that could fail is solved by the
+    /// scalar solver, so errors are the same.
     #[pyo3(signature = (pose, *, errors = "raise"))]
     fn module1_ik<'py>(
         &self,
@@ -551,9 +564,10 @@ impl Robot {
         let on_error = OnError::parse(errors)?;
         let pose = Rows::new(&pose, "pose", 6)?;
         let n = batch::batch_size(&[("pose", &pose)])?;
-        let robot = &self.controller.module1;
-        batch::solve::<6, _>(py, n, on_error, &[6], |i| {
-            Ok(robot.ik(&pose_of(pose.get(i)))?.to_array())
+        // Module 1's kernel in lanes: the scalar solver's bits.
+        let kernel = kernels::module1_ik(&self.controller.module1)?;
+        batch::solve_chunks(py, n, on_error, &[6], |chunk| {
+            kernels::module1_chunk(&kernel, &pose, on_error, chunk)
         })
     }
 
