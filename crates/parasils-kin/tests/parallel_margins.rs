@@ -258,3 +258,56 @@ fn tracked_margin_across_grid_steps() {
     assert!(margins > 1500, "{margins}");
     assert!(fulls <= 21 + margins / 100, "{fulls} of {margins}");
 }
+
+/// A tracker started from a neighbour's direction (a grid step of 0.5 deg
+/// away, scaled by 3) takes no full decomposition and gives the SVD's
+/// margin within the certified tolerance; a direction of zero length or
+/// with a NaN starts as a new tracker (its first margin the full one).
+#[test]
+fn tracker_from_a_neighbours_direction() {
+    let robot = ParallelRobot::<f64>::assumed();
+    let tol = MarginTracker::<f64>::TOLERANCE_F64 / 2.0;
+    let at = |psi: f64, theta: f64| {
+        let pose = Pose::from_mm_deg(0.0, 0.0, -500.0, psi, theta, -60.0);
+        (pose, PlatformState::at_rest(pose).frame().expect("finite"))
+    };
+    let mut checked = 0;
+    for (psi, theta) in [(0.0, 0.0), (-10.0, 5.0), (12.0, -8.0), (15.0, 15.0)] {
+        let (_, here) = at(psi, theta);
+        let mut neighbour = MarginTracker::new();
+        robot
+            .solve_tracking(&here, &mut neighbour)
+            .expect("solvable");
+        let x = neighbour.weakest().expect("a direction");
+        let (pose, next) = at(psi + 0.5, theta + 0.5);
+        let exact = robot.margins(&pose).expect("in reach").parallel;
+        let mut seeded = MarginTracker::from_direction(x.map(|v| 3.0 * v));
+        let norm: f64 = seeded
+            .weakest()
+            .expect("seeded")
+            .iter()
+            .map(|v| v * v)
+            .sum::<f64>()
+            .sqrt();
+        assert!((norm - 1.0).abs() < 1e-15, "{norm}");
+        let s = robot.solve_tracking(&next, &mut seeded).expect("solvable");
+        assert!(
+            (s.margins.parallel - exact).abs() / exact <= tol,
+            "{psi}, {theta}"
+        );
+        assert_eq!(seeded.counts(), (1, 0), "{psi}, {theta}");
+        checked += 1;
+    }
+    assert_eq!(checked, 4);
+    for bad in [
+        [0.0; 6],
+        [f64::NAN, 1.0, 0.0, 0.0, 0.0, 0.0],
+        [f64::INFINITY; 6],
+    ] {
+        let mut t = MarginTracker::from_direction(bad);
+        assert_eq!(t.weakest(), None);
+        let (_, frame) = at(0.0, 0.0);
+        robot.solve_tracking(&frame, &mut t).expect("solvable");
+        assert_eq!(t.counts(), (1, 1));
+    }
+}

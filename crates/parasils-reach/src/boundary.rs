@@ -52,8 +52,15 @@ pub fn bisect(checker: &mut Checker, mut a: [f64; 2], mut b: [f64; 2]) -> ([f64;
     (a, b)
 }
 
-/// The boundary of `map`, each crossing edge bisected on `threads` threads.
-pub(super) fn refine(map: &ReachMap, base: &Checker, threads: usize) -> Boundary {
+/// The boundary of `map`, each crossing edge bisected on `threads` threads,
+/// each bisection's margins tracked from the feasible cell's weakest
+/// direction (`directions`, one per cell).
+pub(super) fn refine(
+    map: &ReachMap,
+    base: &Checker,
+    threads: usize,
+    directions: &[Option<[f64; 6]>],
+) -> Boundary {
     let (cols, rows) = (map.psi.count, map.theta.count);
     let mut edges = Vec::new();
     for r in 0..rows {
@@ -81,6 +88,9 @@ pub(super) fn refine(map: &ReachMap, base: &Checker, threads: usize) -> Boundary
         } else {
             (there, here)
         };
+        if let Some(x) = directions.get(inner).copied().flatten() {
+            checker.start_from(x);
+        }
         let (inside, outside) = bisect(checker, rad(inner), rad(outer));
         BoundaryPoint {
             inside,

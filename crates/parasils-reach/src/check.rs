@@ -399,6 +399,20 @@ impl Checker {
         &self.controller
     }
 
+    /// Module 1's weakest direction after the last check (see
+    /// [`MarginTracker::weakest`]).
+    pub(crate) fn weakest(&self) -> Option<[f64; 6]> {
+        self.tracker.weakest()
+    }
+
+    /// The margin tracker restarted from `direction` (a neighbouring
+    /// check's [`weakest`](Self::weakest), or a guess from several): the
+    /// next margin starts from it instead of the last check's direction,
+    /// and is certified as any tracked margin.
+    pub(crate) fn start_from(&mut self, direction: [f64; 6]) {
+        self.tracker = MarginTracker::from_direction(direction);
+    }
+
     /// The pose at the increments `dpsi`, `dtheta` (rad) from the start,
     /// `P` and `phi` unchanged.
     pub fn pose(&self, dpsi: f64, dtheta: f64) -> Pose<f64> {

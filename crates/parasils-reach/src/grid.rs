@@ -51,38 +51,50 @@ impl ReachMap {
             module1_provenance: scenario.robot.module1.provenance().to_string(),
             regions: base.regions(),
         };
-        // The cells, a row per task.
-        map.cells = parallel_map(rows, threads, &base, |r, checker| {
-            let dtheta = theta.value_deg(r).to_radians();
-            (0..cols)
-                .map(|c| {
-                    let (v, step) = checker.check_step(psi.value_deg(c).to_radians(), dtheta);
-                    let deflection_mm = match (&load, &step) {
-                        (Some(load), Some(step)) => {
-                            tip_deflections(checker.controller(), step, load, &stiffness)
+        // The cells, a row per task, each with module 1's weakest direction
+        // there (the lines' and the boundary's checks start from it).
+        let (cells, directions): (Vec<Cell>, Vec<Option<[f64; 6]>>) =
+            parallel_map(rows, threads, &base, |r, checker| {
+                let dtheta = theta.value_deg(r).to_radians();
+                // The weakest direction two cells back, to extrapolate the next
+                // one from the last (see `extrapolated`).
+                let mut before = None;
+                (0..cols)
+                    .map(|c| {
+                        let last = checker.weakest();
+                        if let (Some(x0), Some(x1)) = (before, last) {
+                            checker.start_from(extrapolated(x0, x1));
                         }
-                        _ => None,
-                    };
-                    Cell {
-                        feasible: v.feasible(),
-                        reachable: false,
-                        line: None,
-                        limiting: v.limiting,
-                        nearest: v.nearest,
-                        margin: v.margin,
-                        deflection_mm,
-                    }
-                })
-                .collect::<Vec<_>>()
-        })
-        .into_iter()
-        .flatten()
-        .collect();
+                        before = last;
+                        let (v, step) = checker.check_step(psi.value_deg(c).to_radians(), dtheta);
+                        let deflection_mm = match (&load, &step) {
+                            (Some(load), Some(step)) => {
+                                tip_deflections(checker.controller(), step, load, &stiffness)
+                            }
+                            _ => None,
+                        };
+                        let cell = Cell {
+                            feasible: v.feasible(),
+                            reachable: false,
+                            line: None,
+                            limiting: v.limiting,
+                            nearest: v.nearest,
+                            margin: v.margin,
+                            deflection_mm,
+                        };
+                        (cell, checker.weakest())
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .into_iter()
+            .flatten()
+            .unzip();
+        map.cells = cells;
         map.flood_fill();
         if options.line {
-            map.lines(&base, threads);
+            map.lines(&base, threads, &directions);
         }
-        map.boundary = boundary::refine(&map, &base, threads);
+        map.boundary = boundary::refine(&map, &base, threads, &directions);
         Ok(map)
     }
 
@@ -148,4 +160,17 @@ impl ReachMap {
     pub fn is_empty(&self) -> bool {
         self.cells.is_empty()
     }
+}
+
+/// The weakest direction of module 1 at the next cell of a row, linearly
+/// extrapolated from the last two cells' (`x0` then `x1`, unit, `x0`'s sign
+/// turned to `x1`'s): a cell's step moves the direction by a few hundredths
+/// of a radian, which the previous direction alone leaves too far to
+/// certify at the first attempt (see `MarginTracker`); the extrapolation's
+/// error is of second order in the step. A poor guess only costs the
+/// tracker's further attempts: the margin is certified either way.
+fn extrapolated(x0: [f64; 6], x1: [f64; 6]) -> [f64; 6] {
+    let same: f64 = x0.iter().zip(&x1).map(|(a, b)| a * b).sum();
+    let s = if same < 0.0 { -1.0 } else { 1.0 };
+    core::array::from_fn(|k| 2.0 * x1[k] - s * x0[k])
 }

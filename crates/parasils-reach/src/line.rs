@@ -180,7 +180,12 @@ struct Ray {
 
 impl ReachMap {
     /// Fills every cell's `line` (see the [module docs](self)).
-    pub(super) fn lines(&mut self, base: &Checker, threads: usize) {
+    pub(super) fn lines(
+        &mut self,
+        base: &Checker,
+        threads: usize,
+        directions: &[Option<[f64; 6]>],
+    ) {
         for cell in &mut self.cells {
             cell.line = Some(false);
         }
@@ -227,7 +232,7 @@ impl ReachMap {
             let this = &*self;
             let marched = parallel_map_items(rays.len(), threads, |i| {
                 let (a, b) = rays[i];
-                this.march(base, a, b, bounds.as_ref(), &radii)
+                this.march(base, a, b, bounds.as_ref(), &radii, directions)
             });
             let excess = marched.iter().fold(0.0_f64, |r, ray| r.max(ray.excess));
             if excess <= 1.0 {
@@ -255,8 +260,18 @@ impl ReachMap {
     }
 
     /// Marches the ray `(a, b)` from the start (see the [module
-    /// docs](self)); without bounds, every point is evaluated.
-    fn march(&self, base: &Checker, a: i64, b: i64, bounds: Option<&Bounds>, radii: &[f64]) -> Ray {
+    /// docs](self)); without bounds, every point is evaluated. The ray's
+    /// margins are tracked from the weakest direction (`directions`, one
+    /// per cell) of the cell nearest its first evaluated point.
+    fn march(
+        &self,
+        base: &Checker,
+        a: i64,
+        b: i64,
+        bounds: Option<&Bounds>,
+        radii: &[f64],
+        directions: &[Option<[f64; 6]>],
+    ) -> Ray {
         let mut out = Ray {
             cells: Vec::new(),
             excess: 0.0,
@@ -276,8 +291,23 @@ impl ReachMap {
         // The distance between consecutive points, in steps.
         let ds = norm / nf;
         let end = last * n;
-        // A copy of `base` of the ray's own, made at its first check.
+        // A copy of `base` of the ray's own, made at its first check (point
+        // `j`), its tracker started from the nearest cell's direction.
         let mut own = None::<Checker>;
+        let fresh = |j: i64| {
+            let mut checker = base.clone();
+            #[allow(clippy::cast_possible_truncation)]
+            let nearest = self.at(
+                (j as f64 * af / nf).round() as i64,
+                (j as f64 * bf / nf).round() as i64,
+            );
+            if let Some(x) =
+                nearest.and_then(|(c, r)| directions.get(self.index(c, r)).copied().flatten())
+            {
+                checker.start_from(x);
+            }
+            checker
+        };
         // Every point before j passes.
         let mut j = 1;
         // The segment (between cells) last probed.
@@ -309,14 +339,14 @@ impl ReachMap {
                 {
                     probed = Some(segment);
                     let [dpsi, dtheta] = point(a, b, probe, n, self.psi.step_deg);
-                    let checker = own.get_or_insert_with(|| base.clone());
+                    let checker = own.get_or_insert_with(|| fresh(probe));
                     if !checker.feasible(dpsi, dtheta) {
                         j = probe;
                         break;
                     }
                 }
                 let [dpsi, dtheta] = point(a, b, j, n, self.psi.step_deg);
-                let verdict = own.get_or_insert_with(|| base.clone()).check(dpsi, dtheta);
+                let verdict = own.get_or_insert_with(|| fresh(j)).check(dpsi, dtheta);
                 if !verdict.feasible() {
                     break;
                 }

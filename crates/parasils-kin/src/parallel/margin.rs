@@ -99,6 +99,26 @@ impl<T: Real> MarginTracker<T> {
         }
     }
 
+    /// A tracker starting from `direction` (a scaled twist `(Pdot, L
+    /// omega_F)`, normalised here), as if the previous margin had found it:
+    /// a margin taken near where another tracker found `direction` (a
+    /// neighbouring cell of a reach map, say) starts from it instead of the
+    /// full decomposition. The margin is certified as any tracked one (a
+    /// poor direction only falls back to the full decomposition). A
+    /// direction of zero length or with a NaN or an infinity gives a new
+    /// tracker ([`new`](Self::new)).
+    pub fn from_direction(direction: [T; 6]) -> Self {
+        let nn = dot(&direction, &direction);
+        if !(nn > T::zero() && nn.finite()) {
+            return Self::new();
+        }
+        let inv = T::one() / nn.sqrt();
+        Self {
+            weakest: Some(direction.map(|v| v * inv)),
+            ..Self::new()
+        }
+    }
+
     /// The weakest direction found last: the unit scaled twist
     /// `(Pdot, L omega_F)` (dimensionless) that module 1's links resist least,
     /// `|J x| = sigma_min`. `None` before the first margin, and after a margin
