@@ -31,34 +31,19 @@ use crate::level::{Kernel, Level, dispatch};
 use crate::rows::{BatchError, check_output};
 
 // ------------------------------------------------------- sine and cosine
-// The constants are parasils-num's (crates/parasils-num/src/trig.rs), where
-// their derivation is written.
+// The constants are parasils-num's, where their derivation is written.
+
+use parasils_num::trig::{
+    C1_F64 as C1, C2_F64 as C2, C3_F64 as C3, C4_F64 as C4, C5_F64 as C5, C6_F64 as C6,
+    HEAD_F64 as HEAD, P1_F64 as P1, P2_F64 as P2, P3_F64 as P3, P4_F64 as P4, ROUND_F64 as ROUND,
+    S1_F64 as S1, S1_HI_F64 as S1_HI, S1_LO_F64 as S1_LO, S2_F64 as S2, S3_F64 as S3, S4_F64 as S4,
+    S5_F64 as S5, S6_F64 as S6, S7_F64 as S7,
+};
 
 /// `|x|` from which the polynomials apply: `2^-27`.
-const TINY: f64 = 7.450_580_596_923_828e-9;
+const TINY: f64 = f64::from_bits(parasils_num::trig::TINY_F64);
 /// `|x|` from which the scalar path goes to libm: `2^19`.
-const LIMIT: f64 = 524_288.0;
-const ROUND: f64 = 6_755_399_441_055_744.0;
-const P1: f64 = 1.570_796_326_850_541;
-const P2: f64 = -5.564_426_697_191_038_3e-11;
-const P3: f64 = -4.978_996_250_543_838e-17;
-const P4: f64 = 2.903_855_973_979_360_5e-28;
-const HEAD: u64 = 0xffff_ff00_0000_0000;
-const S1: f64 = -0.166_666_666_666_666_66;
-const S1_HI: f64 = -0.166_671_752_929_687_5;
-const S1_LO: f64 = 5.086_263_020_842_585e-6;
-const S2: f64 = 0.008_333_333_333_333_04;
-const S3: f64 = -0.000_198_412_698_409_592_85;
-const S4: f64 = 2.755_731_907_188_010_3e-6;
-const S5: f64 = -2.505_207_028_340_994e-8;
-const S6: f64 = 1.605_422_047_752_635e-10;
-const S7: f64 = -7.384_541_003_486_797e-13;
-const C1: f64 = 0.041_666_666_666_666_595;
-const C2: f64 = -0.001_388_888_888_887_334_2;
-const C3: f64 = 2.480_158_728_900_208e-5;
-const C4: f64 = -2.755_731_421_703_885_5e-7;
-const C5: f64 = 2.087_570_539_602_715_5e-9;
-const C6: f64 = -1.135_874_923_973_675_7e-11;
+const LIMIT: f64 = f64::from_bits(parasils_num::trig::LIMIT_F64);
 
 const SIGN: u64 = 1 << 63;
 

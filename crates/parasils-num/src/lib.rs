@@ -36,7 +36,7 @@
 
 pub mod format;
 pub mod real;
-mod trig;
+pub mod trig;
 
 pub use format::Num;
 pub use real::Real;

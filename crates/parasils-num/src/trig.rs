@@ -50,6 +50,9 @@
 //! it, and for NaN and infinities, libm's `sin_cos` (through nalgebra)
 //! answers, so no input is worse off than before. The accuracy measured is
 //! in the docs of [`Real::sincos`](crate::Real::sincos).
+//!
+//! The `f64` constants are public so that the batched kernels in lanes
+//! (`parasils-batch`) compute with the same numbers and give the same bits.
 
 use nalgebra::ComplexField;
 
@@ -57,46 +60,60 @@ use nalgebra::ComplexField;
 
 /// `|x|` (bits) from which `f64` goes through the polynomials: `2^-27`. Below
 /// it, `sin x = x` and `cos x = 1` are the correctly rounded values.
-const TINY_F64: u64 = 0x3e40_0000_0000_0000;
+pub const TINY_F64: u64 = 0x3e40_0000_0000_0000;
 /// `|x|` (bits) below which `f64` needs no reduction: the largest `f64`
 /// below `pi/4`.
 const PIO4_F64: u64 = 0x3fe9_21fb_5444_2d18;
 /// `|x|` (bits) from which `f64` goes to libm: `2^19` rad, so `|k| < 2^19`.
-const LIMIT_F64: u64 = 0x4120_0000_0000_0000;
+pub const LIMIT_F64: u64 = 0x4120_0000_0000_0000;
 
 /// `1.5 * 2^52`: adding and subtracting it rounds an `f64` of magnitude below
 /// `2^51` to the nearest integer, whose low bits the sum holds.
-const ROUND_F64: f64 = 6_755_399_441_055_744.0;
+pub const ROUND_F64: f64 = 6_755_399_441_055_744.0;
 /// `pi/2 = P1 + P2 + P3 + P4` to `2^-145`: `P1` and `P3` have 34 bits (`k P1`,
 /// `k P3` exact for `|k| < 2^19`), `P1 + P2` is a multiple of `2^-53`.
-const P1_F64: f64 = 1.570_796_326_850_541;
-const P2_F64: f64 = -5.564_426_697_191_038_3e-11;
-const P3_F64: f64 = -4.978_996_250_543_838e-17;
-const P4_F64: f64 = 2.903_855_973_979_360_5e-28;
+pub const P1_F64: f64 = 1.570_796_326_850_541;
+/// The second part of `pi/2` (see `P1_F64`).
+pub const P2_F64: f64 = -5.564_426_697_191_038_3e-11;
+/// The third part of `pi/2` (see `P1_F64`).
+pub const P3_F64: f64 = -4.978_996_250_543_838e-17;
+/// The fourth part of `pi/2` (see `P1_F64`).
+pub const P4_F64: f64 = 2.903_855_973_979_360_5e-28;
 /// The sign, exponent and first 12 fraction bits: `hi` cut to a 13-bit head.
-const HEAD_F64: u64 = 0xffff_ff00_0000_0000;
+pub const HEAD_F64: u64 = 0xffff_ff00_0000_0000;
 
 /// `sin r = r + S1 r^3 + r^5 (S2 + S3 z + ... + S7 z^5)`, `z = r^2`,
 /// `|r| <= pi/4`: relative error `2^-63.2`.
-const S1_F64: f64 = -0.166_666_666_666_666_66;
+pub const S1_F64: f64 = -0.166_666_666_666_666_66;
 /// `S1` rounded to 14 bits: `S1_HI h^3` is exact for a 13-bit `h`.
-const S1_HI_F64: f64 = -0.166_671_752_929_687_5;
+pub const S1_HI_F64: f64 = -0.166_671_752_929_687_5;
 /// `S1 - S1_HI`.
-const S1_LO_F64: f64 = 5.086_263_020_842_585e-6;
-const S2_F64: f64 = 0.008_333_333_333_333_04;
-const S3_F64: f64 = -0.000_198_412_698_409_592_85;
-const S4_F64: f64 = 2.755_731_907_188_010_3e-6;
-const S5_F64: f64 = -2.505_207_028_340_994e-8;
-const S6_F64: f64 = 1.605_422_047_752_635e-10;
-const S7_F64: f64 = -7.384_541_003_486_797e-13;
+pub const S1_LO_F64: f64 = 5.086_263_020_842_585e-6;
+/// The sine polynomial's coefficient of `r^5`.
+pub const S2_F64: f64 = 0.008_333_333_333_333_04;
+/// The sine polynomial's coefficient of `r^7`.
+pub const S3_F64: f64 = -0.000_198_412_698_409_592_85;
+/// The sine polynomial's coefficient of `r^9`.
+pub const S4_F64: f64 = 2.755_731_907_188_010_3e-6;
+/// The sine polynomial's coefficient of `r^11`.
+pub const S5_F64: f64 = -2.505_207_028_340_994e-8;
+/// The sine polynomial's coefficient of `r^13`.
+pub const S6_F64: f64 = 1.605_422_047_752_635e-10;
+/// The sine polynomial's coefficient of `r^15`.
+pub const S7_F64: f64 = -7.384_541_003_486_797e-13;
 /// `cos r = 1 - z/2 + z^2 (C1 + C2 z + ... + C6 z^5)`, `|r| <= pi/4`:
-/// relative error `2^-63.9`.
-const C1_F64: f64 = 0.041_666_666_666_666_595;
-const C2_F64: f64 = -0.001_388_888_888_887_334_2;
-const C3_F64: f64 = 2.480_158_728_900_208e-5;
-const C4_F64: f64 = -2.755_731_421_703_885_5e-7;
-const C5_F64: f64 = 2.087_570_539_602_715_5e-9;
-const C6_F64: f64 = -1.135_874_923_973_675_7e-11;
+/// relative error `2^-63.9`. `C1` is the coefficient of `r^4`.
+pub const C1_F64: f64 = 0.041_666_666_666_666_595;
+/// The cosine polynomial's coefficient of `r^6`.
+pub const C2_F64: f64 = -0.001_388_888_888_887_334_2;
+/// The cosine polynomial's coefficient of `r^8`.
+pub const C3_F64: f64 = 2.480_158_728_900_208e-5;
+/// The cosine polynomial's coefficient of `r^10`.
+pub const C4_F64: f64 = -2.755_731_421_703_885_5e-7;
+/// The cosine polynomial's coefficient of `r^12`.
+pub const C5_F64: f64 = 2.087_570_539_602_715_5e-9;
+/// The cosine polynomial's coefficient of `r^14`.
+pub const C6_F64: f64 = -1.135_874_923_973_675_7e-11;
 
 /// `(sin x, cos x)` for an `f64` angle in rad.
 #[inline]
