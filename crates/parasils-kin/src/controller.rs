@@ -336,6 +336,39 @@ impl<T: Real> Controller<T> {
         })
     }
 
+    /// [`Controller::step`] for a platform at rest at `pose` (mm, rad) and
+    /// both tips held at `tips`: a static pose, as the reach map checks
+    /// one. The same checks, errors, actuators, joints and margins as
+    /// `step` with [`PlatformState::at_rest`]`(pose)` (the margin to within
+    /// [`MarginTracker`]'s tolerance, as every tracked margin); every rate
+    /// and acceleration is zero, without being evaluated. Not for a
+    /// control loop: the platform's motion is not an input.
+    pub fn step_at_rest(
+        &self,
+        pose: &Pose<T>,
+        tips: &TipTargets<T>,
+        tracker: &mut MarginTracker<T>,
+    ) -> Result<ControlStep<T>, Error> {
+        pose.check_finite()?;
+        let frame = PlatformFrame::at_rest(pose);
+        check_vector(&tips.left, ["tips.left.x", "tips.left.y", "tips.left.z"])?;
+        check_vector(
+            &tips.right,
+            ["tips.right.x", "tips.right.y", "tips.right.z"],
+        )?;
+        let module1 = self.module1.solve_at_rest(&frame, tracker)?;
+        let left = self.left.solve_at_rest(&frame, &tips.left, self.modes[0])?;
+        let right = self
+            .right
+            .solve_at_rest(&frame, &tips.right, self.modes[1])?;
+        Ok(ControlStep {
+            frame,
+            module1,
+            left,
+            right,
+        })
+    }
+
     /// One control cycle of any motion type: the platform moves as
     /// `platform` says, and each instrument module is commanded either by
     /// its tip ([`ModuleCommand::Tip`]: the IK in the module's assembly mode,

@@ -336,6 +336,25 @@ impl<T: Real> PlatformFrame<T> {
         }
     }
 
+    /// The frame of the platform at rest at `pose` (no finiteness check):
+    /// the rotation and position of [`PlatformFrame::new`] for a
+    /// [`PlatformState::at_rest`], bit for bit, with every rate and
+    /// acceleration zero, without evaluating the rate formulas.
+    pub fn at_rest(pose: &Pose<T>) -> Self {
+        let (s1, c1) = pose.psi.sincos();
+        let (s2, c2) = pose.theta.sincos();
+        let (s3, c3) = pose.phi.sincos();
+        let zero = Vector3::zeros();
+        Self {
+            rotation: rotation_from_sin_cos(s1, c1, s2, c2, s3, c3),
+            position: pose.position(),
+            velocity: zero,
+            acceleration: zero,
+            omega: zero,
+            alpha: zero,
+        }
+    }
+
     /// `Rdot = R [omega]x`, 1/s.
     pub fn rotation_rate(&self) -> Matrix3<T> {
         self.rotation * self.omega.cross_matrix()

@@ -523,6 +523,33 @@ impl<T: Real> Instrument<T> {
         })
     }
 
+    /// [`Instrument::solve`] for a tip held still at `tip` (mm, fixed frame)
+    /// and a platform at rest (`frame`'s rates are ignored): the same checks,
+    /// joints and margins, the joints' rates and accelerations zero without
+    /// being evaluated. For static studies (the reach map).
+    pub fn solve_at_rest(
+        &self,
+        frame: &PlatformFrame<T>,
+        tip: &Vector3<T>,
+        mode: AssemblyMode,
+    ) -> Result<InstrumentSolution<T>, Error> {
+        check_vector(tip, ["tip.x", "tip.y", "tip.z"])?;
+        let c = frame.to_platform(tip);
+        let (q, trig) = self.ik_trig(&(c - self.geometry.rcm), mode)?;
+        self.geometry.limits.check(self.geometry.side, &q)?;
+        let zero = Joints::new(T::zero(), T::zero(), T::zero());
+        Ok(InstrumentSolution {
+            q,
+            q_dot: zero,
+            q_ddot: zero,
+            margins: InstrumentMargins {
+                cos_qs2: trig.c2.abs(),
+                qs3: q.qs3,
+                limits: self.geometry.limits.margins(&q),
+            },
+        })
+    }
+
     /// The module with its joints commanded directly (see [`JointMotion`]):
     /// the joints checked (finite, within their limits, away from the
     /// singular thresholds, as [`Instrument::solve`] checks the IK's), their

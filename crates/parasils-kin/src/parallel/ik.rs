@@ -323,6 +323,39 @@ impl<T: Real> ParallelRobot<T> {
         self.solve_with(frame, Some(tracker))
     }
 
+    /// [`ParallelRobot::solve_tracking`] for a platform at rest (a frame
+    /// whose rates and accelerations are zero, as
+    /// [`PlatformFrame::at_rest`] builds): the same checks, actuators and
+    /// margins, the actuators' rates and accelerations zero without being
+    /// evaluated. For static studies (the reach map); a control loop uses
+    /// [`ParallelRobot::solve_tracking`]. A frame with a non-zero rate is
+    /// not refused: its rates are ignored.
+    pub fn solve_at_rest(
+        &self,
+        frame: &PlatformFrame<T>,
+        tracker: &mut MarginTracker<T>,
+    ) -> Result<ParallelSolution<T>, Error> {
+        check_frame(frame)?;
+        let legs = self.legs(&frame.rotation, &frame.position)?;
+        self.check_serial(&legs.eu)?;
+        let q = Actuators(legs.q);
+        self.check_strokes(&q)?;
+        let margins = self.margins_of(&legs, Some(tracker));
+        let threshold = self.geometry.thresholds.parallel_command;
+        if !(margins.parallel >= threshold) {
+            return Err(Error::ParallelSingular {
+                margin: margins.parallel.to_f64(),
+                threshold: threshold.to_f64(),
+            });
+        }
+        Ok(ParallelSolution {
+            q,
+            q_dot: Actuators([T::zero(); 6]),
+            q_ddot: Actuators([T::zero(); 6]),
+            margins,
+        })
+    }
+
     fn solve_with(
         &self,
         frame: &PlatformFrame<T>,
