@@ -6,7 +6,7 @@ use std::borrow::Cow;
 
 use parasils::kin::{
     Bodies, BodyGeometry, ClearancePair, ControlStep, Controller, Error, InstrumentSingularity,
-    Interval, Joint, MarginTracker, PlatformState, Pose, Side, TipTargets,
+    Interval, Joint, MarginTracker, Pose, Side, TipTargets,
 };
 
 use parasils_sim::{Scenario, SimulationError};
@@ -429,8 +429,8 @@ impl Checker {
     /// # Errors
     /// The controller's, unchanged.
     pub fn step(&mut self, dpsi: f64, dtheta: f64) -> Result<ControlStep<f64>, Error> {
-        let state = PlatformState::at_rest(self.pose(dpsi, dtheta));
-        self.controller.step(&state, &self.tips, &mut self.tracker)
+        self.controller
+            .step_at_rest(&self.pose(dpsi, dtheta), &self.tips, &mut self.tracker)
     }
 
     /// Whether `(dpsi, dtheta)` (rad from the start) is feasible.
