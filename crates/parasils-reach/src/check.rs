@@ -424,7 +424,9 @@ impl Checker {
     }
 
     /// The controller's step with the platform at rest at `(dpsi, dtheta)`
-    /// from the start (rad) and the tips held.
+    /// from the start (rad) and the tips held ([`Controller::step_at_rest`]:
+    /// [`Controller::step`]'s numbers, the rates and accelerations zero
+    /// without being evaluated).
     ///
     /// # Errors
     /// The controller's, unchanged.
