@@ -19,7 +19,9 @@
 //! The control loop never waits on the network: it reads its input queue
 //! without blocking, and hands each published cycle to the publisher with
 //! a `try_send` that drops the frame (and counts it) when the publisher is
-//! behind; each client has its own queue in the server, whose oldest
+//! behind (once the loop is over, the last cycle's frame waits for the
+//! publisher, so a session and its recording always end on the same
+//! cycle); each client has its own queue in the server, whose oldest
 //! messages go when the client does not read. A slow client loses
 //! messages, never cycles.
 //!

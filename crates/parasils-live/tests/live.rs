@@ -88,7 +88,12 @@ fn one_delivery(publish_hz: f64, duration_s: f64) -> (f64, (f64, String)) {
             .await;
         c
     });
-    diagnostics_agree(&client.received["/diagnostics"], &report.stats, &scheduling);
+    diagnostics_agree(
+        &client.received["/diagnostics"],
+        rate_hz,
+        &report.stats,
+        &scheduling,
+    );
     let every = (rate_hz / publish_hz).round() as u64;
     let cycles = (duration_s * rate_hz).round() as u64 + 1;
     assert_eq!(report.stats.cycles, cycles);
@@ -152,24 +157,30 @@ fn one_delivery(publish_hz: f64, duration_s: f64) -> (f64, (f64, String)) {
     (share, worst)
 }
 
-/// The loop's counts as `/diagnostics` published them: a miss is a late
+/// The loop's counts as `/diagnostics` published them: each message's
+/// cycle count is its cycle's index (the counts are taken before that
+/// cycle is counted), so it follows from its log time; a miss is a late
 /// start, an overrun or both, so the misses lie between the larger of the
 /// two and their sum; the counts never fall from one message to the next;
-/// the last message (the last frame's, taken before that cycle was
-/// counted) is one cycle short of the session's report and at most its
-/// counts; the scheduling is the session's.
+/// the last cycle's message, when this client received it, is one cycle
+/// short of the session's report and at most its counts (the server
+/// always publishes it; a client that fell behind may lose it, which the
+/// delivery share counts); the scheduling is the session's.
 fn diagnostics_agree(
     messages: &[(u64, serde_json::Value)],
+    rate_hz: f64,
     report: &parasils_live::CycleStats,
     scheduling: &str,
 ) {
+    let index = |ns: u64| (ns as f64 * 1e-9 * rate_hz).round() as u64;
     let count = |v: &serde_json::Value, k: &str| {
         v[k].as_u64()
             .unwrap_or_else(|| panic!("/diagnostics: {k} is not a count: {v}"))
     };
     let mut last = [0u64; 4];
-    for (_, v) in messages {
+    for (ns, v) in messages {
         let c = ["cycles", "deadline_misses", "late_starts", "overruns"].map(|k| count(v, k));
+        assert_eq!(c[0], index(*ns), "{v}");
         let [_, misses, late, overruns] = c;
         assert!(
             misses >= late.max(overruns) && misses <= late + overruns,
@@ -183,6 +194,10 @@ fn diagnostics_agree(
         let tolerance = v["late_tolerance_us"].as_f64().expect("number");
         assert!((tolerance - 50.0).abs() < 1e-9, "{v}");
         last = c;
+    }
+    let (last_ns, _) = messages.last().expect("/diagnostics: nothing received");
+    if index(*last_ns) + 1 != report.cycles {
+        return;
     }
     assert_eq!(last[0] + 1, report.cycles);
     assert!(last[1] <= report.deadline_misses);
