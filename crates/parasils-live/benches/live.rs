@@ -2,11 +2,13 @@
 //! worst cycle, its latest start, its late starts and overruns) and the
 //! share of the messages a client receives, with a client that reads
 //! everything and with one that subscribes to everything and then stops
-//! reading; and first, the wake-up jitter the loop's spin margin is chosen
-//! from (10,000 sleeps to 1 ms deadlines, without a spin).
+//! reading; first, the wake-up jitter the loop's spin margin is chosen
+//! from (10,000 sleeps to 1 ms deadlines, without a spin); and before each
+//! session, side by side, the machine's floor (an empty loop with the same
+//! scheduling, and the gaps a spinning thread sees).
 //!
-//! `cargo bench -p parasils-live --bench live` (about 60 s: the jitter,
-//! then four 10 s sessions at 1 kHz); the results are in BENCHMARKS.md
+//! `cargo bench -p parasils-live --bench live` (about 2 min: the jitter,
+//! then four 10 s floors and four 10 s sessions at 1 kHz); the results are in BENCHMARKS.md
 //! (*Live*). Times are measured, never asserted. `PARASILS_LIVE_PRIORITY`
 //! (a `SCHED_FIFO` priority, or `none`) and `PARASILS_LIVE_MARGIN_US`
 //! change the sessions' scheduling and spin margin.
@@ -19,7 +21,7 @@ use std::collections::BTreeSet;
 use std::time::Instant;
 
 use common::{Client, drive, session_options};
-use parasils_live::{LiveOptions, schedule_current_thread};
+use parasils_live::{LiveOptions, schedule_current_thread, wait_until};
 
 /// The sessions' options from the environment.
 fn options(publish_hz: f64, duration_s: f64) -> LiveOptions {
@@ -70,6 +72,47 @@ fn jitter(priority: Option<u8>) {
         q(0.999),
         late[late.len() - 1],
         late.iter().filter(|&&l| l > 50.0).count()
+    );
+}
+
+/// The machine's floor for the loop, measured beside each session: for
+/// 10,000 cycles of 1 ms, a thread with the sessions' scheduling waits
+/// for each deadline as the loop does ([`wait_until`], the same margin)
+/// and counts its late starts (over 5 % of a period) with no work, no
+/// server and no client; then it spins 0.8 ms of each cycle reading the
+/// clock, and counts the gaps over 50 us between two reads. At
+/// `SCHED_FIFO` no thread of this machine can take the processor from it
+/// (the rest of each cycle is asleep, so the kernel's real-time limit
+/// never throttles it): a gap is time the processor was taken away, by an
+/// interrupt or by the hypervisor, and no program can prevent it.
+fn floor(priority: Option<u8>, margin: Duration) {
+    let (scheduling, late, gaps, worst_gap_us) = std::thread::spawn(move || {
+        let scheduling = schedule_current_thread(priority);
+        let start = Instant::now() + Duration::from_millis(1);
+        let (mut late, mut gaps, mut worst) = (0u32, 0u32, Duration::ZERO);
+        for k in 0..10_000u32 {
+            let due = start + Duration::from_millis(u64::from(k));
+            let woke = wait_until(due, margin);
+            if woke.saturating_duration_since(due) > Duration::from_micros(50) {
+                late += 1;
+            }
+            let mut before = Instant::now();
+            while before < due + Duration::from_micros(800) {
+                let now = Instant::now();
+                let gap = now - before;
+                if gap > Duration::from_micros(50) {
+                    gaps += 1;
+                }
+                worst = worst.max(gap);
+                before = now;
+            }
+        }
+        (scheduling, late, gaps, worst.as_secs_f64() * 1e6)
+    })
+    .join()
+    .expect("join");
+    println!(
+        "the machine's floor, {scheduling}: an empty loop started {late} of 10,000 cycles more than 50 us late; spinning 0.8 ms of each cycle, the processor was taken away {gaps} times for more than 50 us (longest {worst_gap_us:.1} us)"
     );
 }
 
@@ -137,12 +180,17 @@ fn main() {
     }
     jitter(None);
     jitter(Some(80));
+    let o = options(100.0, 10.0);
     for (publish_hz, reading) in [
         (100.0, true),
         (1000.0, true),
         (100.0, false),
         (1000.0, false),
     ] {
+        floor(
+            o.realtime_priority,
+            Duration::from_secs_f64(o.spin_margin_s),
+        );
         run(publish_hz, reading);
     }
 }
