@@ -370,17 +370,21 @@ impl<T: Real> OnlineController<T> {
     }
 
     /// The kinematics of one cycle at `state` with the tips as set.
+    ///
+    /// The kinematics' own error, converted by the caller's `?`: a
+    /// conversion here would move the step out of one `Result` into
+    /// another on every cycle.
     pub(super) fn solve(
         &self,
         state: &PlatformState<T>,
         tracker: &mut MarginTracker<T>,
-    ) -> Result<ControlStep<T>, Error> {
-        Ok(self.controller.step_commanded(
+    ) -> Result<ControlStep<T>, crate::kin::Error> {
+        self.controller.step_commanded(
             state,
             &ModuleCommand::Tip(self.tip_motion[0]),
             &ModuleCommand::Tip(self.tip_motion[1]),
             tracker,
-        )?)
+        )
     }
 
     /// How long the controlled stop from these velocities takes, s.

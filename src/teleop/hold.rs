@@ -252,10 +252,16 @@ impl<T: Real> Teleop<T> {
             })
         };
         let mut tracker = self.tracker;
-        let step = self
-            .controller
-            .step_commanded(&platform, &command(0), &command(1), &mut tracker)
-            .map_err(Miss::reach)?;
+        // Matched, not `map_err`: the step is taken out of the kinematics'
+        // `Result` once, never moved into a second one.
+        let step =
+            match self
+                .controller
+                .step_commanded(&platform, &command(0), &command(1), &mut tracker)
+            {
+                Ok(step) => step,
+                Err(e) => return Err(Miss::reach(e)),
+            };
         let margins = Margins::of(&step);
         let clearance = self.clearance_of(&step).map_err(Miss::reach)?;
         let mut end_tracker = self.end_tracker;
