@@ -335,37 +335,29 @@ impl<T: Real> ParallelRobot<T> {
         frame: &PlatformFrame<T>,
         tracker: &mut MarginTracker<T>,
     ) -> Result<ParallelSolution<T>, Error> {
-        check_frame(frame)?;
-        let legs = self.legs(&frame.rotation, &frame.position)?;
-        self.check_serial(&legs.eu)?;
-        let q = Actuators(legs.q);
-        self.check_strokes(&q)?;
-        let margins = self.margins_of(&legs, Some(tracker));
-        let threshold = self.geometry.thresholds.parallel_command;
-        if !(margins.parallel >= threshold) {
-            return Err(Error::ParallelSingular {
-                margin: margins.parallel.to_f64(),
-                threshold: threshold.to_f64(),
-            });
-        }
+        let (legs, margins) = self.positions(frame, Some(tracker))?;
         Ok(ParallelSolution {
-            q,
+            q: Actuators(legs.q),
             q_dot: Actuators([T::zero(); 6]),
             q_ddot: Actuators([T::zero(); 6]),
             margins,
         })
     }
 
-    fn solve_with(
+    /// The position half of [`ParallelRobot::solve`], shared with
+    /// [`ParallelRobot::solve_at_rest`]: the frame checked, the legs, the
+    /// serial and stroke checks, the margins and the parallel threshold.
+    /// Inlined at both, so that the control step's code is as it was.
+    #[inline(always)]
+    fn positions(
         &self,
         frame: &PlatformFrame<T>,
         tracker: Option<&mut MarginTracker<T>>,
-    ) -> Result<ParallelSolution<T>, Error> {
+    ) -> Result<(Legs<T>, ParallelMargins<T>), Error> {
         check_frame(frame)?;
         let legs = self.legs(&frame.rotation, &frame.position)?;
         self.check_serial(&legs.eu)?;
-        let q = Actuators(legs.q);
-        self.check_strokes(&q)?;
+        self.check_strokes(&Actuators(legs.q))?;
         let margins = self.margins_of(&legs, tracker);
         let threshold = self.geometry.thresholds.parallel_command;
         if !(margins.parallel >= threshold) {
@@ -374,10 +366,19 @@ impl<T: Real> ParallelRobot<T> {
                 threshold: threshold.to_f64(),
             });
         }
+        Ok((legs, margins))
+    }
+
+    fn solve_with(
+        &self,
+        frame: &PlatformFrame<T>,
+        tracker: Option<&mut MarginTracker<T>>,
+    ) -> Result<ParallelSolution<T>, Error> {
+        let (legs, margins) = self.positions(frame, tracker)?;
         let (q_dot, q_ddot) = self.rates_unchecked(frame, &legs.e, &legs.eu);
         check_rates(&q_dot, &q_ddot)?;
         Ok(ParallelSolution {
-            q,
+            q: Actuators(legs.q),
             q_dot,
             q_ddot,
             margins,
