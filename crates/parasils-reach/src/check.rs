@@ -405,6 +405,13 @@ impl Checker {
         self.tracker.weakest()
     }
 
+    /// How many parallel margins the checker's tracker has computed: a
+    /// check that raises it found module 1's weakest direction at its own
+    /// orientation (one that fails before the margin leaves the last).
+    pub(crate) fn margins(&self) -> u64 {
+        self.tracker.counts().0
+    }
+
     /// The margin tracker restarted from `direction` (a neighbouring
     /// check's [`weakest`](Self::weakest), or a guess from several): the
     /// next margin starts from it instead of the last check's direction,
@@ -447,45 +454,51 @@ impl Checker {
 
     /// The verdict at `(dpsi, dtheta)` (rad from the start).
     pub fn check(&mut self, dpsi: f64, dtheta: f64) -> Verdict {
-        self.check_step(dpsi, dtheta).0
+        match self.step(dpsi, dtheta) {
+            Ok(step) => self.verdict(&step),
+            Err(error) => self.refusal(&error),
+        }
     }
 
     /// The verdict at `(dpsi, dtheta)` (rad from the start), with the
     /// controller's step there when the orientation is feasible.
     pub fn check_step(&mut self, dpsi: f64, dtheta: f64) -> (Verdict, Option<ControlStep<f64>>) {
         match self.step(dpsi, dtheta) {
-            Ok(step) => match self.gaps(&step) {
-                Some(gaps) => match gaps.iter().find(|g| !(g.1 >= 0.0)) {
-                    Some(&(limiting, margin)) => (
-                        Verdict {
-                            limiting,
-                            margin,
-                            nearest: limiting,
-                        },
-                        None,
-                    ),
-                    None => (self.margin_of(&step, &gaps), Some(step)),
-                },
-                None => (
-                    Verdict {
-                        limiting: Constraint::Other,
-                        margin: f64::NAN,
-                        nearest: Constraint::Other,
-                    },
-                    None,
-                ),
-            },
-            Err(error) => {
-                let limiting = Constraint::of_error(&error);
-                (
-                    Verdict {
-                        limiting,
-                        margin: self.violation(&error),
-                        nearest: limiting,
-                    },
-                    None,
-                )
+            Ok(step) => {
+                let verdict = self.verdict(&step);
+                (verdict, verdict.feasible().then_some(step))
             }
+            Err(error) => (self.refusal(&error), None),
+        }
+    }
+
+    /// The verdict on a step the controller made: the bodies' first gap
+    /// below its threshold, or the smallest margin of all.
+    fn verdict(&self, step: &ControlStep<f64>) -> Verdict {
+        match self.gaps(step) {
+            Some(gaps) => match gaps.iter().find(|g| !(g.1 >= 0.0)) {
+                Some(&(limiting, margin)) => Verdict {
+                    limiting,
+                    margin,
+                    nearest: limiting,
+                },
+                None => self.margin_of(step, &gaps),
+            },
+            None => Verdict {
+                limiting: Constraint::Other,
+                margin: f64::NAN,
+                nearest: Constraint::Other,
+            },
+        }
+    }
+
+    /// The verdict on a step the controller refused with `error`.
+    fn refusal(&self, error: &Error) -> Verdict {
+        let limiting = Constraint::of_error(error);
+        Verdict {
+            limiting,
+            margin: self.violation(error),
+            nearest: limiting,
         }
     }
 

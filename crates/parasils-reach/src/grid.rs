@@ -52,7 +52,8 @@ impl ReachMap {
             regions: base.regions(),
         };
         // The cells, a row per task, each with module 1's weakest direction
-        // there (the lines' and the boundary's checks start from it).
+        // there when its check got as far as the margin (the lines' and the
+        // boundary's checks start from these).
         let (cells, directions): (Vec<Cell>, Vec<Option<[f64; 6]>>) =
             parallel_map(rows, threads, &base, |r, checker| {
                 let dtheta = theta.value_deg(r).to_radians();
@@ -66,12 +67,18 @@ impl ReachMap {
                             checker.start_from(extrapolated(x0, x1));
                         }
                         before = last;
-                        let (v, step) = checker.check_step(psi.value_deg(c).to_radians(), dtheta);
-                        let deflection_mm = match (&load, &step) {
-                            (Some(load), Some(step)) => {
-                                tip_deflections(checker.controller(), step, load, &stiffness)
+                        let margins = checker.margins();
+                        let dpsi = psi.value_deg(c).to_radians();
+                        let (v, deflection_mm) = match &load {
+                            // The step itself only for the stiffness measure.
+                            None => (checker.check(dpsi, dtheta), None),
+                            Some(load) => {
+                                let (v, step) = checker.check_step(dpsi, dtheta);
+                                let deflection = step.and_then(|step| {
+                                    tip_deflections(checker.controller(), &step, load, &stiffness)
+                                });
+                                (v, deflection)
                             }
-                            _ => None,
                         };
                         let cell = Cell {
                             feasible: v.feasible(),
@@ -82,7 +89,8 @@ impl ReachMap {
                             margin: v.margin,
                             deflection_mm,
                         };
-                        (cell, checker.weakest())
+                        let here = checker.margins() > margins;
+                        (cell, checker.weakest().filter(|_| here))
                     })
                     .collect::<Vec<_>>()
             })
