@@ -212,6 +212,10 @@ fn polylines(map: &ReachMap, ids: &HashMap<usize, usize>) -> Vec<Polyline> {
                 feasible(c + 1, r + 1),
                 feasible(c, r + 1),
             ];
+            if f.iter().all(|&v| v == f[0]) {
+                // No crossing: most squares.
+                continue;
+            }
             // Sides: bottom, right, top, left (side k joins corners k, k+1).
             let side = [
                 edge_id(map, c, r, false),

@@ -94,28 +94,34 @@ struct Bounds {
 }
 
 impl Bounds {
-    /// The bounds of `map`, multiplied by `scale`.
-    fn new(map: &ReachMap, scale: f64) -> Self {
+    /// The bounds of `map`, multiplied by `scale`, rows of tiles shared among
+    /// `threads` threads.
+    fn new(map: &ReachMap, scale: f64, threads: usize) -> Self {
         let (cols, rows) = (map.psi.count, map.theta.count);
         let (tiles, tile_rows) = (cols.div_ceil(TILE), rows.div_ceil(TILE));
-        let mut rate = vec![0.0_f64; tiles * tile_rows];
-        for r in 0..rows {
-            for c in 0..cols {
-                let here = &map.cells[map.index(c, r)];
-                if !(here.feasible && here.margin.is_finite()) {
-                    continue;
+        // Each tile's largest rate, a row of tiles per task.
+        let rate = parallel_map_items(tile_rows, threads, |ty| {
+            let mut rate = vec![0.0_f64; tiles];
+            for r in ty * TILE..((ty + 1) * TILE).min(rows) {
+                for c in 0..cols {
+                    let here = &map.cells[map.index(c, r)];
+                    if !(here.feasible && here.margin.is_finite()) {
+                        continue;
+                    }
+                    let diff = |other: Option<&Cell>| {
+                        other
+                            .filter(|o| o.feasible && o.margin.is_finite())
+                            .map_or(0.0, |o| o.margin - here.margin)
+                    };
+                    let dx = diff((c + 1 < cols).then(|| &map.cells[map.index(c + 1, r)]));
+                    let dy = diff((r + 1 < rows).then(|| &map.cells[map.index(c, r + 1)]));
+                    let t = &mut rate[c / TILE];
+                    *t = t.max(dx.hypot(dy));
                 }
-                let diff = |other: Option<&Cell>| {
-                    other
-                        .filter(|o| o.feasible && o.margin.is_finite())
-                        .map_or(0.0, |o| o.margin - here.margin)
-                };
-                let dx = diff((c + 1 < cols).then(|| &map.cells[map.index(c + 1, r)]));
-                let dy = diff((r + 1 < rows).then(|| &map.cells[map.index(c, r + 1)]));
-                let t = &mut rate[(r / TILE) * tiles + c / TILE];
-                *t = t.max(dx.hypot(dy));
             }
-        }
+            rate
+        })
+        .concat();
         // The largest rate within `w` tiles, along the rows then along the
         // columns (the same maximum as over the square, in fewer steps).
         let around = |w: usize| {
@@ -227,12 +233,15 @@ impl Discs {
         ) else {
             return [0.0; 4];
         };
+        if c + 1 >= self.width {
+            return [0.0; 4];
+        }
         let at = r * self.width + c;
         match (
             self.radii.get(at..at + 2),
             self.radii.get(at + self.width..at + self.width + 2),
         ) {
-            (Some(&[r00, r10]), Some(&[r01, r11])) if c < self.width - 1 => [r00, r10, r01, r11],
+            (Some(&[r00, r10]), Some(&[r01, r11])) => [r00, r10, r01, r11],
             _ => [0.0; 4],
         }
     }
@@ -278,19 +287,20 @@ impl ReachMap {
             ],
         );
         // The primitive directions (a, b) whose first cell is feasible.
-        let mut rays = Vec::new();
-        for b in kt[0]..=kt[1] {
-            for a in kp[0]..=kp[1] {
-                if (a, b) != (0, 0) && gcd(a, b) == 1 && self.feasible_at(a, b).is_some() {
-                    rays.push((a, b));
-                }
-            }
-        }
+        let this = &*self;
+        let rays = parallel_map_items(self.theta.count, threads, |row| {
+            let b = kt[0] + row as i64;
+            (kp[0]..=kp[1])
+                .filter(|&a| (a, b) != (0, 0) && gcd(a, b) == 1 && this.feasible_at(a, b).is_some())
+                .map(|a| (a, b))
+                .collect::<Vec<_>>()
+        })
+        .concat();
         let mut scale = 1.0;
         // Each pass keeps its result or raises the bounds; the last one
         // evaluates every point.
         for pass in 0..4 {
-            let bounds = (pass < 3).then(|| Bounds::new(self, scale));
+            let bounds = (pass < 3).then(|| Bounds::new(self, scale, threads));
             let discs = Discs::new(self, bounds.as_ref(), threads);
             let this = &*self;
             let marched = parallel_map_items(rays.len(), threads, |i| {
@@ -407,16 +417,14 @@ impl ReachMap {
             #[allow(clippy::cast_precision_loss)]
             let (x0, y0) = (corner.0 as f64, corner.1 as f64);
             // The farthest the discs of the cells around p clear along the ray.
-            let mut cleared = None::<f64>;
-            for ((dx, dy), r) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
-                .into_iter()
-                .zip(discs.corners(corner))
-            {
-                let d = [p[0] - (x0 + dx), p[1] - (y0 + dy)];
-                if let Some(s) = chord(d, u, r) {
-                    cleared = Some(cleared.map_or(s, |best: f64| best.max(s)));
-                }
-            }
+            // (A chord is never negative: -1 for none.)
+            let [r00, r10, r01, r11] = discs.corners(corner);
+            let (x1, y1) = (x0 + 1.0, y0 + 1.0);
+            let farthest = chord([p[0] - x0, p[1] - y0], u, r00)
+                .max(chord([p[0] - x1, p[1] - y0], u, r10))
+                .max(chord([p[0] - x0, p[1] - y1], u, r01))
+                .max(chord([p[0] - x1, p[1] - y1], u, r11));
+            let mut cleared = (farthest >= 0.0).then_some(farthest);
             if cleared.is_none() && j % n != 0 {
                 // A point of this segment beyond infeasible cells fails
                 // first: if it does, so does the segment.
@@ -526,12 +534,13 @@ fn seeded<'c>(
 }
 
 /// How far along the unit direction `u` a point at `d` from a disc's centre
-/// stays inside the disc of radius `r`, if it is inside at all.
-fn chord(d: [f64; 2], u: [f64; 2], r: f64) -> Option<f64> {
+/// stays inside the disc of radius `r` (never negative); -1 when it is not
+/// inside.
+fn chord(d: [f64; 2], u: [f64; 2], r: f64) -> f64 {
     let dd = d[0] * d[0] + d[1] * d[1];
     if !(dd < r * r) {
-        return None;
+        return -1.0;
     }
     let du = d[0] * u[0] + d[1] * u[1];
-    Some(-du + (du * du - dd + r * r).sqrt())
+    -du + (du * du - dd + r * r).sqrt()
 }
