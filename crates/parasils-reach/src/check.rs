@@ -492,9 +492,10 @@ impl Checker {
 
     /// Whether `(dpsi, dtheta)` (rad from the start) is feasible.
     pub fn feasible(&mut self, dpsi: f64, dtheta: f64) -> bool {
-        match self.step(dpsi, dtheta) {
+        // Matched in place: the step is not moved out of the result.
+        match &self.step(dpsi, dtheta) {
             Ok(step) => self
-                .gaps(&step)
+                .gaps(step)
                 .is_some_and(|gaps| gaps.iter().all(|g| g.1 >= 0.0)),
             Err(_) => false,
         }
@@ -502,9 +503,9 @@ impl Checker {
 
     /// The verdict at `(dpsi, dtheta)` (rad from the start).
     pub fn check(&mut self, dpsi: f64, dtheta: f64) -> Verdict {
-        match self.step(dpsi, dtheta) {
-            Ok(step) => self.verdict(&step),
-            Err(error) => self.refusal(&error),
+        match &self.step(dpsi, dtheta) {
+            Ok(step) => self.verdict(step),
+            Err(error) => self.refusal(error),
         }
     }
 
