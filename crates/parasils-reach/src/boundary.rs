@@ -35,26 +35,85 @@ fn edge_id(map: &ReachMap, c: usize, r: usize, vertical: bool) -> usize {
 }
 
 /// Bisects between a feasible point `a` and an infeasible one `b` (rad)
-/// down to [`TOLERANCE_RAD`].
-pub fn bisect(checker: &mut Checker, mut a: [f64; 2], mut b: [f64; 2]) -> ([f64; 2], [f64; 2]) {
+/// down to [`TOLERANCE_RAD`]. Each check's margin starts from module 1's
+/// weakest direction guessed from the checks before it (see
+/// `bisect_from`).
+pub fn bisect(checker: &mut Checker, a: [f64; 2], b: [f64; 2]) -> ([f64; 2], [f64; 2]) {
+    bisect_from(checker, a, b, Vec::new())
+}
+
+/// [`bisect`] knowing module 1's weakest direction at some places of the
+/// line from `a` (`t = 0`) to `b` (`t = 1`): `known`, `(t, direction)`.
+/// Each check's margin starts from the direction at its `t` interpolated
+/// (or extrapolated) linearly from the two nearest known ones (one alone
+/// when only one is known), an error of second order in their distance,
+/// which halves at each step; every check that gets as far as the margin
+/// adds its direction. A poor guess only costs the tracker's further
+/// attempts: the margin is certified either way, and the bracket depends
+/// only on which checks pass.
+fn bisect_from(
+    checker: &mut Checker,
+    mut a: [f64; 2],
+    mut b: [f64; 2],
+    mut known: Vec<(f64, [f64; 6])>,
+) -> ([f64; 2], [f64; 2]) {
+    let (mut ta, mut tb) = (0.0, 1.0);
     // Each halving is one check; 40 halve any grid step below the tolerance.
     for _ in 0..60 {
         if (b[0] - a[0]).hypot(b[1] - a[1]) <= TOLERANCE_RAD {
             break;
         }
         let mid = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
-        if checker.feasible(mid[0], mid[1]) {
-            a = mid;
+        let t = 0.5 * (ta + tb);
+        if let Some(x) = guess(&known, t) {
+            checker.start_from(x);
+        }
+        let margins = checker.margins();
+        let feasible = checker.feasible(mid[0], mid[1]);
+        if checker.margins() > margins
+            && let Some(x) = checker.weakest()
+        {
+            known.push((t, x));
+        }
+        if feasible {
+            (a, ta) = (mid, t);
         } else {
-            b = mid;
+            (b, tb) = (mid, t);
         }
     }
     (a, b)
 }
 
+/// The direction at `t` on the line through the two entries of `known`
+/// nearest `t` (the second's sign turned to the first's); the nearest
+/// alone when there is one.
+fn guess(known: &[(f64, [f64; 6])], t: f64) -> Option<[f64; 6]> {
+    let mut near: [Option<(f64, [f64; 6])>; 2] = [None, None];
+    for &(s, x) in known {
+        let d = (s - t).abs();
+        match near {
+            [Some((n0, _)), _] if d < (n0 - t).abs() => near = [Some((s, x)), near[0]],
+            [Some(_), Some((n1, _))] if d >= (n1 - t).abs() => {}
+            [Some(_), _] => near[1] = Some((s, x)),
+            [None, _] => near[0] = Some((s, x)),
+        }
+    }
+    match near {
+        [Some((t0, x0)), Some((t1, x1))] if t1 != t0 => {
+            let same: f64 = x0.iter().zip(&x1).map(|(a, b)| a * b).sum();
+            let s = if same < 0.0 { -1.0 } else { 1.0 };
+            let f = (t - t0) / (t1 - t0);
+            Some(core::array::from_fn(|k| x0[k] + f * (s * x1[k] - x0[k])))
+        }
+        [Some((_, x0)), _] => Some(x0),
+        [None, _] => None,
+    }
+}
+
 /// The boundary of `map`, each crossing edge bisected on `threads` threads,
-/// each bisection's margins tracked from the feasible cell's weakest
-/// direction (`directions`, one per cell).
+/// each bisection's margins started from the weakest directions of the
+/// edge's cells and of the cell behind the feasible one (`directions`, one
+/// per cell, where its check found one).
 pub(super) fn refine(
     map: &ReachMap,
     base: &Checker,
@@ -88,10 +147,22 @@ pub(super) fn refine(
         } else {
             (there, here)
         };
-        if let Some(x) = directions.get(inner).copied().flatten() {
-            checker.start_from(x);
-        }
-        let (inside, outside) = bisect(checker, rad(inner), rad(outer));
+        // The directions of the edge's cells and of the cell beyond the
+        // feasible one, away from the infeasible one, where their checks
+        // found one.
+        let direction = |i: usize| directions.get(i).copied().flatten();
+        let behind = (2 * inner)
+            .checked_sub(outer)
+            .filter(|&i| i < map.cells.len() && adjacent(map, i, inner));
+        let known = [
+            (-1.0, behind.and_then(direction)),
+            (0.0, direction(inner)),
+            (1.0, direction(outer)),
+        ]
+        .into_iter()
+        .filter_map(|(t, x)| Some((t, x?)))
+        .collect();
+        let (inside, outside) = bisect_from(checker, rad(inner), rad(outer), known);
         BoundaryPoint {
             inside,
             outside,
@@ -111,6 +182,14 @@ pub(super) fn refine(
         polylines,
         edges: ids,
     }
+}
+
+/// Whether the cells `i` and `j` are neighbours along a row or a column
+/// (so that `2 i - j` did not wrap around a row's end).
+fn adjacent(map: &ReachMap, i: usize, j: usize) -> bool {
+    let cols = map.psi.count;
+    let (ci, ri, cj, rj) = (i % cols, i / cols, j % cols, j / cols);
+    ci.abs_diff(cj) + ri.abs_diff(rj) == 1
 }
 
 /// Marching squares: in each square of four cells, the crossing edges
@@ -133,6 +212,10 @@ fn polylines(map: &ReachMap, ids: &HashMap<usize, usize>) -> Vec<Polyline> {
                 feasible(c + 1, r + 1),
                 feasible(c, r + 1),
             ];
+            if f.iter().all(|&v| v == f[0]) {
+                // No crossing: most squares.
+                continue;
+            }
             // Sides: bottom, right, top, left (side k joins corners k, k+1).
             let side = [
                 edge_id(map, c, r, false),

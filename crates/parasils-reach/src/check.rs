@@ -6,7 +6,7 @@ use std::borrow::Cow;
 
 use parasils::kin::{
     Bodies, BodyGeometry, ClearancePair, ControlStep, Controller, Error, InstrumentSingularity,
-    Interval, Joint, MarginTracker, Pose, Side, TipTargets,
+    Interval, Joint, JointLimits, MarginTracker, Pose, Side, TipTargets,
 };
 
 use parasils_sim::{Scenario, SimulationError};
@@ -296,8 +296,35 @@ impl Verdict {
 /// `value`'s distance inside `range` over its width: 0.5 in the middle, 0 on
 /// a bound, negative beyond; `None` for an unbounded range.
 fn relative(range: &Interval<f64>, value: f64) -> Option<f64> {
+    relative_in(range, width(range), value)
+}
+
+/// The width of `range`, `None` when it is unbounded (or empty).
+fn width(range: &Interval<f64>) -> Option<f64> {
     let width = range.max - range.min;
-    (width.is_finite() && width > 0.0).then(|| range.margin(value) / width)
+    (width.is_finite() && width > 0.0).then_some(width)
+}
+
+/// [`relative`] with `range`'s [`width`] known.
+fn relative_in(range: &Interval<f64>, width: Option<f64>, value: f64) -> Option<f64> {
+    width.map(|width| range.margin(value) / width)
+}
+
+/// The scale of an instrument's `qs3` singular margin: the width of
+/// `qs3`'s range, or 1 mm when it is unbounded.
+fn qs3_scale(limits: &JointLimits<f64>) -> f64 {
+    width(&limits.qs3).unwrap_or(1.0)
+}
+
+/// The widths the normalised margins divide by, taken once from the
+/// controller's geometry: each actuator's stroke ([`width`]), each
+/// instrument joint's range (left, right), each instrument's `qs3` scale
+/// ([`qs3_scale`]).
+#[derive(Debug, Clone, Copy)]
+struct Scales {
+    stroke: [Option<f64>; 6],
+    joints: [[Option<f64>; 3]; 2],
+    qs3: [f64; 2],
 }
 
 /// The bodies a [`Checker`] measures: their sizes and the endoscope's
@@ -332,6 +359,7 @@ pub struct Checker {
     tips: TipTargets<f64>,
     start: Pose<f64>,
     bodies: Option<BodyCheck>,
+    scales: Scales,
 }
 
 impl Checker {
@@ -365,12 +393,32 @@ impl Checker {
             clearance_stop_mm,
             no_go,
         });
+        let joints = |limits: &JointLimits<f64>| {
+            [width(&limits.qs1), width(&limits.qs2), width(&limits.qs3)]
+        };
+        let scales = Scales {
+            stroke: controller
+                .module1
+                .geometry()
+                .guides
+                .each_ref()
+                .map(|g| width(&g.stroke)),
+            joints: [
+                joints(&controller.left.geometry().limits),
+                joints(&controller.right.geometry().limits),
+            ],
+            qs3: [
+                qs3_scale(&controller.left.geometry().limits),
+                qs3_scale(&controller.right.geometry().limits),
+            ],
+        };
         Ok(Self {
             controller,
             tracker: MarginTracker::new(),
             tips,
             start,
             bodies,
+            scales,
         })
     }
 
@@ -405,6 +453,13 @@ impl Checker {
         self.tracker.weakest()
     }
 
+    /// How many parallel margins the checker's tracker has computed: a
+    /// check that raises it found module 1's weakest direction at its own
+    /// orientation (one that fails before the margin leaves the last).
+    pub(crate) fn margins(&self) -> u64 {
+        self.tracker.counts().0
+    }
+
     /// The margin tracker restarted from `direction` (a neighbouring
     /// check's [`weakest`](Self::weakest), or a guess from several): the
     /// next margin starts from it instead of the last check's direction,
@@ -437,9 +492,10 @@ impl Checker {
 
     /// Whether `(dpsi, dtheta)` (rad from the start) is feasible.
     pub fn feasible(&mut self, dpsi: f64, dtheta: f64) -> bool {
-        match self.step(dpsi, dtheta) {
+        // Matched in place: the step is not moved out of the result.
+        match &self.step(dpsi, dtheta) {
             Ok(step) => self
-                .gaps(&step)
+                .gaps(step)
                 .is_some_and(|gaps| gaps.iter().all(|g| g.1 >= 0.0)),
             Err(_) => false,
         }
@@ -447,60 +503,60 @@ impl Checker {
 
     /// The verdict at `(dpsi, dtheta)` (rad from the start).
     pub fn check(&mut self, dpsi: f64, dtheta: f64) -> Verdict {
-        self.check_step(dpsi, dtheta).0
+        match &self.step(dpsi, dtheta) {
+            Ok(step) => self.verdict(step),
+            Err(error) => self.refusal(error),
+        }
     }
 
     /// The verdict at `(dpsi, dtheta)` (rad from the start), with the
     /// controller's step there when the orientation is feasible.
     pub fn check_step(&mut self, dpsi: f64, dtheta: f64) -> (Verdict, Option<ControlStep<f64>>) {
         match self.step(dpsi, dtheta) {
-            Ok(step) => match self.gaps(&step) {
-                Some(gaps) => match gaps.iter().find(|g| !(g.1 >= 0.0)) {
-                    Some(&(limiting, margin)) => (
-                        Verdict {
-                            limiting,
-                            margin,
-                            nearest: limiting,
-                        },
-                        None,
-                    ),
-                    None => (self.margin_of(&step, &gaps), Some(step)),
-                },
-                None => (
-                    Verdict {
-                        limiting: Constraint::Other,
-                        margin: f64::NAN,
-                        nearest: Constraint::Other,
-                    },
-                    None,
-                ),
-            },
-            Err(error) => {
-                let limiting = Constraint::of_error(&error);
-                (
-                    Verdict {
-                        limiting,
-                        margin: self.violation(&error),
-                        nearest: limiting,
-                    },
-                    None,
-                )
+            Ok(step) => {
+                let verdict = self.verdict(&step);
+                (verdict, verdict.feasible().then_some(step))
             }
+            Err(error) => (self.refusal(&error), None),
         }
     }
 
-    /// The scale of an instrument's `qs3` singular margin: the width of
-    /// `qs3`'s range, or 1 mm when it is unbounded.
+    /// The verdict on a step the controller made: the bodies' first gap
+    /// below its threshold, or the smallest margin of all.
+    fn verdict(&self, step: &ControlStep<f64>) -> Verdict {
+        match self.gaps(step) {
+            Some(gaps) => match gaps.iter().find(|g| !(g.1 >= 0.0)) {
+                Some(&(limiting, margin)) => Verdict {
+                    limiting,
+                    margin,
+                    nearest: limiting,
+                },
+                None => self.margin_of(step, &gaps),
+            },
+            None => Verdict {
+                limiting: Constraint::Other,
+                margin: f64::NAN,
+                nearest: Constraint::Other,
+            },
+        }
+    }
+
+    /// The verdict on a step the controller refused with `error`.
+    fn refusal(&self, error: &Error) -> Verdict {
+        let limiting = Constraint::of_error(error);
+        Verdict {
+            limiting,
+            margin: self.violation(error),
+            nearest: limiting,
+        }
+    }
+
+    /// The scale of an instrument's `qs3` singular margin (see
+    /// [`qs3_scale`]).
     fn qs3_scale(&self, side: Side) -> f64 {
-        let limits = match side {
-            Side::Left => &self.controller.left.geometry().limits,
-            Side::Right => &self.controller.right.geometry().limits,
-        };
-        let width = limits.qs3.max - limits.qs3.min;
-        if width.is_finite() && width > 0.0 {
-            width
-        } else {
-            1.0
+        match side {
+            Side::Left => self.scales.qs3[0],
+            Side::Right => self.scales.qs3[1],
         }
     }
 
@@ -566,10 +622,10 @@ impl Checker {
         };
         let m1 = self.controller.module1.geometry();
         let margins = &step.module1.margins;
-        for (j, g) in m1.guides.iter().enumerate() {
+        for (j, (g, w)) in m1.guides.iter().zip(self.scales.stroke).enumerate() {
             let index = u8::try_from(j).unwrap_or(u8::MAX);
             consider(
-                relative(&g.stroke, step.module1.q[j]),
+                relative_in(&g.stroke, w, step.module1.q[j]),
                 Constraint::Stroke(index),
             );
             consider(
@@ -581,22 +637,32 @@ impl Checker {
             Some(margins.parallel - m1.thresholds.parallel_command),
             Constraint::ParallelSingular,
         );
-        for (side, module, sol) in [
-            (Side::Left, &self.controller.left, &step.left),
-            (Side::Right, &self.controller.right, &step.right),
+        for (side, module, sol, [w1, w2, w3]) in [
+            (
+                Side::Left,
+                &self.controller.left,
+                &step.left,
+                self.scales.joints[0],
+            ),
+            (
+                Side::Right,
+                &self.controller.right,
+                &step.right,
+                self.scales.joints[1],
+            ),
         ] {
             let g = module.geometry();
             let q = &sol.q;
             consider(
-                relative(&g.limits.qs1, q.qs1),
+                relative_in(&g.limits.qs1, w1, q.qs1),
                 Constraint::JointLimit(side, Joint::Qs1),
             );
             consider(
-                relative(&g.limits.qs2, q.qs2),
+                relative_in(&g.limits.qs2, w2, q.qs2),
                 Constraint::JointLimit(side, Joint::Qs2),
             );
             consider(
-                relative(&g.limits.qs3, q.qs3),
+                relative_in(&g.limits.qs3, w3, q.qs3),
                 Constraint::JointLimit(side, Joint::Qs3),
             );
             consider(

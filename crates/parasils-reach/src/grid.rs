@@ -52,44 +52,53 @@ impl ReachMap {
             regions: base.regions(),
         };
         // The cells, a row per task, each with module 1's weakest direction
-        // there (the lines' and the boundary's checks start from it).
-        let (cells, directions): (Vec<Cell>, Vec<Option<[f64; 6]>>) =
-            parallel_map(rows, threads, &base, |r, checker| {
-                let dtheta = theta.value_deg(r).to_radians();
-                // The weakest direction two cells back, to extrapolate the next
-                // one from the last (see `extrapolated`).
-                let mut before = None;
-                (0..cols)
-                    .map(|c| {
-                        let last = checker.weakest();
-                        if let (Some(x0), Some(x1)) = (before, last) {
-                            checker.start_from(extrapolated(x0, x1));
+        // there when its check got as far as the margin (the lines' and the
+        // boundary's checks start from these).
+        let checked = parallel_map(rows, threads, &base, |r, checker| {
+            let dtheta = theta.value_deg(r).to_radians();
+            // The weakest direction two cells back, to extrapolate the next
+            // one from the last (see `extrapolated`).
+            let mut before = None;
+            (0..cols)
+                .map(|c| {
+                    let last = checker.weakest();
+                    if let (Some(x0), Some(x1)) = (before, last) {
+                        checker.start_from(extrapolated(x0, x1));
+                    }
+                    before = last;
+                    let margins = checker.margins();
+                    let dpsi = psi.value_deg(c).to_radians();
+                    let (v, deflection_mm) = match &load {
+                        // The step itself only for the stiffness measure.
+                        None => (checker.check(dpsi, dtheta), None),
+                        Some(load) => {
+                            let (v, step) = checker.check_step(dpsi, dtheta);
+                            let deflection = step.and_then(|step| {
+                                tip_deflections(checker.controller(), &step, load, &stiffness)
+                            });
+                            (v, deflection)
                         }
-                        before = last;
-                        let (v, step) = checker.check_step(psi.value_deg(c).to_radians(), dtheta);
-                        let deflection_mm = match (&load, &step) {
-                            (Some(load), Some(step)) => {
-                                tip_deflections(checker.controller(), step, load, &stiffness)
-                            }
-                            _ => None,
-                        };
-                        let cell = Cell {
-                            feasible: v.feasible(),
-                            reachable: false,
-                            line: None,
-                            limiting: v.limiting,
-                            nearest: v.nearest,
-                            margin: v.margin,
-                            deflection_mm,
-                        };
-                        (cell, checker.weakest())
-                    })
-                    .collect::<Vec<_>>()
-            })
-            .into_iter()
-            .flatten()
-            .unzip();
-        map.cells = cells;
+                    };
+                    let cell = Cell {
+                        feasible: v.feasible(),
+                        reachable: false,
+                        line: None,
+                        limiting: v.limiting,
+                        nearest: v.nearest,
+                        margin: v.margin,
+                        deflection_mm,
+                    };
+                    let here = checker.margins() > margins;
+                    (cell, checker.weakest().filter(|_| here))
+                })
+                .collect::<Vec<_>>()
+        });
+        let mut directions = Vec::with_capacity(cols * rows);
+        map.cells.reserve_exact(cols * rows);
+        for (cell, direction) in checked.into_iter().flatten() {
+            map.cells.push(cell);
+            directions.push(direction);
+        }
         map.flood_fill();
         if options.line {
             map.lines(&base, threads, &directions);

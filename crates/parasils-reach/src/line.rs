@@ -94,38 +94,51 @@ struct Bounds {
 }
 
 impl Bounds {
-    /// The bounds of `map`, multiplied by `scale`.
-    fn new(map: &ReachMap, scale: f64) -> Self {
+    /// The bounds of `map`, multiplied by `scale`, rows of tiles shared among
+    /// `threads` threads.
+    fn new(map: &ReachMap, scale: f64, threads: usize) -> Self {
         let (cols, rows) = (map.psi.count, map.theta.count);
         let (tiles, tile_rows) = (cols.div_ceil(TILE), rows.div_ceil(TILE));
-        let mut rate = vec![0.0_f64; tiles * tile_rows];
-        for r in 0..rows {
-            for c in 0..cols {
-                let here = &map.cells[map.index(c, r)];
-                if !(here.feasible && here.margin.is_finite()) {
-                    continue;
+        // Each tile's largest rate, a row of tiles per task.
+        let rate = parallel_map_items(tile_rows, threads, |ty| {
+            let mut rate = vec![0.0_f64; tiles];
+            for r in ty * TILE..((ty + 1) * TILE).min(rows) {
+                for c in 0..cols {
+                    let here = &map.cells[map.index(c, r)];
+                    if !(here.feasible && here.margin.is_finite()) {
+                        continue;
+                    }
+                    let diff = |other: Option<&Cell>| {
+                        other
+                            .filter(|o| o.feasible && o.margin.is_finite())
+                            .map_or(0.0, |o| o.margin - here.margin)
+                    };
+                    let dx = diff((c + 1 < cols).then(|| &map.cells[map.index(c + 1, r)]));
+                    let dy = diff((r + 1 < rows).then(|| &map.cells[map.index(c, r + 1)]));
+                    let t = &mut rate[c / TILE];
+                    *t = t.max(dx.hypot(dy));
                 }
-                let diff = |other: Option<&Cell>| {
-                    other
-                        .filter(|o| o.feasible && o.margin.is_finite())
-                        .map_or(0.0, |o| o.margin - here.margin)
-                };
-                let dx = diff((c + 1 < cols).then(|| &map.cells[map.index(c + 1, r)]));
-                let dy = diff((r + 1 < rows).then(|| &map.cells[map.index(c, r + 1)]));
-                let t = &mut rate[(r / TILE) * tiles + c / TILE];
-                *t = t.max(dx.hypot(dy));
             }
-        }
+            rate
+        })
+        .concat();
+        // The largest rate within `w` tiles, along the rows then along the
+        // columns (the same maximum as over the square, in fewer steps).
         let around = |w: usize| {
+            let mut along = vec![0.0_f64; rate.len()];
+            for ty in 0..tile_rows {
+                for tx in 0..tiles {
+                    let row = &rate[ty * tiles..(ty + 1) * tiles];
+                    along[ty * tiles + tx] = row[tx.saturating_sub(w)..(tx + w + 1).min(tiles)]
+                        .iter()
+                        .fold(0.0_f64, |m, &r| m.max(r));
+                }
+            }
             let mut out = vec![0.0_f64; rate.len()];
             for ty in 0..tile_rows {
                 for tx in 0..tiles {
-                    let mut m = 0.0_f64;
-                    for y in ty.saturating_sub(w)..(ty + w + 1).min(tile_rows) {
-                        for x in tx.saturating_sub(w)..(tx + w + 1).min(tiles) {
-                            m = m.max(rate[y * tiles + x]);
-                        }
-                    }
+                    let m = (ty.saturating_sub(w)..(ty + w + 1).min(tile_rows))
+                        .fold(0.0_f64, |m, y| m.max(along[y * tiles + tx]));
                     out[ty * tiles + tx] = SAFETY * scale * m;
                 }
             }
@@ -170,6 +183,78 @@ impl Bounds {
     }
 }
 
+/// Each cell's disc: the radius (steps) its margin clears around it, 0 for
+/// an infeasible cell, on the grid with a row and a column of zeros past its
+/// last ones (a point's square may have its upper corners there).
+struct Discs {
+    /// Row by row, `width` a row.
+    radii: Vec<f64>,
+    /// Cells a row, the padding's included.
+    width: usize,
+    /// The `k` of the grid's first column and first row.
+    k_min: (i64, i64),
+}
+
+impl Discs {
+    /// The discs of `map`'s cells under `bounds` (without, every radius 0),
+    /// rows shared among `threads` threads.
+    fn new(map: &ReachMap, bounds: Option<&Bounds>, threads: usize) -> Self {
+        let (cols, rows) = (map.psi.count, map.theta.count);
+        let width = cols + 1;
+        let mut radii: Vec<f64> = match bounds {
+            Some(b) => parallel_map_items(rows, threads, |r| {
+                (0..width)
+                    .map(|c| match map.cells.get(map.index(c, r)) {
+                        Some(cell) if c < cols && cell.feasible => {
+                            b.radius(b.tile(c, r), cell.margin)
+                        }
+                        _ => 0.0,
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .concat(),
+            None => vec![0.0; width * rows],
+        };
+        radii.resize(width * (rows + 1), 0.0);
+        Self {
+            radii,
+            width,
+            k_min: (map.psi.k_min, map.theta.k_min),
+        }
+    }
+
+    /// The radii at the corners of the square whose lower corner is the cell
+    /// `(x, y)` (in steps from the start): `(x, y)`, `(x + 1, y)`,
+    /// `(x, y + 1)`, `(x + 1, y + 1)`; 0 off the grid.
+    fn corners(&self, (x, y): (i64, i64)) -> [f64; 4] {
+        let (Ok(c), Ok(r)) = (
+            usize::try_from(x - self.k_min.0),
+            usize::try_from(y - self.k_min.1),
+        ) else {
+            return [0.0; 4];
+        };
+        if c + 1 >= self.width {
+            return [0.0; 4];
+        }
+        let at = r * self.width + c;
+        match (
+            self.radii.get(at..at + 2),
+            self.radii.get(at + self.width..at + self.width + 2),
+        ) {
+            (Some(&[r00, r10]), Some(&[r01, r11])) => [r00, r10, r01, r11],
+            _ => [0.0; 4],
+        }
+    }
+}
+
+/// `x` rounded down (`f64::floor`, which needs a call on the x86-64
+/// baseline), for `|x| < 2^62`.
+#[allow(clippy::cast_possible_truncation, clippy::cast_precision_loss)]
+fn floor(x: f64) -> i64 {
+    let t = x as i64;
+    if t as f64 > x { t - 1 } else { t }
+}
+
 /// One ray's outcome: the cells it reaches straight from the start, and
 /// the largest ratio of a rate of change of the margin measured on it to
 /// the local bound.
@@ -202,37 +287,25 @@ impl ReachMap {
             ],
         );
         // The primitive directions (a, b) whose first cell is feasible.
-        let mut rays = Vec::new();
-        for b in kt[0]..=kt[1] {
-            for a in kp[0]..=kp[1] {
-                if (a, b) != (0, 0) && gcd(a, b) == 1 && self.feasible_at(a, b).is_some() {
-                    rays.push((a, b));
-                }
-            }
-        }
+        let this = &*self;
+        let rays = parallel_map_items(self.theta.count, threads, |row| {
+            let b = kt[0] + row as i64;
+            (kp[0]..=kp[1])
+                .filter(|&a| (a, b) != (0, 0) && gcd(a, b) == 1 && this.feasible_at(a, b).is_some())
+                .map(|a| (a, b))
+                .collect::<Vec<_>>()
+        })
+        .concat();
         let mut scale = 1.0;
         // Each pass keeps its result or raises the bounds; the last one
         // evaluates every point.
         for pass in 0..4 {
-            let bounds = (pass < 3).then(|| Bounds::new(self, scale));
-            let radii: Vec<f64> = match &bounds {
-                Some(b) => (0..self.cells.len())
-                    .map(|i| {
-                        let cell = &self.cells[i];
-                        let (c, r) = (i % self.psi.count, i / self.psi.count);
-                        if cell.feasible {
-                            b.radius(b.tile(c, r), cell.margin)
-                        } else {
-                            0.0
-                        }
-                    })
-                    .collect(),
-                None => vec![0.0; self.cells.len()],
-            };
+            let bounds = (pass < 3).then(|| Bounds::new(self, scale, threads));
+            let discs = Discs::new(self, bounds.as_ref(), threads);
             let this = &*self;
             let marched = parallel_map_items(rays.len(), threads, |i| {
                 let (a, b) = rays[i];
-                this.march(base, a, b, bounds.as_ref(), &radii, directions)
+                this.march(base, a, b, bounds.as_ref(), &discs, directions)
             });
             let excess = marched.iter().fold(0.0_f64, |r, ray| r.max(ray.excess));
             if excess <= 1.0 {
@@ -259,17 +332,56 @@ impl ReachMap {
         Some((self.psi.index(a)?, self.theta.index(b)?))
     }
 
+    /// Module 1's weakest direction at `p` (in steps from the start) guessed
+    /// from the cells at the corners of its square that have one
+    /// (`directions`, one per cell): their directions weighted bilinearly
+    /// (signs turned to the first's), an error of second order in the step
+    /// as the rows' extrapolation (see `grid`). A poor guess only costs the
+    /// tracker's further attempts: the margin is certified either way.
+    fn seed(&self, p: [f64; 2], directions: &[Option<[f64; 6]>]) -> Option<[f64; 6]> {
+        let corner = (floor(p[0]), floor(p[1]));
+        #[allow(clippy::cast_precision_loss)]
+        let (fx, fy) = (p[0] - corner.0 as f64, p[1] - corner.1 as f64);
+        let weighted = [
+            (0, 0, (1.0 - fx) * (1.0 - fy)),
+            (1, 0, fx * (1.0 - fy)),
+            (0, 1, (1.0 - fx) * fy),
+            (1, 1, fx * fy),
+        ];
+        let mut first = None::<[f64; 6]>;
+        let mut sum = [0.0_f64; 6];
+        for (dx, dy, w) in weighted {
+            let Some(x) = self
+                .at(corner.0 + dx, corner.1 + dy)
+                .and_then(|(c, r)| directions.get(self.index(c, r)).copied().flatten())
+            else {
+                continue;
+            };
+            let reference = *first.get_or_insert(x);
+            let same: f64 = x.iter().zip(&reference).map(|(a, b)| a * b).sum();
+            let w = if same < 0.0 { -w } else { w };
+            for (s, v) in sum.iter_mut().zip(x) {
+                *s += w * v;
+            }
+        }
+        if sum.iter().any(|&v| v != 0.0) {
+            Some(sum)
+        } else {
+            first
+        }
+    }
+
     /// Marches the ray `(a, b)` from the start (see the [module
-    /// docs](self)); without bounds, every point is evaluated. The ray's
-    /// margins are tracked from the weakest direction (`directions`, one
-    /// per cell) of the cell nearest its first evaluated point.
+    /// docs](self)); without bounds, every point is evaluated. Each point
+    /// evaluated starts its margin from the directions of the cells around
+    /// it ([`seed`](Self::seed); `directions`, one per cell).
     fn march(
         &self,
         base: &Checker,
         a: i64,
         b: i64,
         bounds: Option<&Bounds>,
-        radii: &[f64],
+        discs: &Discs,
         directions: &[Option<[f64; 6]>],
     ) -> Ray {
         let mut out = Ray {
@@ -291,23 +403,8 @@ impl ReachMap {
         // The distance between consecutive points, in steps.
         let ds = norm / nf;
         let end = last * n;
-        // A copy of `base` of the ray's own, made at its first check (point
-        // `j`), its tracker started from the nearest cell's direction.
+        // A copy of `base` of the ray's own, made at its first check.
         let mut own = None::<Checker>;
-        let fresh = |j: i64| {
-            let mut checker = base.clone();
-            #[allow(clippy::cast_possible_truncation)]
-            let nearest = self.at(
-                (j as f64 * af / nf).round() as i64,
-                (j as f64 * bf / nf).round() as i64,
-            );
-            if let Some(x) =
-                nearest.and_then(|(c, r)| directions.get(self.index(c, r)).copied().flatten())
-            {
-                checker.start_from(x);
-            }
-            checker
-        };
         // Every point before j passes.
         let mut j = 1;
         // The segment (between cells) last probed.
@@ -316,20 +413,18 @@ impl ReachMap {
             // Point j, in steps from the start, and the cell at the lower
             // corner of its square.
             let p = [j as f64 * af / nf, j as f64 * bf / nf];
-            let (x0, y0) = (p[0].floor(), p[1].floor());
-            #[allow(clippy::cast_possible_truncation)]
-            let corner = (x0 as i64, y0 as i64);
+            let corner = (floor(p[0]), floor(p[1]));
+            #[allow(clippy::cast_precision_loss)]
+            let (x0, y0) = (corner.0 as f64, corner.1 as f64);
             // The farthest the discs of the cells around p clear along the ray.
-            let mut cleared = None::<f64>;
-            for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                let Some((c, r)) = self.at(corner.0 + dx, corner.1 + dy) else {
-                    continue;
-                };
-                let d = [p[0] - (x0 + dx as f64), p[1] - (y0 + dy as f64)];
-                if let Some(s) = chord(d, u, radii[self.index(c, r)]) {
-                    cleared = Some(cleared.map_or(s, |best: f64| best.max(s)));
-                }
-            }
+            // (A chord is never negative: -1 for none.)
+            let [r00, r10, r01, r11] = discs.corners(corner);
+            let (x1, y1) = (x0 + 1.0, y0 + 1.0);
+            let farthest = chord([p[0] - x0, p[1] - y0], u, r00)
+                .max(chord([p[0] - x1, p[1] - y0], u, r10))
+                .max(chord([p[0] - x0, p[1] - y1], u, r01))
+                .max(chord([p[0] - x1, p[1] - y1], u, r11));
+            let mut cleared = (farthest >= 0.0).then_some(farthest);
             if cleared.is_none() && j % n != 0 {
                 // A point of this segment beyond infeasible cells fails
                 // first: if it does, so does the segment.
@@ -339,14 +434,15 @@ impl ReachMap {
                 {
                     probed = Some(segment);
                     let [dpsi, dtheta] = point(a, b, probe, n, self.psi.step_deg);
-                    let checker = own.get_or_insert_with(|| fresh(probe));
+                    let at = [probe as f64 * af / nf, probe as f64 * bf / nf];
+                    let checker = seeded(&mut own, base, self.seed(at, directions));
                     if !checker.feasible(dpsi, dtheta) {
                         j = probe;
                         break;
                     }
                 }
                 let [dpsi, dtheta] = point(a, b, j, n, self.psi.step_deg);
-                let verdict = own.get_or_insert_with(|| fresh(j)).check(dpsi, dtheta);
+                let verdict = seeded(&mut own, base, self.seed(p, directions)).check(dpsi, dtheta);
                 if !verdict.feasible() {
                     break;
                 }
@@ -366,9 +462,10 @@ impl ReachMap {
             }
             // Point j passes (a cell of the ray is feasible), and so does
             // every point within `cleared` of it.
-            let skip = cleared.map_or(0.0, |s| (s / ds).floor()).min(end as f64);
+            // The points within `cleared` of p: a chord is never negative,
+            // so truncation is the floor.
             #[allow(clippy::cast_possible_truncation)]
-            let skip = skip as i64;
+            let skip = (cleared.unwrap_or(0.0) / ds).min(end as f64) as i64;
             j += skip.max(0) + 1;
         }
         // The cells k (a, b) with every point up to k n passing.
@@ -422,13 +519,28 @@ impl ReachMap {
     }
 }
 
+/// The ray's checker (a copy of `base` made at the first call), its margin
+/// tracker restarted from `seed` when there is one.
+fn seeded<'c>(
+    own: &'c mut Option<Checker>,
+    base: &Checker,
+    seed: Option<[f64; 6]>,
+) -> &'c mut Checker {
+    let checker = own.get_or_insert_with(|| base.clone());
+    if let Some(x) = seed {
+        checker.start_from(x);
+    }
+    checker
+}
+
 /// How far along the unit direction `u` a point at `d` from a disc's centre
-/// stays inside the disc of radius `r`, if it is inside at all.
-fn chord(d: [f64; 2], u: [f64; 2], r: f64) -> Option<f64> {
+/// stays inside the disc of radius `r` (never negative); -1 when it is not
+/// inside.
+fn chord(d: [f64; 2], u: [f64; 2], r: f64) -> f64 {
     let dd = d[0] * d[0] + d[1] * d[1];
     if !(dd < r * r) {
-        return None;
+        return -1.0;
     }
     let du = d[0] * u[0] + d[1] * u[1];
-    Some(-du + (du * du - dd + r * r).sqrt())
+    -du + (du * du - dd + r * r).sqrt()
 }

@@ -55,7 +55,12 @@ pub(super) fn parallel_map_items<R: Send>(
             .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
             .collect()
     });
-    let mut all: Vec<(usize, R)> = parts.drain(..).flatten().collect();
-    all.sort_unstable_by_key(|(i, _)| *i);
-    all.into_iter().map(|(_, r)| r).collect()
+    // Each result to its item's place (no sort: the items are 0..n).
+    let mut slots: Vec<Option<R>> = core::iter::repeat_with(|| None).take(n).collect();
+    for (i, r) in parts.drain(..).flatten() {
+        if let Some(slot) = slots.get_mut(i) {
+            *slot = Some(r);
+        }
+    }
+    slots.into_iter().flatten().collect()
 }
