@@ -151,24 +151,11 @@ impl InstrumentIk {
         ok: &mut bool,
         on_error: OnRowError,
     ) -> Result<(), BatchError> {
-        match self
+        let solved = self
             .module
             .ik(&Pose::from_array(pose), &Vector3::from(tip), self.mode)
-        {
-            Ok(q) => {
-                out.copy_from_slice(&q.to_array());
-                *ok = true;
-                Ok(())
-            }
-            Err(error) => match on_error {
-                OnRowError::Stop => Err(BatchError::Row { row, error }),
-                OnRowError::Nan => {
-                    out.fill(f64::NAN);
-                    *ok = false;
-                    Ok(())
-                }
-            },
-        }
+            .map(|q| q.to_array());
+        on_error.write(row, solved, out, ok)
     }
 }
 

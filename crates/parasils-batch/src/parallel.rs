@@ -122,21 +122,8 @@ impl Module1Ik {
         ok: &mut bool,
         on_error: OnRowError,
     ) -> Result<(), BatchError> {
-        match self.robot.ik(&Pose::from_array(pose)) {
-            Ok(q) => {
-                out.copy_from_slice(&q.to_array());
-                *ok = true;
-                Ok(())
-            }
-            Err(error) => match on_error {
-                OnRowError::Stop => Err(BatchError::Row { row, error }),
-                OnRowError::Nan => {
-                    out.fill(f64::NAN);
-                    *ok = false;
-                    Ok(())
-                }
-            },
-        }
+        let solved = self.robot.ik(&Pose::from_array(pose)).map(|q| q.to_array());
+        on_error.write(row, solved, out, ok)
     }
 }
 

@@ -103,6 +103,35 @@ pub enum OnRowError {
     Nan,
 }
 
+impl OnRowError {
+    /// Writes row `row` as the scalar solver left it: its values with its
+    /// flag set, or, when it failed, what this policy does (NaN and the
+    /// flag cleared, or the row's error).
+    pub(crate) fn write<const W: usize>(
+        self,
+        row: usize,
+        solved: Result<[f64; W], Error>,
+        out: &mut [f64],
+        ok: &mut bool,
+    ) -> Result<(), BatchError> {
+        match solved {
+            Ok(values) => {
+                out.copy_from_slice(&values);
+                *ok = true;
+                Ok(())
+            }
+            Err(error) => match self {
+                OnRowError::Stop => Err(BatchError::Row { row, error }),
+                OnRowError::Nan => {
+                    out.fill(f64::NAN);
+                    *ok = false;
+                    Ok(())
+                }
+            },
+        }
+    }
+}
+
 /// Why a batch stopped.
 ///
 /// *When this happens:* a row failed with [`OnRowError::Stop`] (its
