@@ -8,7 +8,9 @@
 //! kernel's, to the bit) and the scalar solver's rates and accelerations,
 //! computed as before; its errors are the scalar solver's.
 
-use parasils_batch::{InstrumentIk, Module1Ik, OnRowError};
+use core::ops::Range;
+
+use parasils_batch::{BatchError, InstrumentIk, Level, Module1Ik, OnRowError};
 use parasils_kin::{AssemblyMode, Error, Instrument, InstrumentSolution, ParallelRobot};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -24,18 +26,35 @@ pub(crate) fn instrument_ik(
     let level = batch::kernel_level()?;
     InstrumentIk::new(*module, mode)
         .at_level(level)
-        .ok_or_else(|| {
-            PyValueError::new_err(format!("kernel level {level} not supported by this CPU"))
-        })
+        .ok_or_else(|| unsupported(level))
 }
 
 /// Module 1's kernel at the level `PARASILS_BATCH_KERNEL` names, else the
 /// CPU's widest.
 pub(crate) fn module1_ik(robot: &ParallelRobot<f64>) -> PyResult<Module1Ik> {
     let level = batch::kernel_level()?;
-    Module1Ik::new(*robot).at_level(level).ok_or_else(|| {
-        PyValueError::new_err(format!("kernel level {level} not supported by this CPU"))
-    })
+    Module1Ik::new(*robot)
+        .at_level(level)
+        .ok_or_else(|| unsupported(level))
+}
+
+/// The error for a kernel level this CPU lacks.
+fn unsupported(level: Level) -> PyErr {
+    PyValueError::new_err(format!("kernel level {level} not supported by this CPU"))
+}
+
+/// `chunk`'s one output block solved by `solve` (given the chunk's rows,
+/// the block and the rows' flags); a batch error becomes the chunk's
+/// failure.
+fn one_block(
+    chunk: Chunk<'_>,
+    solve: impl FnOnce(Range<usize>, &mut [f64], &mut [bool]) -> Result<(), BatchError>,
+) -> Option<Failure> {
+    let Chunk { start, blocks, ok } = chunk;
+    let out = blocks.into_iter().next()?;
+    solve(start..start + ok.len(), out, ok)
+        .err()
+        .map(|e| batch::kernel_failure(e, start))
 }
 
 /// One chunk of `module1_ik`: the sliders in the chunk's one block.
@@ -45,14 +64,10 @@ pub(crate) fn module1_chunk(
     on_error: OnError,
     chunk: Chunk<'_>,
 ) -> Option<Failure> {
-    let Chunk { start, blocks, ok } = chunk;
     // One block (widths [6]).
-    let out = blocks.into_iter().next()?;
-    let rows = start..start + ok.len();
-    kernel
-        .solve(rows, pose.strided(), out, ok, on_error.on_row_error())
-        .err()
-        .map(|e| batch::kernel_failure(e, start))
+    one_block(chunk, |rows, out, ok| {
+        kernel.solve(rows, pose.strided(), out, ok, on_error.on_row_error())
+    })
 }
 
 /// One chunk of `instrument_ik`: the joints in the chunk's one block.
@@ -63,12 +78,9 @@ pub(crate) fn ik_chunk(
     on_error: OnError,
     chunk: Chunk<'_>,
 ) -> Option<Failure> {
-    let Chunk { start, blocks, ok } = chunk;
     // One block (widths [3]).
-    let out = blocks.into_iter().next()?;
-    let rows = start..start + ok.len();
-    kernel
-        .solve(
+    one_block(chunk, |rows, out, ok| {
+        kernel.solve(
             rows,
             pose.strided(),
             tip.strided(),
@@ -76,8 +88,7 @@ pub(crate) fn ik_chunk(
             ok,
             on_error.on_row_error(),
         )
-        .err()
-        .map(|e| batch::kernel_failure(e, start))
+    })
 }
 
 /// One chunk of `instrument_rates`: the joints by the kernel into the first
