@@ -347,7 +347,7 @@ impl<T: Real> ParallelRobot<T> {
     /// The position half of [`ParallelRobot::solve`], shared with
     /// [`ParallelRobot::solve_at_rest`]: the frame checked, the legs, the
     /// serial and stroke checks, the margins and the parallel threshold.
-    /// Inlined at both, so that the control step's code is as it was.
+    /// Inlined at both: the control step pays no call for it.
     #[inline(always)]
     fn positions(
         &self,
