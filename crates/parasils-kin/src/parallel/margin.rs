@@ -18,10 +18,12 @@
 //!    positive definite, so `lambda > mu + g` up to rounding: a **certified**
 //!    lower bound (the test of Sturm's theorem, made without pivoting, which
 //!    needs none for a positive definite matrix);
-//! 4. two steps of inverse iteration with that shift,
-//!    `y = (A - mu I)^-2 x`, and `rho1 = y^T A y / y^T y`, the margin's
-//!    square: between `mu` and `rho0`, and in practice equal to `lambda` to
-//!    rounding, since each step shrinks every component of `y` off the
+//! 4. two steps of inverse iteration with that shift, `z = (A - mu I)^-1 x`
+//!    and `y = (A - mu I)^-1 z`, and the Rayleigh quotient
+//!    `rho1 = y^T A y / y^T y = mu + y^T z / y^T y` (the second form,
+//!    used here, saves a product by `A`; the two differ by rounding),
+//!    the margin's square: between `mu` and `rho0`, and in practice equal to
+//!    `lambda` to rounding, since each step shrinks every component of `y` off the
 //!    weakest direction by `(lambda - mu) / (lambda_k - mu)` (the second step
 //!    matters where the two smallest singular values nearly cross and the
 //!    weakest direction turns quickly).
@@ -246,9 +248,11 @@ fn refine<T: Real>(a: &Mat6<T>, x: &Vec6<T>) -> Option<(T, Vec6<T>)> {
     }
     // Two steps: near a crossing of the two smallest singular values the
     // weakest direction turns quickly, and one step leaves it lagging.
-    let y = ldl_solve(&l, &d_inv, &ldl_solve(&l, &d_inv, x));
+    let z = ldl_solve(&l, &d_inv, x);
+    let y = ldl_solve(&l, &d_inv, &z);
     let yy = dot(&y, &y);
-    let rho1 = dot(&y, &mul(a, &y)) / yy;
+    // y^T A y = y^T (A - mu I) y + mu y^T y, and (A - mu I) y = z.
+    let rho1 = mu + dot(&y, &z) / yy;
     // rho1 is a Rayleigh quotient: at least lambda > mu, at most rho0 up to
     // rounding. Anything else is rounding gone wrong: decline.
     if !(rho1 > mu && rho1 <= rho0 * (T::one() + delta) && rho1.finite()) {
