@@ -371,7 +371,8 @@ impl<T: Real> OnlineController<T> {
 
     /// The kinematics of one cycle at `state` with the tips as set.
     ///
-    /// The kinematics' own error, converted by the caller's `?`: a
+    /// The kinematics' own error, converted by the caller, which keeps
+    /// the step in this `Result` until it moves into the setpoint: a
     /// conversion here would move the step out of one `Result` into
     /// another on every cycle.
     pub(super) fn solve(

@@ -83,11 +83,17 @@ impl<T: Real> OnlineController<T> {
         };
         let state = self.platform(angles);
         let mut tracker = self.tracker;
-        let step = self.solve(&state, &mut tracker)?;
-        let margins = Margins::of(&step);
+        // The step stays in its `Result` until it goes into the setpoint:
+        // one move of it instead of two.
+        let solved = self.solve(&state, &mut tracker);
+        let step = match &solved {
+            Ok(step) => step,
+            Err(e) => return Err((*e).into()),
+        };
+        let margins = Margins::of(step);
         let (clearance, each) = match &self.clearance {
             Some(w) => {
-                let bodies = self.bodies(&w.watch, &step)?;
+                let bodies = self.bodies(&w.watch, step)?;
                 let each = if with_regions {
                     nearest_each(
                         regions,
@@ -195,7 +201,7 @@ impl<T: Real> OnlineController<T> {
         {
             self.begin(t, motion, MotionKind::SupervisorStop);
         }
-        Ok(Setpoint {
+        solved.map_err(Error::from).map(|step| Setpoint {
             t,
             state,
             step,

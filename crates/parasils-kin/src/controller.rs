@@ -226,6 +226,36 @@ pub struct ControlStep<T: Real> {
     pub right: InstrumentSolution<T>,
 }
 
+impl<T: Real> ControlStep<T> {
+    /// The step of `frame` and the three modules' solutions, the first
+    /// error in the order module 1, left, right: each solution moves once,
+    /// from where its solver wrote it into the step (a `?` on each would
+    /// move it into a local first, and these are hundreds of bytes moved
+    /// every cycle).
+    fn of(
+        frame: &PlatformFrame<T>,
+        module1: Result<ParallelSolution<T>, Error>,
+        left: Result<InstrumentSolution<T>, Error>,
+        right: Result<InstrumentSolution<T>, Error>,
+    ) -> Result<Self, Error> {
+        match (module1, left, right) {
+            (Ok(module1), Ok(left), Ok(right)) => Ok(Self {
+                frame: *frame,
+                module1,
+                left,
+                right,
+            }),
+            (Err(e), _, _) | (_, Err(e), _) | (_, _, Err(e)) => Err(e),
+        }
+    }
+}
+
+/// The value of `result` by reference, or its error, for `?`: the value
+/// stays where its solver wrote it (see [`ControlStep::of`]).
+fn first<V>(result: &Result<V, Error>) -> Result<&V, Error> {
+    result.as_ref().map_err(|e| *e)
+}
+
 /// The per-cycle solver: module 1, both instrument modules, and the assembly
 /// mode each instrument module is kept in.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -315,25 +345,23 @@ impl<T: Real> Controller<T> {
         tips: &TipTargets<T>,
         tracker: &mut MarginTracker<T>,
     ) -> Result<ControlStep<T>, Error> {
-        let frame = platform.frame()?;
+        let frame = platform.frame();
+        let frame = first(&frame)?;
         check_vector(&tips.left, ["tips.left.x", "tips.left.y", "tips.left.z"])?;
         check_vector(
             &tips.right,
             ["tips.right.x", "tips.right.y", "tips.right.z"],
         )?;
-        let module1 = self.module1.solve_tracking(&frame, tracker)?;
+        let module1 = self.module1.solve_tracking(frame, tracker);
+        first(&module1)?;
         let left = self
             .left
-            .solve(&frame, &TipMotion::still(tips.left), self.modes[0])?;
+            .solve(frame, &TipMotion::still(tips.left), self.modes[0]);
+        first(&left)?;
         let right = self
             .right
-            .solve(&frame, &TipMotion::still(tips.right), self.modes[1])?;
-        Ok(ControlStep {
-            frame,
-            module1,
-            left,
-            right,
-        })
+            .solve(frame, &TipMotion::still(tips.right), self.modes[1]);
+        ControlStep::of(frame, module1, left, right)
     }
 
     /// [`Controller::step`] for a platform at rest at `pose` (mm, rad) and
@@ -405,20 +433,18 @@ impl<T: Real> Controller<T> {
         right: &ModuleCommand<T>,
         tracker: &mut MarginTracker<T>,
     ) -> Result<ControlStep<T>, Error> {
-        let frame = platform.frame()?;
-        let module1 = self.module1.solve_tracking(&frame, tracker)?;
+        let frame = platform.frame();
+        let frame = first(&frame)?;
+        let module1 = self.module1.solve_tracking(frame, tracker);
+        first(&module1)?;
         let solve = |m: &Instrument<T>, command: &ModuleCommand<T>, mode| match command {
-            ModuleCommand::Tip(tip) => m.solve(&frame, tip, mode),
+            ModuleCommand::Tip(tip) => m.solve(frame, tip, mode),
             ModuleCommand::Joints(joints) => m.solve_joints(joints),
         };
-        let left = solve(&self.left, left, self.modes[0])?;
-        let right = solve(&self.right, right, self.modes[1])?;
-        Ok(ControlStep {
-            frame,
-            module1,
-            left,
-            right,
-        })
+        let left = solve(&self.left, left, self.modes[0]);
+        first(&left)?;
+        let right = solve(&self.right, right, self.modes[1]);
+        ControlStep::of(frame, module1, left, right)
     }
 }
 
