@@ -121,35 +121,55 @@ pub(crate) fn gram<T: Real>(rows: &Mat6<T>) -> Mat6<T> {
 /// as soon as a pivot is not positive (then `A - mu I` is not positive
 /// definite: some eigenvalue of `A` is at most `mu`, up to rounding). No
 /// pivoting: a positive definite matrix needs none.
-#[allow(clippy::needless_range_loop)]
 pub(crate) fn ldl_shifted<T: Real>(
     a: &Mat6<T>,
     mu: T,
     l: &mut Mat6<T>,
     d_inv: &mut Vec6<T>,
 ) -> bool {
+    // One column at a time, each with its index a constant, so that every
+    // loop below has constant bounds and unrolls: the pivots' chain of
+    // divisions is then straight-line code, without the loops' counters
+    // and branches between them.
     let mut d = [T::zero(); 6];
-    for j in 0..6 {
-        // w_k = L_jk D_k for k < j, reused by every row below.
-        let mut w = [T::zero(); 6];
-        let mut dj = a[j][j] - mu;
-        for k in 0..j {
-            w[k] = l[j][k] * d[k];
-            dj -= w[k] * l[j][k];
+    ldl_column::<T, 0>(a, mu, l, &mut d, d_inv)
+        && ldl_column::<T, 1>(a, mu, l, &mut d, d_inv)
+        && ldl_column::<T, 2>(a, mu, l, &mut d, d_inv)
+        && ldl_column::<T, 3>(a, mu, l, &mut d, d_inv)
+        && ldl_column::<T, 4>(a, mu, l, &mut d, d_inv)
+        && ldl_column::<T, 5>(a, mu, l, &mut d, d_inv)
+}
+
+/// Column `J` of [`ldl_shifted`]: pivot `d_J` (`false` if not positive)
+/// and `L`'s column `J` below the diagonal.
+#[allow(clippy::needless_range_loop)]
+#[inline(always)]
+fn ldl_column<T: Real, const J: usize>(
+    a: &Mat6<T>,
+    mu: T,
+    l: &mut Mat6<T>,
+    d: &mut Vec6<T>,
+    d_inv: &mut Vec6<T>,
+) -> bool {
+    // w_k = L_Jk D_k for k < J, reused by every row below.
+    let mut w = [T::zero(); 6];
+    let mut dj = a[J][J] - mu;
+    for k in 0..J {
+        w[k] = l[J][k] * d[k];
+        dj -= w[k] * l[J][k];
+    }
+    if !(dj > T::zero()) {
+        return false;
+    }
+    d[J] = dj;
+    let inv = T::one() / dj;
+    d_inv[J] = inv;
+    for i in J + 1..6 {
+        let mut s = a[i][J];
+        for k in 0..J {
+            s -= l[i][k] * w[k];
         }
-        if !(dj > T::zero()) {
-            return false;
-        }
-        d[j] = dj;
-        let inv = T::one() / dj;
-        d_inv[j] = inv;
-        for i in j + 1..6 {
-            let mut s = a[i][j];
-            for k in 0..j {
-                s -= l[i][k] * w[k];
-            }
-            l[i][j] = s * inv;
-        }
+        l[i][J] = s * inv;
     }
     true
 }
