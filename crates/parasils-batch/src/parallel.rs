@@ -227,8 +227,8 @@ fn block<const L: usize>(c: &Consts, p: &[V<L>; 6]) -> ([V<L>; 6], M<L>) {
         for i in 0..3 {
             w[i] = rj[i] - ru * d[i];
         }
-        let dist = ((w[0] * w[0] + w[1] * w[1]) + w[2] * w[2]).sqrt();
-        let disc = (leg.link - dist) * (leg.link + dist);
+        let dist2 = (w[0] * w[0] + w[1] * w[1]) + w[2] * w[2];
+        let disc = leg.link * leg.link - dist2;
         let eu = leg.sign * disc.sqrt();
         let qj = (ru - eu) + leg.offset;
         clean = clean
