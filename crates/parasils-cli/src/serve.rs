@@ -40,6 +40,12 @@ pub fn serve(args: &ServeArgs) -> Result<()> {
         token: args.token.clone(),
         ..LiveOptions::default()
     };
+    // The default spin margin (100 us), within half the period at rates
+    // past 5 kHz (the most a session takes).
+    let options = LiveOptions {
+        spin_margin_s: options.spin_margin_s.min(0.5 / rate_hz),
+        ..options
+    };
     if !options.is_loopback() {
         let who = if options.token.is_some() {
             "anyone who can reach this port can watch the robot, and anyone who also has the token can drive it"

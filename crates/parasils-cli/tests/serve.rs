@@ -10,7 +10,7 @@ use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader};
 use std::path::Path;
 
-use common::process::parasils;
+use common::process::{Ran, parasils};
 
 /// Every message of the MCAP file at `path`, per topic: (log time, JSON).
 fn read_mcap(path: &Path) -> BTreeMap<String, Vec<(u64, serde_json::Value)>> {
@@ -152,21 +152,7 @@ fn a_session_ended_by_sigint_leaves_a_complete_recording() {
 #[test]
 fn a_session_ends_by_itself_after_its_duration() {
     let dir = tempfile::tempdir().expect("tempdir");
-    let ran = parasils(&[
-        "serve",
-        "--port",
-        "0",
-        "--rate",
-        "500",
-        "--publish-hz",
-        "50",
-        "--duration-s",
-        "1",
-        "-o",
-        "s.mcap",
-    ])
-    .dir(dir.path())
-    .run();
+    let ran = serve_to(dir.path(), "500", "50", "1", "s.mcap");
     let stdout = ran.stdout();
     assert!(
         stdout.starts_with("parasils: serving on ws://127.0.0.1:"),
@@ -217,6 +203,27 @@ fn a_session_ends_by_itself_after_its_duration() {
     assert_eq!(options["token_required"], false);
 }
 
+/// `parasils serve` on a free port at `rate` Hz for `duration_s`,
+/// publishing at `publish_hz` and recording to `file` in `dir`, run to its
+/// end.
+fn serve_to(dir: &Path, rate: &str, publish_hz: &str, duration_s: &str, file: &str) -> Ran {
+    parasils(&[
+        "serve",
+        "--port",
+        "0",
+        "--rate",
+        rate,
+        "--publish-hz",
+        publish_hz,
+        "--duration-s",
+        duration_s,
+        "-o",
+        file,
+    ])
+    .dir(dir)
+    .run()
+}
+
 /// The `parasils.scenario` metadata record of the MCAP file at `path`.
 fn scenario_metadata(path: &Path) -> BTreeMap<String, String> {
     let bytes = std::fs::read(path).expect("the recording");
@@ -236,6 +243,24 @@ fn scenario_metadata(path: &Path) -> BTreeMap<String, String> {
         path.display()
     );
     records[0].metadata.clone()
+}
+
+/// At 20 kHz half a period is 25 us, less than the default spin margin
+/// (100 us): the command spins 25 us before each deadline instead of
+/// refusing, and the session runs its 2,001 cycles.
+#[test]
+fn a_fast_control_rate_runs_with_the_spin_margin_within_half_its_period() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    serve_to(dir.path(), "20000", "100", "0.1", "fast.mcap").ok();
+    let topics = read_mcap(&dir.path().join("fast.mcap"));
+    // The last cycle's diagnostics count the 2,000 cycles before it.
+    let (_, last) = topics["/diagnostics"].last().expect("diagnostics");
+    assert_eq!(last["t_s"].as_f64(), Some(0.1), "{last}");
+    assert_eq!(last["cycles"].as_f64(), Some(2000.0), "{last}");
+    let served = scenario_metadata(&dir.path().join("fast.mcap"));
+    let options: serde_json::Value =
+        serde_json::from_str(&served["live_options"]).expect("live_options");
+    assert_eq!(options["spin_margin_s"], 25e-6);
 }
 
 #[test]

@@ -7,8 +7,8 @@
 //! session, side by side, the machine's floor (an empty loop with the same
 //! scheduling, and the gaps a spinning thread sees).
 //!
-//! `cargo bench -p parasils-live --bench live` (about 2 min: the jitter,
-//! then four 10 s floors and four 10 s sessions at 1 kHz); the results are in BENCHMARKS.md
+//! `cargo bench -p parasils-live --bench live` (about 3 min: the jitter,
+//! then four floors of 2 x 10 s and four 10 s sessions at 1 kHz); the results are in BENCHMARKS.md
 //! (*Live*). Times are measured, never asserted. `PARASILS_LIVE_PRIORITY`
 //! (a `SCHED_FIFO` priority, or `none`) and `PARASILS_LIVE_MARGIN_US`
 //! change the sessions' scheduling and spin margin.
@@ -75,44 +75,52 @@ fn jitter(priority: Option<u8>) {
     );
 }
 
-/// The machine's floor for the loop, measured beside each session: for
-/// 10,000 cycles of 1 ms, a thread with the sessions' scheduling waits
-/// for each deadline as the loop does ([`wait_until`], the same margin)
-/// and counts its late starts (over 5 % of a period) with no work, no
-/// server and no client; then it spins 0.8 ms of each cycle reading the
-/// clock, and counts the gaps over 50 us between two reads. At
-/// `SCHED_FIFO` no thread of this machine can take the processor from it
-/// (the rest of each cycle is asleep, so the kernel's real-time limit
-/// never throttles it): a gap is time the processor was taken away, by an
-/// interrupt or by the hypervisor, and no program can prevent it.
+/// The machine's floor for the loop, measured beside each session, in two
+/// runs of 10,000 cycles of 1 ms by a thread with the sessions'
+/// scheduling, with no work, no server and no client. First it waits for
+/// each deadline as the loop does ([`wait_until`], the same margin) and
+/// does nothing else, so that it sleeps as much of each cycle as the loop
+/// does: its late starts (over 5 % of a period) are what this machine
+/// gives the loop. Then it waits the same way and spins 0.8 ms of each
+/// cycle reading the clock: a gap over 50 us between two reads is time the
+/// processor was taken away (at `SCHED_FIFO` no thread of this machine can
+/// take it, and the rest of each cycle is asleep, so the kernel's
+/// real-time limit never throttles it), by an interrupt or by the
+/// hypervisor, which no program can prevent; its late starts are counted
+/// too (a thread that sleeps 0.1 ms a cycle instead of 0.9).
 fn floor(priority: Option<u8>, margin: Duration) {
-    let (scheduling, late, gaps, worst_gap_us) = std::thread::spawn(move || {
+    let (scheduling, idle_late, late, gaps, worst_gap_us) = std::thread::spawn(move || {
         let scheduling = schedule_current_thread(priority);
-        let start = Instant::now() + Duration::from_millis(1);
-        let (mut late, mut gaps, mut worst) = (0u32, 0u32, Duration::ZERO);
-        for k in 0..10_000u32 {
-            let due = start + Duration::from_millis(u64::from(k));
-            let woke = wait_until(due, margin);
-            if woke.saturating_duration_since(due) > Duration::from_micros(50) {
-                late += 1;
-            }
-            let mut before = Instant::now();
-            while before < due + Duration::from_micros(800) {
-                let now = Instant::now();
-                let gap = now - before;
-                if gap > Duration::from_micros(50) {
-                    gaps += 1;
+        let cycles = |spin: bool| {
+            let start = Instant::now() + Duration::from_millis(1);
+            let (mut late, mut gaps, mut worst) = (0u32, 0u32, Duration::ZERO);
+            for k in 0..10_000u32 {
+                let due = start + Duration::from_millis(u64::from(k));
+                let woke = wait_until(due, margin);
+                if woke.saturating_duration_since(due) > Duration::from_micros(50) {
+                    late += 1;
                 }
-                worst = worst.max(gap);
-                before = now;
+                let mut before = Instant::now();
+                while spin && before < due + Duration::from_micros(800) {
+                    let now = Instant::now();
+                    let gap = now - before;
+                    if gap > Duration::from_micros(50) {
+                        gaps += 1;
+                    }
+                    worst = worst.max(gap);
+                    before = now;
+                }
             }
-        }
-        (scheduling, late, gaps, worst.as_secs_f64() * 1e6)
+            (late, gaps, worst)
+        };
+        let (idle_late, _, _) = cycles(false);
+        let (late, gaps, worst) = cycles(true);
+        (scheduling, idle_late, late, gaps, worst.as_secs_f64() * 1e6)
     })
     .join()
     .expect("join");
     println!(
-        "the machine's floor, {scheduling}: an empty loop started {late} of 10,000 cycles more than 50 us late; spinning 0.8 ms of each cycle, the processor was taken away {gaps} times for more than 50 us (longest {worst_gap_us:.1} us)"
+        "the machine's floor, {scheduling}: an empty loop started {idle_late} of 10,000 cycles more than 50 us late (asleep as the loop is); spinning 0.8 ms of each cycle, {late} late starts, and the processor was taken away {gaps} times for more than 50 us (longest {worst_gap_us:.1} us)"
     );
 }
 

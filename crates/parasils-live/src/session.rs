@@ -67,7 +67,8 @@ pub struct LiveOptions {
     /// [`Session::scheduling`] for what it got.
     pub realtime_priority: Option<u8>,
     /// How long before each deadline the control loop stops sleeping and
-    /// spins, s (see [`crate::wait_until`]).
+    /// spins, s (see [`crate::wait_until`]): from 0 to half the control
+    /// period (a real-time thread that never sleeps is throttled by Linux).
     pub spin_margin_s: f64,
 }
 
@@ -307,11 +308,18 @@ impl Session {
         if let Some(d) = options.duration_s {
             positive("duration_s", d)?;
         }
-        if !(options.spin_margin_s.is_finite() && (0.0..=1.0).contains(&options.spin_margin_s)) {
+        // A thread that spins most of each cycle never sleeps: at
+        // `SCHED_FIFO`, Linux then takes the processor from it for 50 ms of
+        // every second (`kernel.sched_rt_runtime_us`), 50 late cycles a
+        // second at 1 kHz (BENCHMARKS.md, *Live*).
+        if !(options.spin_margin_s.is_finite()
+            && options.spin_margin_s >= 0.0
+            && options.spin_margin_s <= 0.5 / rate_hz)
+        {
             return Err(LiveError::InvalidOption {
                 what: "spin_margin_s",
                 value: options.spin_margin_s,
-                expected: "a finite number from 0 to 1 s",
+                expected: "from 0 to half the control period, so that the control thread sleeps at least half of each cycle",
             });
         }
         if options.queue_frames == 0 || options.client_backlog == 0 {

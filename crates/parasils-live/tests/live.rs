@@ -602,6 +602,47 @@ fn with_a_token_only_a_client_that_sent_it_drives() {
     });
 }
 
+/// A spin margin of more than half the control period is refused before
+/// anything starts (a control thread that spins the whole cycle is
+/// throttled by Linux: 50 ms of every second at `SCHED_FIFO`); half of it
+/// is taken.
+#[test]
+fn a_spin_margin_past_half_the_period_is_refused() {
+    let _one = one_at_a_time();
+    let start = |rate_hz: f64, spin_margin_s: f64| {
+        let scenario = Scenario {
+            rate_hz,
+            ..Scenario::paper()
+        };
+        let run = TeleopRun::new(scenario, TeleopParams::assumed()).expect("run");
+        let options = parasils_live::LiveOptions {
+            port: 0,
+            duration_s: Some(0.01),
+            spin_margin_s,
+            ..parasils_live::LiveOptions::default()
+        };
+        parasils_live::Session::start(run, &options)
+    };
+    for (rate_hz, margin) in [
+        (1000.0, 1e-3),
+        (1000.0, 0.000_501),
+        (500.0, 0.0011),
+        (1000.0, -1e-6),
+    ] {
+        let Err(e) = start(rate_hz, margin) else {
+            panic!("spin margin {margin} s at {rate_hz} Hz taken");
+        };
+        assert_eq!(
+            e.to_string(),
+            format!(
+                "live: spin_margin_s = {margin} is out of range: from 0 to half the control period, so that the control thread sleeps at least half of each cycle"
+            )
+        );
+    }
+    let s = start(1000.0, 0.0005).expect("half a period is taken");
+    s.wait().expect("a 10 ms session");
+}
+
 #[test]
 fn a_legacy_client_is_refused_with_http_400() {
     let _serial = one_at_a_time();
