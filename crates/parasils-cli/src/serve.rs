@@ -38,13 +38,10 @@ pub fn serve(args: &ServeArgs) -> Result<()> {
         duration_s: args.duration_s,
         record: args.output.clone(),
         token: args.token.clone(),
+        // The default spin margin (100 us), within half the period at
+        // rates past 5 kHz (the most a session takes).
+        spin_margin_s: LiveOptions::default().spin_margin_s.min(0.5 / rate_hz),
         ..LiveOptions::default()
-    };
-    // The default spin margin (100 us), within half the period at rates
-    // past 5 kHz (the most a session takes).
-    let options = LiveOptions {
-        spin_margin_s: options.spin_margin_s.min(0.5 / rate_hz),
-        ..options
     };
     if !options.is_loopback() {
         let who = if options.token.is_some() {

@@ -8,7 +8,7 @@ mod common;
 use core::time::Duration;
 use std::collections::{BTreeSet, HashMap};
 
-use common::{Client, connect, drive, session, session_with};
+use common::{Client, connect, drive, session, session_with, start_session};
 use parasils::kin::Side;
 use parasils::teleop::{Command, TeleopParams};
 use parasils_device::Held;
@@ -610,18 +610,13 @@ fn with_a_token_only_a_client_that_sent_it_drives() {
 fn a_spin_margin_past_half_the_period_is_refused() {
     let _one = one_at_a_time();
     let start = |rate_hz: f64, spin_margin_s: f64| {
-        let scenario = Scenario {
-            rate_hz,
-            ..Scenario::paper()
-        };
-        let run = TeleopRun::new(scenario, TeleopParams::assumed()).expect("run");
         let options = parasils_live::LiveOptions {
             port: 0,
             duration_s: Some(0.01),
             spin_margin_s,
             ..parasils_live::LiveOptions::default()
         };
-        parasils_live::Session::start(run, &options)
+        start_session(rate_hz, &options)
     };
     for (rate_hz, margin) in [
         (1000.0, 1e-3),

@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use futures_util::{SinkExt, StreamExt};
 use parasils::teleop::TeleopParams;
-use parasils_live::{LiveOptions, Session, SessionReport};
+use parasils_live::{LiveError, LiveOptions, Session, SessionReport};
 use parasils_sim::{Scenario, TeleopRun};
 use serde_json::{Value, json};
 use tokio::net::TcpStream;
@@ -47,12 +47,18 @@ pub fn session_with(
 
 /// A session of the paper's robot at `rate_hz` with `options`.
 pub fn session_options(rate_hz: f64, options: &LiveOptions) -> Session {
+    start_session(rate_hz, options).expect("session")
+}
+
+/// [`Session::start`] for the paper's robot at `rate_hz` with `options`:
+/// the session, or why it was refused.
+pub fn start_session(rate_hz: f64, options: &LiveOptions) -> Result<Session, LiveError> {
     let scenario = Scenario {
         rate_hz,
         ..Scenario::paper()
     };
     let run = TeleopRun::new(scenario, TeleopParams::assumed()).expect("run");
-    Session::start(run, options).expect("session")
+    Session::start(run, options)
 }
 
 /// Runs `client` (given the session's address) on a runtime of its own
